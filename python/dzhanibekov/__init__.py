@@ -1,0 +1,35 @@
+"""Free rotation of rigid bodies in weightlessness: the Dzhanibekov effect.
+
+A Rust core integrates Euler's equations with the body-frame quaternion law and rotates
+point arrays without trigonometry; this package is the thin Python side.
+
+>>> import dzhanibekov as dz
+>>> traj = dz.simulate(dz.Body.box(20, 10, 15), omega0=(0.01, 0.01, 1.0), t_end=10.0)
+>>> world = dz.rotate(traj.q, dz.box_vertices())   # (frames, 8, 3)
+"""
+
+from ._core import __version__
+from .body import Body, InertiaWarning
+from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
+from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
+from .simulate import METHODS, rotate, simulate
+from .trajectory import Drift, Trajectory
+
+__all__ = [
+    "__version__",
+    "Body",
+    "InertiaWarning",
+    "Trajectory",
+    "Drift",
+    "simulate",
+    "rotate",
+    "METHODS",
+    "BOX_SIZE",
+    "SIGNAL_POINT",
+    "box_vertices",
+    "box_edges",
+    "PAPER_INERTIA",
+    "SCENARIOS",
+    "Scenario",
+    "scenario",
+]

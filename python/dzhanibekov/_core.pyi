@@ -1,0 +1,45 @@
+"""Type stubs of the Rust core. Call it through the package's functions, which coerce input."""
+
+from typing import Any, final, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__all__ = ["RigidBody", "__version__", "invariants", "rotate", "simulate"]
+__version__: str
+
+@final
+class RigidBody:
+    def __new__(cls, inertia: tuple[float, float, float]) -> RigidBody: ...
+    @staticmethod
+    def from_box(a: float, b: float, c: float, mass: float = 1.0) -> RigidBody: ...
+    @property
+    def inertia(self) -> tuple[float, float, float]: ...
+    @property
+    def satisfies_triangle_inequality(self) -> bool: ...
+    @property
+    def intermediate_axis(self) -> int | None: ...
+
+def simulate(
+    body: RigidBody,
+    omega0: tuple[float, float, float],
+    q0: tuple[float, float, float, float],
+    t_end: float,
+    frames: int,
+    dt: float,
+    method: str,
+    max_steps: int,
+    keep_frames: bool,
+    keep_flips: bool,
+) -> dict[str, Any]: ...
+@overload
+def rotate(
+    q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: None = None
+) -> npt.NDArray[np.float64]: ...
+@overload
+def rotate(
+    q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: npt.NDArray[np.float64]
+) -> None: ...
+def invariants(
+    body: RigidBody, omega: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
+) -> dict[str, npt.NDArray[np.float64]]: ...

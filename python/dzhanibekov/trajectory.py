@@ -1,0 +1,91 @@
+"""The result of a run."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _core
+from .body import Body
+
+__all__ = ["Drift", "Trajectory"]
+
+
+class Drift(NamedTuple):
+    """The largest departure of each invariant from its initial value, over the frames.
+
+    The exact motion keeps all four; their drift measures the integration error.
+    """
+
+    energy: float
+    """Relative: ``max |E(t) - E(0)| / E(0)``."""
+    momentum: float
+    """Relative change of ``|L|``."""
+    momentum_world: float
+    """``max |L_world(t) - L_world(0)| / |L(0)|``: the space-frame angular momentum vector."""
+    q_norm: float
+    """``max ||q(t)| - 1|``."""
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """Frames of a free rotation, time-major, with the run's cost and error measures.
+
+    Attributes
+    ----------
+    t : ndarray, shape (frames,)
+        Frame times; ``t[0] == 0`` and ``t[-1] == t_end``.
+    omega : ndarray, shape (frames, 3)
+        Body-frame angular velocity ``(u, v, w)``.
+    q : ndarray, shape (frames, 4)
+        Body-to-world unit quaternion, scalar first ``(Q, U, V, W)``.
+    flip_times : ndarray, shape (n_flips,), or None
+        Times of the flips: half-turns of the intermediate axis relative to the angular
+        momentum, located within the step (see the README). None if not asked for.
+    body : Body
+    method : str
+    dt : float
+        The step actually taken: ``t_end / (frames - 1)`` split evenly, at most the ``dt``
+        asked for.
+    n_steps, nfev : int
+        Steps taken and right-hand-side evaluations.
+    drift : Drift
+        The invariants' largest drift over the frames.
+    """
+
+    t: np.ndarray
+    omega: np.ndarray
+    q: np.ndarray
+    flip_times: np.ndarray | None
+    body: Body
+    method: str
+    dt: float
+    n_steps: int
+    nfev: int
+    drift: Drift
+    _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+    def invariants(self) -> dict[str, np.ndarray]:
+        """The invariants at every frame (computed once, in the core).
+
+        Returns
+        -------
+        dict
+            ``energy`` (frames,), ``momentum_body`` (frames, 3), ``momentum_world``
+            (frames, 3) and ``q_norm`` (frames,).
+        """
+        if not self._invariants:
+            self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
+        return self._invariants
+
+    @property
+    def _flip_count(self) -> int | str:
+        return "?" if self.flip_times is None else len(self.flip_times)
+
+    def __repr__(self) -> str:
+        return (
+            f"Trajectory(frames={len(self.t)}, t_end={self.t[-1]:g}, method={self.method!r}, "
+            f"n_steps={self.n_steps}, flips={self._flip_count})"
+        )

@@ -1,0 +1,104 @@
+//! The rigid body: its principal moments of inertia.
+
+use nalgebra::Vector3;
+
+use crate::error::{Error, Result};
+
+/// Principal moments of inertia `(Ix, Iy, Iz)` about the body axes x, y, z, in the user's units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidBody {
+    inertia_body: Vector3<f64>,
+}
+
+/// # Construction
+impl RigidBody {
+    /// A body with the given principal moments.
+    ///
+    /// # Errors
+    /// Each moment must be positive and finite, and every ratio of two moments finite and
+    /// non-zero (Euler's equations divide one by another).
+    ///
+    /// # Example
+    /// ```
+    /// use approx::assert_relative_eq;
+    /// let body = dzhanibekov::RigidBody::try_new([52.0833, 27.0833, 41.6666]).unwrap();
+    /// assert_relative_eq!(body.inertia_body().y, 27.0833);
+    /// assert!(dzhanibekov::RigidBody::try_new([1.0, 0.0, 1.0]).is_err());
+    /// ```
+    pub fn try_new(inertia: [f64; 3]) -> Result<Self> {
+        if inertia.iter().any(|i| !(i.is_finite() && *i > 0.0)) {
+            return Err(Error::invalid(
+                "inertia",
+                "must hold three positive, finite principal moments",
+                inertia,
+            ));
+        }
+        let max = inertia.iter().cloned().fold(f64::MIN, f64::max);
+        let min = inertia.iter().cloned().fold(f64::MAX, f64::min);
+        let ratio = max / min;
+        if !ratio.is_finite() || ratio > 1e150 {
+            return Err(Error::invalid(
+                "inertia",
+                "must have a ratio of largest to smallest moment of at most 1e150",
+                inertia,
+            ));
+        }
+        Ok(Self {
+            inertia_body: Vector3::from(inertia),
+        })
+    }
+
+    /// A solid box of the given edge lengths along x, y, z: `Ix = m (b² + c²) / 12`, etc.
+    ///
+    /// # Errors
+    /// Edges and mass must be positive and finite.
+    ///
+    /// # Example
+    /// ```
+    /// use approx::assert_relative_eq;
+    /// let body = dzhanibekov::RigidBody::from_box(20.0, 10.0, 15.0, 1.0).unwrap();
+    /// assert_relative_eq!(body.inertia_body().x, 325.0 / 12.0);
+    /// ```
+    pub fn from_box(a: f64, b: f64, c: f64, mass: f64) -> Result<Self> {
+        if [a, b, c].iter().any(|e| !(e.is_finite() && *e > 0.0)) {
+            return Err(Error::invalid(
+                "a, b, c",
+                "must be positive and finite",
+                [a, b, c],
+            ));
+        }
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(Error::invalid("mass", "must be positive and finite", mass));
+        }
+        let k = mass / 12.0;
+        Self::try_new([
+            k * (b * b + c * c),
+            k * (a * a + c * c),
+            k * (a * a + b * b),
+        ])
+    }
+}
+
+/// # Properties
+impl RigidBody {
+    /// The principal moments `(Ix, Iy, Iz)`.
+    pub fn inertia_body(&self) -> Vector3<f64> {
+        self.inertia_body
+    }
+
+    /// Whether each moment is at most the sum of the other two, as for every real mass
+    /// distribution (to a relative tolerance of 1e-12).
+    pub fn satisfies_triangle_inequality(&self) -> bool {
+        let i = self.inertia_body;
+        let slack = 1e-12 * i.sum();
+        i.x <= i.y + i.z + slack && i.y <= i.x + i.z + slack && i.z <= i.x + i.y + slack
+    }
+
+    /// The axis (0 = x, 1 = y, 2 = z) of the strictly intermediate moment, about which spin is
+    /// unstable; `None` when two moments are equal (a symmetric top has no such axis).
+    pub fn intermediate_axis(&self) -> Option<usize> {
+        let i = self.inertia_body;
+        let between = |m: f64, a: f64, b: f64| (a < m && m < b) || (b < m && m < a);
+        (0..3).find(|&k| between(i[k], i[(k + 1) % 3], i[(k + 2) % 3]))
+    }
+}

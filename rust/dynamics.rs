@@ -1,0 +1,141 @@
+//! Eq. 1: Euler's equations of the free rigid body with body-frame quaternion kinematics,
+//! and the quantities the exact motion keeps.
+//!
+//! The paper prints `V' = ½ (W u + Q v + U w)`. With that sign `d|q|²/dt = 2 V W u ≠ 0`, so
+//! `|q|` is not kept (on the paper's case 3a it grows to about 47 by t = 100). The correct
+//! body-frame law is `q' = ½ q ⊗ (0, ω)`, which keeps `|q|` and the world-frame angular
+//! momentum `L = M(q) · (Ix u, Iy v, Iz w)`. This module implements that law.
+
+use nalgebra::{Quaternion, Vector3};
+
+use crate::body::RigidBody;
+use crate::integrators::OdeSystem;
+use crate::kinematics::rotation_matrix;
+
+/// The state `[u, v, w, Q, U, V, W]`: body-frame angular velocity, then the body-to-world
+/// quaternion, scalar first. A plain array: steppers loop over it, nalgebra views its parts.
+pub type State = [f64; 7];
+
+/// Builds a state from body-frame `omega` and a scalar-first quaternion `(Q, U, V, W)`.
+pub fn state_from(omega_body: [f64; 3], q_body_to_world: [f64; 4]) -> State {
+    let [u, v, w] = omega_body;
+    let [q0, q1, q2, q3] = q_body_to_world;
+    [u, v, w, q0, q1, q2, q3]
+}
+
+/// The body-frame angular velocity part of a state.
+#[inline]
+pub fn omega_body(x: &State) -> Vector3<f64> {
+    Vector3::new(x[0], x[1], x[2])
+}
+
+/// The quaternion part of a state (nalgebra's `Quaternion::new` takes the scalar first).
+#[inline]
+pub fn q_body_to_world(x: &State) -> Quaternion<f64> {
+    Quaternion::new(x[3], x[4], x[5], x[6])
+}
+
+/// The free rigid body as an ODE system: eq. 1 with the body-frame quaternion law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FreeRigidBody {
+    body: RigidBody,
+    /// `((Iy - Iz)/Ix, (Iz - Ix)/Iy, (Ix - Iy)/Iz)`: Euler's equations as `u' = a v w`, etc.
+    euler: Vector3<f64>,
+}
+
+impl FreeRigidBody {
+    pub fn new(body: RigidBody) -> Self {
+        let i = body.inertia_body();
+        let euler = Vector3::new((i.y - i.z) / i.x, (i.z - i.x) / i.y, (i.x - i.y) / i.z);
+        Self { body, euler }
+    }
+
+    pub fn body(&self) -> &RigidBody {
+        &self.body
+    }
+
+    /// The coefficients `(a, b, c)` of Euler's equations `u' = a v w, v' = b u w, w' = c u v`.
+    pub fn euler_coefficients(&self) -> Vector3<f64> {
+        self.euler
+    }
+}
+
+impl OdeSystem<7> for FreeRigidBody {
+    #[inline(always)]
+    fn increment(&self, _t: f64, x: &State, s: f64) -> State {
+        let [u, v, w, q0, q1, q2, q3] = *x;
+        let half = 0.5 * s;
+        [
+            (s * self.euler.x) * (v * w),
+            (s * self.euler.y) * (u * w),
+            (s * self.euler.z) * (u * v),
+            -half * (q1 * u + q2 * v + q3 * w),
+            half * (q0 * u + q2 * w - q3 * v),
+            half * (q0 * v + q3 * u - q1 * w),
+            half * (q0 * w + q1 * v - q2 * u),
+        ]
+    }
+}
+
+/// The quantities the exact free motion keeps, evaluated at one state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Invariants {
+    /// Kinetic energy `½ ω · I ω`.
+    pub energy: f64,
+    /// Body-frame angular momentum `I ω`; its norm is kept.
+    pub l_body: Vector3<f64>,
+    /// World-frame angular momentum `M(q) I ω`, kept as a vector.
+    pub l_world: Vector3<f64>,
+    /// `|q|`, kept at 1.
+    pub q_norm: f64,
+}
+
+impl Invariants {
+    /// The invariants of state `x` for a body with principal moments `inertia_body`.
+    pub fn of(inertia_body: &Vector3<f64>, x: &State) -> Self {
+        let omega = omega_body(x);
+        let l_body = inertia_body.component_mul(&omega);
+        let q = q_body_to_world(x);
+        Self {
+            energy: 0.5 * omega.dot(&l_body),
+            l_body,
+            l_world: rotation_matrix(&q) * l_body,
+            q_norm: q.norm(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn paper_body() -> FreeRigidBody {
+        FreeRigidBody::new(RigidBody::try_new([52.0833, 27.0833, 41.6666]).unwrap())
+    }
+
+    #[test]
+    fn energy_and_q_norm_are_stationary_under_the_rhs() {
+        // dE/dt = ω · I ω' and d|q|²/dt = 2 q · q' vanish identically for eq. 1.
+        let sys = paper_body();
+        let x = state_from([0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.2]);
+        let dx = sys.rhs(0.0, &x);
+        let i = sys.body().inertia_body();
+        let de = omega_body(&x).dot(&i.component_mul(&omega_body(&dx)));
+        let dq = (0..4).map(|k| x[3 + k] * dx[3 + k]).sum::<f64>();
+        assert_relative_eq!(de, 0.0, epsilon = 1e-14);
+        assert_relative_eq!(dq, 0.0, epsilon = 1e-15);
+    }
+
+    #[test]
+    fn rhs_is_half_q_times_pure_omega() {
+        let sys = paper_body();
+        let x = state_from([0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.2]);
+        let dx = sys.rhs(0.0, &x);
+        let expected = q_body_to_world(&x) * Quaternion::from_imag(omega_body(&x)) * 0.5;
+        assert_relative_eq!(dx[3], expected.w, epsilon = 1e-15);
+        assert_relative_eq!(dx[4], expected.i, epsilon = 1e-15);
+        assert_relative_eq!(dx[5], expected.j, epsilon = 1e-15);
+        assert_relative_eq!(dx[6], expected.k, epsilon = 1e-15);
+    }
+}

@@ -1,0 +1,43 @@
+//! The one error type of the core; the bindings map it to `ValueError`.
+
+/// Everything the core refuses, each naming the argument at fault and what is allowed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum Error {
+    /// An argument outside its allowed range.
+    #[error("`{name}` {allowed}, got {got}")]
+    InvalidArgument {
+        name: &'static str,
+        allowed: &'static str,
+        got: String,
+    },
+    /// A request whose output or step count is too large to honour.
+    #[error("{what} needs {needed}, more than the limit {limit}; {hint}")]
+    TooLarge {
+        what: &'static str,
+        needed: String,
+        limit: String,
+        hint: &'static str,
+    },
+    /// The state stopped being finite: the step is far beyond the method's stability limit.
+    #[error("the run diverged (non-finite state) at t = {t}: {hint}")]
+    Diverged { t: f64, hint: &'static str },
+    /// The caller asked the run to stop (Ctrl-C in Python).
+    #[error("interrupted")]
+    Interrupted,
+}
+
+pub type Result<T> = std::result::Result<T, Error>;
+
+impl Error {
+    pub(crate) fn invalid(
+        name: &'static str,
+        allowed: &'static str,
+        got: impl std::fmt::Debug,
+    ) -> Self {
+        Error::InvalidArgument {
+            name,
+            allowed,
+            got: format!("{got:?}"),
+        }
+    }
+}

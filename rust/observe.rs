@@ -1,0 +1,298 @@
+//! What a run keeps: observers see the frames (and, if they ask, every step) and keep only
+//! what a caller needs — stored frames, invariant drift, flip times.
+
+use nalgebra::Vector3;
+
+use crate::body::RigidBody;
+use crate::buffer::zeroed;
+use crate::dynamics::{Invariants, State};
+
+/// Sees a run as it goes. Observers compose as tuples: `(A, B)` is an observer.
+pub trait Observer {
+    /// Whether [`Observer::step`] must be called; `false` keeps the step loop bare.
+    const WANTS_STEPS: bool = false;
+
+    /// Called at frame `index` (time `t`), including the first (t = 0) and the last.
+    fn frame(&mut self, _index: usize, _t: f64, _x: &State) {}
+
+    /// Called after every step from `(t0, x0)` to `(t1, x1)`.
+    fn step(&mut self, _t0: f64, _x0: &State, _t1: f64, _x1: &State) {}
+}
+
+impl Observer for () {}
+
+impl<A: Observer, B: Observer> Observer for (A, B) {
+    const WANTS_STEPS: bool = A::WANTS_STEPS || B::WANTS_STEPS;
+
+    #[inline(always)]
+    fn frame(&mut self, index: usize, t: f64, x: &State) {
+        self.0.frame(index, t, x);
+        self.1.frame(index, t, x);
+    }
+
+    #[inline(always)]
+    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+        if A::WANTS_STEPS {
+            self.0.step(t0, x0, t1, x1);
+        }
+        if B::WANTS_STEPS {
+            self.1.step(t0, x0, t1, x1);
+        }
+    }
+}
+
+impl<O: Observer> Observer for &mut O {
+    const WANTS_STEPS: bool = O::WANTS_STEPS;
+
+    #[inline(always)]
+    fn frame(&mut self, index: usize, t: f64, x: &State) {
+        (**self).frame(index, t, x);
+    }
+
+    #[inline(always)]
+    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+        (**self).step(t0, x0, t1, x1);
+    }
+}
+
+impl<O: Observer> Observer for Option<O> {
+    const WANTS_STEPS: bool = O::WANTS_STEPS;
+
+    #[inline(always)]
+    fn frame(&mut self, index: usize, t: f64, x: &State) {
+        if let Some(o) = self {
+            o.frame(index, t, x);
+        }
+    }
+
+    #[inline(always)]
+    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+        if let Some(o) = self {
+            o.step(t0, x0, t1, x1);
+        }
+    }
+}
+
+/// Stores ω and q at every frame, time-major: `omega` is `(frames, 3)`, `q` is `(frames, 4)`.
+#[derive(Debug, Clone, Default)]
+pub struct FrameRecorder {
+    pub omega: Vec<f64>,
+    pub q: Vec<f64>,
+}
+
+impl FrameRecorder {
+    /// A recorder with room for `frames` frames.
+    ///
+    /// # Errors
+    /// [`crate::Error::TooLarge`] if the buffers cannot be allocated.
+    pub fn with_frames(frames: usize) -> crate::Result<Self> {
+        let len = |k: usize| frames.saturating_mul(k);
+        Ok(Self {
+            omega: zeroed(len(3), "the frames")?,
+            q: zeroed(len(4), "the frames")?,
+        })
+    }
+}
+
+impl Observer for FrameRecorder {
+    #[inline]
+    fn frame(&mut self, index: usize, _t: f64, x: &State) {
+        self.omega[3 * index..3 * index + 3].copy_from_slice(&x[..3]);
+        self.q[4 * index..4 * index + 4].copy_from_slice(&x[3..]);
+    }
+}
+
+/// The largest departure of each invariant from its initial value, over the frames.
+///
+/// Energy and `|L|` are relative; the world-frame momentum is `|L(t) - L(0)| / |L(0)|`; the
+/// quaternion's is `||q| - 1|` (the run starts from a unit quaternion). Computed on a scaled
+/// copy (moments over the largest, ω over its largest initial component) so that no
+/// intermediate overflows; relative measures do not change under the scaling.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drift {
+    pub energy: f64,
+    pub momentum: f64,
+    pub momentum_world: f64,
+    pub q_norm: f64,
+}
+
+/// Watches the invariants at every frame and keeps their [`Drift`].
+#[derive(Debug, Clone)]
+pub struct DriftMonitor {
+    inertia_scaled: Vector3<f64>,
+    omega_scale: f64,
+    initial: Option<Invariants>,
+    pub drift: Drift,
+}
+
+impl DriftMonitor {
+    pub fn new(body: &RigidBody, omega0: &Vector3<f64>) -> Self {
+        let inertia = body.inertia_body();
+        let largest = omega0.amax();
+        Self {
+            inertia_scaled: inertia / inertia.max(),
+            omega_scale: if largest > 0.0 { 1.0 / largest } else { 1.0 },
+            initial: None,
+            drift: Drift {
+                energy: 0.0,
+                momentum: 0.0,
+                momentum_world: 0.0,
+                q_norm: 0.0,
+            },
+        }
+    }
+}
+
+fn relative(a: f64, a0: f64) -> f64 {
+    if a0 == 0.0 {
+        (a - a0).abs()
+    } else {
+        ((a - a0) / a0).abs()
+    }
+}
+
+impl Observer for DriftMonitor {
+    fn frame(&mut self, _index: usize, _t: f64, x: &State) {
+        let mut scaled = *x;
+        for w in &mut scaled[..3] {
+            *w *= self.omega_scale;
+        }
+        let now = Invariants::of(&self.inertia_scaled, &scaled);
+        let first = *self.initial.get_or_insert(now);
+        let l0 = first.l_body.norm();
+        let d = &mut self.drift;
+        d.energy = d.energy.max(relative(now.energy, first.energy));
+        d.momentum = d.momentum.max(relative(now.l_body.norm(), l0));
+        let dl = (now.l_world - first.l_world).norm();
+        d.momentum_world = d.momentum_world.max(if l0 > 0.0 { dl / l0 } else { dl });
+        d.q_norm = d.q_norm.max((now.q_norm - 1.0).abs());
+    }
+}
+
+/// Finds the flips: half-turns of the intermediate axis relative to the angular momentum.
+///
+/// A flip is counted when the body's intermediate axis, having been the axis nearest to `L`
+/// on one side (`|L_mid| > |L|/√2`, which no other axis can then match), becomes the nearest
+/// on the other side. Its time is the sign change of the intermediate-axis rate in between,
+/// located inside the step by cubic Hermite interpolation (error O(h⁴)), not on the frame
+/// grid. Small wobbles about a stable axis also change that rate's sign but never bring the
+/// intermediate axis near `L`, so they are not flips. A symmetric top has no intermediate
+/// axis and no flips.
+#[derive(Debug, Clone)]
+pub struct FlipDetector {
+    axis: Option<usize>,
+    inertia_mid: f64,
+    euler_mid: f64,
+    threshold: f64,
+    side: i8,
+    candidate: Option<f64>,
+    pub flip_times: Vec<f64>,
+}
+
+impl FlipDetector {
+    /// A detector for `body` starting from body rates `omega0`; `euler` are the coefficients of
+    /// Euler's equations (see [`crate::FreeRigidBody::euler_coefficients`]).
+    pub fn new(body: &RigidBody, euler: &Vector3<f64>, omega0: &Vector3<f64>) -> Self {
+        let axis = body.intermediate_axis();
+        let inertia = body.inertia_body();
+        let k = axis.unwrap_or(0);
+        let scale = inertia.max();
+        let l0 = (inertia / scale).component_mul(omega0).norm();
+        Self {
+            axis,
+            inertia_mid: inertia[k] / scale,
+            euler_mid: euler[k],
+            threshold: l0 * std::f64::consts::FRAC_1_SQRT_2,
+            side: 0,
+            candidate: None,
+            flip_times: Vec::new(),
+        }
+    }
+
+    #[inline(always)]
+    fn side_of(&self, rate: f64) -> i8 {
+        let l_mid = self.inertia_mid * rate;
+        if l_mid > self.threshold {
+            1
+        } else if l_mid < -self.threshold {
+            -1
+        } else {
+            0
+        }
+    }
+
+    /// The zero of the cubic Hermite interpolant of ω_mid on `[t0, t1]`, found by bisection.
+    /// Rare (twice per flip period), so kept out of the step loop.
+    #[cold]
+    #[inline(never)]
+    fn crossing(&self, k: usize, t0: f64, x0: &State, t1: f64, x1: &State) -> f64 {
+        let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+        let h = t1 - t0;
+        let (p0, p1) = (x0[k], x1[k]);
+        let (m0, m1) = (
+            h * self.euler_mid * x0[a] * x0[b],
+            h * self.euler_mid * x1[a] * x1[b],
+        );
+        let hermite = |s: f64| {
+            let s2 = s * s;
+            let s3 = s2 * s;
+            (2.0 * s3 - 3.0 * s2 + 1.0) * p0
+                + (s3 - 2.0 * s2 + s) * m0
+                + (-2.0 * s3 + 3.0 * s2) * p1
+                + (s3 - s2) * m1
+        };
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        let positive_at_lo = p0 > 0.0;
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if (hermite(mid) > 0.0) == positive_at_lo {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        t0 + 0.5 * (lo + hi) * h
+    }
+}
+
+/// `x[k]` for `k < 3`, by selection rather than indexing, so that the state can stay in
+/// registers across the step loop.
+#[inline(always)]
+fn component(x: &State, k: usize) -> f64 {
+    match k {
+        0 => x[0],
+        1 => x[1],
+        _ => x[2],
+    }
+}
+
+impl Observer for FlipDetector {
+    const WANTS_STEPS: bool = true;
+
+    #[inline(always)]
+    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+        let Some(k) = self.axis else { return };
+        let (r0, r1) = (component(x0, k), component(x1, k));
+        if (r0 > 0.0 && r1 <= 0.0) || (r0 < 0.0 && r1 >= 0.0) {
+            self.candidate = Some(self.crossing(k, t0, x0, t1, x1));
+        }
+        let side = self.side_of(r1);
+        if side != 0 {
+            if side == -self.side {
+                if let Some(tc) = self.candidate {
+                    self.flip_times.push(tc);
+                }
+            }
+            self.side = side;
+            self.candidate = None;
+        }
+    }
+
+    fn frame(&mut self, index: usize, _t: f64, x: &State) {
+        if index == 0 {
+            if let Some(k) = self.axis {
+                self.side = self.side_of(x[k]);
+            }
+        }
+    }
+}

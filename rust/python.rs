@@ -1,0 +1,277 @@
+//! The Python bindings, `dzhanibekov._core`: extract, validate, run without the GIL, wrap.
+//! No physics here. Inputs arrive already coerced by the Python layer; everything is checked
+//! again in the core, whose errors become `ValueError`.
+#![deny(clippy::unwrap_used, clippy::expect_used)]
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use numpy::ndarray::{Array1, Array2};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadwriteArray3,
+    PyUntypedArrayMethods,
+};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::body::RigidBody;
+use crate::dynamics::{state_from, Invariants};
+use crate::error::Error;
+use crate::kinematics::rotate_points;
+use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
+
+impl From<Error> for PyErr {
+    fn from(e: Error) -> PyErr {
+        PyValueError::new_err(e.to_string())
+    }
+}
+
+/// How often a long run looks for Ctrl-C.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Runs `work` without the GIL. Long work runs on a scoped helper thread while this thread
+/// polls for signals, so Ctrl-C sets `cancel` and surfaces as `KeyboardInterrupt` within a
+/// poll interval. Short work runs inline, sparing the thread start.
+///
+/// Inputs borrowed by `work` must not be mutated by another Python thread during the call.
+fn detach<T: Send>(
+    py: Python<'_>,
+    long: bool,
+    work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
+) -> PyResult<T> {
+    let cancel = AtomicBool::new(false);
+    if !long {
+        return py.detach(|| work(&cancel)).map_err(PyErr::from);
+    }
+    let mut interrupt: Option<PyErr> = None;
+    let outcome = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (done_tx, done_rx) = mpsc::channel::<()>();
+            let cancel = &cancel;
+            let handle = scope.spawn(move || {
+                let result = work(cancel);
+                let _ = done_tx.send(());
+                result
+            });
+            while let Err(mpsc::RecvTimeoutError::Timeout) = done_rx.recv_timeout(SIGNAL_POLL) {
+                if interrupt.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        interrupt = Some(e);
+                        cancel.store(true, Ordering::Relaxed);
+                    }
+                }
+            }
+            handle.join()
+        })
+    });
+    match (outcome, interrupt) {
+        (_, Some(e)) => Err(e),
+        (Ok(result), None) => result.map_err(PyErr::from),
+        (Err(_), None) => Err(PyRuntimeError::new_err(
+            "internal error in the dzhanibekov core (a bug; please report it)",
+        )),
+    }
+}
+
+/// A body's principal moments, validated.
+#[pyclass(name = "RigidBody", module = "dzhanibekov._core", frozen)]
+struct PyRigidBody {
+    inner: RigidBody,
+}
+
+#[pymethods]
+impl PyRigidBody {
+    #[new]
+    fn new(inertia: [f64; 3]) -> PyResult<Self> {
+        Ok(Self {
+            inner: RigidBody::try_new(inertia)?,
+        })
+    }
+
+    #[staticmethod]
+    #[pyo3(signature = (a, b, c, mass = 1.0))]
+    fn from_box(a: f64, b: f64, c: f64, mass: f64) -> PyResult<Self> {
+        Ok(Self {
+            inner: RigidBody::from_box(a, b, c, mass)?,
+        })
+    }
+
+    #[getter]
+    fn inertia(&self) -> (f64, f64, f64) {
+        let i = self.inner.inertia_body();
+        (i.x, i.y, i.z)
+    }
+
+    #[getter]
+    fn satisfies_triangle_inequality(&self) -> bool {
+        self.inner.satisfies_triangle_inequality()
+    }
+
+    #[getter]
+    fn intermediate_axis(&self) -> Option<usize> {
+        self.inner.intermediate_axis()
+    }
+
+    fn __repr__(&self) -> String {
+        let i = self.inner.inertia_body();
+        format!("RigidBody(inertia=({}, {}, {}))", i.x, i.y, i.z)
+    }
+}
+
+/// Steps above which a run goes to a helper thread and watches for Ctrl-C (about 5 ms).
+const LONG_RUN_STEPS: u64 = 200_000;
+
+#[pyfunction]
+#[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips))]
+#[allow(clippy::too_many_arguments)]
+fn simulate<'py>(
+    py: Python<'py>,
+    body: &PyRigidBody,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    dt: f64,
+    method: &str,
+    max_steps: u64,
+    keep_frames: bool,
+    keep_flips: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let method: Method = method.parse()?;
+    let grid = FrameGrid::try_new(t_end, frames, dt, max_steps)?;
+    let keep = Keep {
+        frames: keep_frames,
+        flips: keep_flips,
+    };
+    let body = body.inner;
+    let long = grid.n_steps() > LONG_RUN_STEPS;
+    let out = detach(py, long, |cancel| {
+        core_simulate(&body, omega0, q0, &grid, method, keep, cancel)
+    })?;
+    let result = PyDict::new(py);
+    if keep_frames {
+        let omega = Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?;
+        let q = Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?;
+        result.set_item("omega", omega.into_pyarray(py))?;
+        result.set_item("q", q.into_pyarray(py))?;
+    }
+    result.set_item(
+        "flip_times",
+        Array1::from_vec(out.flip_times).into_pyarray(py),
+    )?;
+    let drift = PyDict::new(py);
+    drift.set_item("energy", out.drift.energy)?;
+    drift.set_item("momentum", out.drift.momentum)?;
+    drift.set_item("momentum_world", out.drift.momentum_world)?;
+    drift.set_item("q_norm", out.drift.q_norm)?;
+    result.set_item("drift", drift)?;
+    result.set_item("nfev", out.stats.nfev)?;
+    result.set_item("n_steps", out.stats.n_steps)?;
+    result.set_item("dt", out.dt)?;
+    Ok(result)
+}
+
+fn internal(e: impl std::fmt::Display) -> PyErr {
+    PyRuntimeError::new_err(format!("internal error in the dzhanibekov core: {e}"))
+}
+
+/// Point-frames above which rotation watches for Ctrl-C on a helper thread.
+const LONG_ROTATION: usize = 1 << 24;
+
+#[pyfunction]
+#[pyo3(signature = (q, points, out = None))]
+fn rotate<'py>(
+    py: Python<'py>,
+    q: PyReadonlyArray2<'py, f64>,
+    points: PyReadonlyArray2<'py, f64>,
+    out: Option<PyReadwriteArray3<'py, f64>>,
+) -> PyResult<Option<Bound<'py, PyArray3<f64>>>> {
+    let (n, p) = (q.shape()[0], points.shape()[0]);
+    let q = q
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`q` must be C-contiguous"))?;
+    let points = points
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`points` must be C-contiguous"))?;
+    let long = n.saturating_mul(p) > LONG_ROTATION;
+    match out {
+        Some(mut out) => {
+            if out.shape() != [n, p, 3] {
+                return Err(PyValueError::new_err(format!(
+                    "`out` must have shape ({n}, {p}, 3), got {:?}",
+                    out.shape()
+                )));
+            }
+            let dst = out
+                .as_slice_mut()
+                .map_err(|_| PyValueError::new_err("`out` must be C-contiguous"))?;
+            detach(py, long, |_| rotate_points(q, points, dst))?;
+            Ok(None)
+        }
+        None => {
+            // NumPy allocates the output (its allocator asks for huge pages, so fresh memory
+            // faults in far fewer, larger pieces); the core fills it without the GIL.
+            let array = unsafe { PyArray3::<f64>::new(py, [n, p, 3], false) };
+            // SAFETY: the array is new, C-contiguous and not yet shared with Python code.
+            let dst = unsafe { array.as_slice_mut() }.map_err(internal)?;
+            detach(py, long, |_| rotate_points(q, points, dst))?;
+            Ok(Some(array))
+        }
+    }
+}
+
+/// Energy, body and world angular momentum and `|q|` at each row of `omega` and `q`.
+#[pyfunction]
+fn invariants<'py>(
+    py: Python<'py>,
+    body: &PyRigidBody,
+    omega: PyReadonlyArray2<'py, f64>,
+    q: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let n = omega.shape()[0];
+    let omega = omega
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`omega` must be C-contiguous"))?;
+    let q = q
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`q` must be C-contiguous"))?;
+    if omega.len() != 3 * n || q.len() != 4 * n {
+        return Err(PyValueError::new_err(
+            "`omega` must have shape (N, 3) and `q` shape (N, 4) with the same N",
+        ));
+    }
+    let inertia = body.inner.inertia_body();
+    let (mut energy, mut l_body, mut l_world, mut q_norm) = (
+        Vec::with_capacity(n),
+        Vec::with_capacity(3 * n),
+        Vec::with_capacity(3 * n),
+        Vec::with_capacity(n),
+    );
+    for (w, c) in omega.chunks_exact(3).zip(q.chunks_exact(4)) {
+        let x = state_from([w[0], w[1], w[2]], [c[0], c[1], c[2], c[3]]);
+        let inv = Invariants::of(&inertia, &x);
+        energy.push(inv.energy);
+        l_body.extend_from_slice(inv.l_body.as_slice());
+        l_world.extend_from_slice(inv.l_world.as_slice());
+        q_norm.push(inv.q_norm);
+    }
+    let result = PyDict::new(py);
+    result.set_item("energy", PyArray1::from_vec(py, energy))?;
+    let shaped = |v: Vec<f64>| Array2::from_shape_vec((n, 3), v).map_err(internal);
+    result.set_item("momentum_body", shaped(l_body)?.into_pyarray(py))?;
+    result.set_item("momentum_world", shaped(l_world)?.into_pyarray(py))?;
+    result.set_item("q_norm", PyArray1::from_vec(py, q_norm))?;
+    Ok(result)
+}
+
+#[pymodule]
+fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRigidBody>()?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(rotate, m)?)?;
+    m.add_function(wrap_pyfunction!(invariants, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    Ok(())
+}

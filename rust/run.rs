@@ -1,0 +1,331 @@
+//! Driving a fixed-step method over a frame grid, and the one entry point `simulate`.
+//!
+//! Frames fall exactly at `t_end · i / (frames − 1)`. Between two frames the run takes equal
+//! substeps no longer than `dt`. Only frames reach the observers' storage, so the memory of a
+//! run is set by `frames`, never by the step count.
+
+use std::str::FromStr;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::Vector3;
+
+use crate::body::RigidBody;
+use crate::dynamics::{state_from, FreeRigidBody, State};
+use crate::error::{Error, Result};
+use crate::integrators::{Rk4, Stats, Stepper};
+use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
+
+/// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
+const CHECK_EVERY: u64 = 1 << 14;
+
+/// The frame times of a run and the substeps between them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameGrid {
+    t_end: f64,
+    frames: usize,
+    substeps: u64,
+}
+
+impl FrameGrid {
+    /// `frames` frames over `[0, t_end]` with substeps no longer than `dt`.
+    ///
+    /// # Errors
+    /// `t_end` and `dt` must be positive and finite, `frames` at least 2, and the run's total
+    /// step count at most `max_steps`.
+    ///
+    /// # Example
+    /// ```
+    /// let grid = dzhanibekov::run::FrameGrid::try_new(100.0, 201, 1e-3, u64::MAX).unwrap();
+    /// assert_eq!(grid.n_steps(), 100_000);
+    /// assert_eq!(grid.time(200), 100.0);
+    /// ```
+    pub fn try_new(t_end: f64, frames: usize, dt: f64, max_steps: u64) -> Result<Self> {
+        if !(t_end.is_finite() && t_end > 0.0) {
+            return Err(Error::invalid(
+                "t_end",
+                "must be positive and finite",
+                t_end,
+            ));
+        }
+        if frames < 2 {
+            return Err(Error::invalid("frames", "must be at least 2", frames));
+        }
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::invalid("dt", "must be positive and finite", dt));
+        }
+        let intervals = (frames - 1) as f64;
+        let substeps = (t_end / intervals / dt).ceil().max(1.0);
+        let total = substeps * intervals;
+        if total.is_nan() || total > max_steps as f64 {
+            return Err(Error::TooLarge {
+                what: "the run",
+                needed: format!("{total:.3e} steps (t_end / dt)"),
+                limit: format!("max_steps = {max_steps}"),
+                hint: "raise max_steps, or take a larger dt",
+            });
+        }
+        Ok(Self {
+            t_end,
+            frames,
+            substeps: substeps as u64,
+        })
+    }
+
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// Substeps between consecutive frames.
+    pub fn substeps(&self) -> u64 {
+        self.substeps
+    }
+
+    /// Steps in the whole run.
+    pub fn n_steps(&self) -> u64 {
+        self.substeps * (self.frames as u64 - 1)
+    }
+
+    /// The time of frame `i`; exactly `t_end` for the last.
+    pub fn time(&self, i: usize) -> f64 {
+        self.t_end * (i as f64 / (self.frames - 1) as f64)
+    }
+
+    /// The step actually taken, at most the `dt` asked for.
+    pub fn step_size(&self) -> f64 {
+        self.t_end / (self.frames - 1) as f64 / self.substeps as f64
+    }
+}
+
+/// Integrates `sys` from `x0` over `grid` with a fixed-step method, showing frames (and steps,
+/// if asked) to `obs`. Returns the final state and the run's cost.
+///
+/// # Errors
+/// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
+/// being finite.
+pub fn integrate<M, O>(
+    method: &M,
+    sys: &FreeRigidBody,
+    x0: State,
+    grid: &FrameGrid,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<(State, Stats)>
+where
+    M: Stepper<7, FreeRigidBody>,
+    O: Observer,
+{
+    let mut x = x0;
+    obs.frame(0, 0.0, &x);
+    let n = grid.substeps();
+    for i in 1..grid.frames() {
+        let (ta, tb) = (grid.time(i - 1), grid.time(i));
+        let h = (tb - ta) / n as f64;
+        let mut done = 0;
+        while done < n {
+            let chunk = (n - done).min(CHECK_EVERY);
+            x = advance(method, sys, obs, x, ta, h, done..done + chunk, (n, tb));
+            done += chunk;
+            check(&x, ta + done as f64 * h, cancel)?;
+        }
+        obs.frame(i, tb, &x);
+    }
+    let n_steps = grid.n_steps();
+    Ok((
+        x,
+        Stats {
+            nfev: n_steps * M::RHS_PER_STEP,
+            n_steps,
+        },
+    ))
+}
+
+/// Steps `range` of the `n` substeps from `ta` (the last lands exactly on `tb`). The state
+/// goes in and out by value so that it lives in registers across the loop.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn advance<M, O>(
+    method: &M,
+    sys: &FreeRigidBody,
+    obs: &mut O,
+    mut x: State,
+    ta: f64,
+    h: f64,
+    range: std::ops::Range<u64>,
+    (n, tb): (u64, f64),
+) -> State
+where
+    M: Stepper<7, FreeRigidBody>,
+    O: Observer,
+{
+    for k in range {
+        let t = ta + k as f64 * h;
+        if O::WANTS_STEPS {
+            let before = x;
+            method.step(sys, t, h, &mut x);
+            let t1 = if k + 1 == n { tb } else { t + h };
+            obs.step(t, &before, t1, &x);
+        } else {
+            method.step(sys, t, h, &mut x);
+        }
+    }
+    x
+}
+
+#[inline]
+fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Interrupted);
+    }
+    if !x.iter().all(|v| v.is_finite()) {
+        return Err(Error::Diverged {
+            t,
+            hint: "the step is far beyond the method's stability limit; take a smaller dt",
+        });
+    }
+    Ok(())
+}
+
+/// The integration methods on offer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Method {
+    /// Classic fixed-step fourth-order Runge–Kutta, the paper's method.
+    Rk4,
+}
+
+impl FromStr for Method {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "rk4" => Ok(Method::Rk4),
+            other => Err(Error::invalid("method", "must be one of 'rk4'", other)),
+        }
+    }
+}
+
+/// What a run should keep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Keep {
+    /// ω and q at every frame.
+    pub frames: bool,
+    /// The flip times.
+    pub flips: bool,
+}
+
+/// A run's output: only what [`Keep`] asked for is filled.
+#[derive(Debug, Clone)]
+pub struct RunOutput {
+    /// `(frames, 3)` body rates, time-major; empty unless frames were kept.
+    pub omega: Vec<f64>,
+    /// `(frames, 4)` quaternions, scalar first; empty unless frames were kept.
+    pub q: Vec<f64>,
+    pub flip_times: Vec<f64>,
+    pub drift: Drift,
+    pub stats: Stats,
+    /// The step actually taken.
+    pub dt: f64,
+}
+
+/// Simulates the free rotation of `body` from body rates `omega0` and attitude `q0`
+/// (normalised here) over `grid`.
+///
+/// # Errors
+/// Non-finite `omega0`, a zero or non-finite `q0`, and the errors of [`integrate`].
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
+/// let body = dzhanibekov::RigidBody::try_new([52.0833, 27.0833, 41.6666]).unwrap();
+/// let grid = FrameGrid::try_new(100.0, 201, 1e-3, u64::MAX).unwrap();
+/// let keep = Keep { frames: true, flips: true };
+/// let out = simulate(&body, [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0], &grid, Method::Rk4, keep,
+///                    &AtomicBool::new(false)).unwrap();
+/// assert_eq!(out.q.len(), 201 * 4);
+/// assert!(out.drift.q_norm < 1e-9);
+/// assert!(!out.flip_times.is_empty());
+/// ```
+pub fn simulate(
+    body: &RigidBody,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
+    if !omega0.iter().all(|w| w.is_finite()) {
+        return Err(Error::invalid(
+            "omega0",
+            "must be three finite body rates",
+            omega0,
+        ));
+    }
+    let q0 = normalized(q0)?;
+    let sys = FreeRigidBody::new(*body);
+    let omega = Vector3::from(omega0);
+    let recorder = match keep.frames {
+        true => Some(FrameRecorder::with_frames(grid.frames())?),
+        false => None,
+    };
+    let mut obs = (DriftMonitor::new(body, &omega), recorder);
+    let x0 = state_from(omega0, q0);
+    // Flip detection looks at every step; without it the step loop stays bare.
+    let (stats, flip_times) = if keep.flips {
+        let mut flips = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
+        let stats = run_method(method, &sys, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
+        (stats, flips.flip_times)
+    } else {
+        (
+            run_method(method, &sys, x0, grid, &mut obs, cancel)?,
+            Vec::new(),
+        )
+    };
+    let (drift, frames) = obs;
+    let frames = frames.unwrap_or_default();
+    Ok(RunOutput {
+        omega: frames.omega,
+        q: frames.q,
+        flip_times,
+        drift: drift.drift,
+        stats,
+        dt: grid.step_size(),
+    })
+}
+
+fn run_method<O: Observer>(
+    method: Method,
+    sys: &FreeRigidBody,
+    x0: State,
+    grid: &FrameGrid,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<Stats> {
+    let (_, stats) = match method {
+        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
+    };
+    Ok(stats)
+}
+
+/// `q / |q|`.
+///
+/// # Errors
+/// A zero or non-finite quaternion.
+pub fn normalized(q: [f64; 4]) -> Result<[f64; 4]> {
+    let largest = q.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
+    if !(largest.is_finite() && largest > 0.0) {
+        return Err(Error::invalid(
+            "q0",
+            "must be a finite, non-zero quaternion (Q, U, V, W)",
+            q,
+        ));
+    }
+    // Scale first so that the norm neither overflows nor underflows.
+    let s = q.map(|c| c / largest);
+    let n = s.iter().map(|c| c * c).sum::<f64>().sqrt();
+    Ok(s.map(|c| c / n))
+}
