@@ -23,6 +23,7 @@ pub mod dynamics;
 pub mod error;
 pub mod integrators;
 pub mod kinematics;
+pub mod mesh;
 pub mod observe;
 pub mod run;
 

@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadwriteArray3,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadwriteArray3,
     PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
@@ -20,6 +20,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
 use crate::error::Error;
 use crate::kinematics::rotate_points;
+use crate::mesh::ellipsoid;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
 
 impl From<Error> for PyErr {
@@ -266,12 +267,35 @@ fn invariants<'py>(
     Ok(result)
 }
 
+/// Cells above which building a mesh watches for Ctrl-C on a helper thread.
+const LONG_MESH: usize = 1 << 20;
+
+/// A mesh as NumPy arrays: vertices `(V, 3)` and cells `(C, 4)`.
+type PyMesh<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
+
+/// The ellipsoid with the given semi-axes as a closed quad mesh.
+#[pyfunction]
+fn ellipsoid_mesh<'py>(
+    py: Python<'py>,
+    semi_axes: [f64; 3],
+    n_around: usize,
+    n_along: usize,
+) -> PyResult<PyMesh<'py>> {
+    let long = n_around.saturating_mul(n_along) > LONG_MESH;
+    let mesh = detach(py, long, |_| ellipsoid(semi_axes, n_around, n_along))?;
+    let (v, c) = (mesh.n_vertices(), mesh.n_cells());
+    let vertices = Array2::from_shape_vec((v, 3), mesh.vertices).map_err(internal)?;
+    let quads = Array2::from_shape_vec((c, 4), mesh.quads).map_err(internal)?;
+    Ok((vertices.into_pyarray(py), quads.into_pyarray(py)))
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
+    m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

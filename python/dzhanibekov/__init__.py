@@ -10,9 +10,13 @@ point arrays without trigonometry; this package is the thin Python side.
 
 from ._core import __version__
 from .body import Body, InertiaWarning
+from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
+from .plan import Plan, SceneResult, execute, make_plan
 from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
+from .scene import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .simulate import METHODS, rotate, simulate
+from .summary import Summary, summarize
 from .trajectory import Drift, Trajectory
 
 __all__ = [
@@ -32,4 +36,17 @@ __all__ = [
     "SCENARIOS",
     "Scenario",
     "scenario",
+    "summarize",
+    "Summary",
+    "Scene",
+    "SceneError",
+    "SCENES",
+    "PAPER_SCENES",
+    "load_scene",
+    "make_plan",
+    "execute",
+    "Plan",
+    "SceneResult",
+    "ellipsoid_mesh",
+    "ellipsoid_semi_axes",
 ]

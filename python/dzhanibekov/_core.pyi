@@ -5,7 +5,7 @@ from typing import Any, final, overload
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["RigidBody", "__version__", "invariants", "rotate", "simulate"]
+__all__ = ["RigidBody", "__version__", "ellipsoid_mesh", "invariants", "rotate", "simulate"]
 __version__: str
 
 @final
@@ -43,3 +43,6 @@ def rotate(
 def invariants(
     body: RigidBody, omega: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
 ) -> dict[str, npt.NDArray[np.float64]]: ...
+def ellipsoid_mesh(
+    semi_axes: tuple[float, float, float], n_around: int, n_along: int
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]: ...

@@ -1,4 +1,12 @@
-"""The command line: ``dzhanibekov paper`` runs the paper's scenarios and reports on them."""
+"""The command line ``dzhanibekov`` (also ``python -m dzhanibekov``).
+
+- ``dzhanibekov paper --out DIR``: every figure of the paper and its animation, and the
+  stable counter-examples; prints each run's flip times and drift.
+- ``dzhanibekov run SCENE.toml --out DIR``: what one scene draws (a file or a shipped name).
+- ``dzhanibekov scenes``: the shipped scenes; ``--show NAME`` prints one, to start your own.
+
+Output is all or nothing: files are drawn beside DIR and moved in when all are done.
+"""
 
 from __future__ import annotations
 
@@ -6,24 +14,71 @@ import argparse
 import sys
 import time
 from collections.abc import Sequence
+from importlib import resources
+from pathlib import Path
 
-from .scenarios import SCENARIOS
+from .plan import SceneResult
+from .scene import SCENES, SceneError, load_scene
 
 __all__ = ["main"]
 
 
-def _paper(args: argparse.Namespace) -> int:
-    print(f"{'scenario':<9} {'steps':>9} {'seconds':>8} {'flips':>5}  {'first flip times':<28}"
+def _table(results: Sequence[SceneResult], seconds: float) -> None:
+    print(f"{'scene':<16} {'steps':>9} {'flips':>5}  {'first flip times':<28}"
           f" {'dE/E':>8} {'d|L|/|L|':>8} {'dL_world':>8} {'d|q|':>8}")
-    for s in SCENARIOS.values():
-        start = time.perf_counter()
-        traj = s.run(dt=args.dt)
-        seconds = time.perf_counter() - start
-        times = [] if traj.flip_times is None else list(traj.flip_times)
+    for r in results:
+        run = r.trajectory if r.trajectory is not None else r.summary
+        assert run is not None
+        times = [] if r.flip_times is None else list(r.flip_times)
         flips = ", ".join(f"{t:.3f}" for t in times[:4]) + (", …" if len(times) > 4 else "")
-        d = traj.drift
-        print(f"{s.name:<9} {traj.n_steps:>9} {seconds:>8.3f} {len(times):>5}  {flips:<28}"
+        d = r.drift
+        count = "?" if r.flip_times is None else str(len(times))
+        print(f"{r.scene.name:<16} {run.n_steps:>9} {count:>5}  {flips:<28}"
               f" {d.energy:>8.1e} {d.momentum:>8.1e} {d.momentum_world:>8.1e} {d.q_norm:>8.1e}")
+    print(f"rendered in {seconds:.1f} s")
+
+
+def _progress(args: argparse.Namespace) -> bool | None:
+    return False if args.no_progress else None
+
+
+def _paper(args: argparse.Namespace) -> int:
+    from .render import output_folder, render_paper
+
+    start = time.perf_counter()
+    with output_folder(args.out) as tmp:
+        files, results = render_paper(tmp, dt=args.dt, progress=_progress(args))
+    _table(results, time.perf_counter() - start)
+    print(f"wrote {len(files)} files to {args.out}")
+    return 0
+
+
+def _run(args: argparse.Namespace) -> int:
+    from .plotting import compute
+    from .render import output_folder, render_scene
+
+    scene = load_scene(args.scene)  # errors name the file and key, before any output
+    if args.dt is not None:
+        scene = scene.replace(dt=args.dt)
+    start = time.perf_counter()
+    with output_folder(args.out) as tmp:
+        result = compute(scene)
+        files = render_scene(result, tmp, progress=_progress(args))
+    _table([result], time.perf_counter() - start)
+    print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
+    return 0
+
+
+def _scenes(args: argparse.Namespace) -> int:
+    if args.show is not None:
+        if args.show not in SCENES:
+            raise ValueError(f"no shipped scene {args.show!r}; the scenes are {', '.join(SCENES)}")
+        text = (resources.files("dzhanibekov") / "scenes" / f"{args.show}.toml").read_text(
+            encoding="utf-8")
+        print(text, end="")
+        return 0
+    for name, scene in SCENES.items():
+        print(f"{name:<16} {scene.title}")
     return 0
 
 
@@ -31,20 +86,56 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Runs the command line with `argv` (default ``sys.argv[1:]``); returns the exit code."""
     parser = argparse.ArgumentParser(
         prog="dzhanibekov",
-        description="Free rotation of rigid bodies: the Dzhanibekov effect.",
+        description="Free rotation of rigid bodies: the Dzhanibekov effect. Renders the "
+        "paper's figures and your own scenes (TOML files).",
     )
-    commands = parser.add_subparsers(dest="command", required=True)
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
     paper = commands.add_parser(
         "paper",
-        help="run the paper's scenarios; print flip times and invariant drift",
-        description="Simulate the paper's scenarios (Fig. 2 and 3a-c) with RK4 and print, for "
-        "each, the flip times and the largest drift of the invariants.",
+        help="render every figure of the paper and its animation",
+        description="Simulate the paper's scenes (Fig. 2 and Fig. 3a-c) and two stable "
+        "counter-examples, render their figures, the animation (GIF; MP4 too when ffmpeg is "
+        "found) and a JSON summary of each into DIR, and print flip times and the "
+        "invariants' drift.",
     )
-    paper.add_argument("--dt", type=float, default=1e-3, help="RK4 step (default 1e-3)")
+    paper.add_argument("--out", required=True, type=Path, metavar="DIR",
+                       help="folder to write into (created; files of the same name replaced)")
+    paper.add_argument("--dt", type=float, default=None,
+                       help="step for every scene (default: each scene's own, 1e-3)")
+    paper.add_argument("--no-progress", action="store_true", help="no progress bar")
     paper.set_defaults(run=_paper)
+
+    run = commands.add_parser(
+        "run",
+        help="render one scene (a TOML file, or a shipped scene's name)",
+        description="Simulate one scene and render what it draws into DIR: NAME-FIGURE.png "
+        "for each figure, NAME.gif (and .mp4) if it asks for an animation, NAME.json with "
+        "its flip times and drift. See `dzhanibekov scenes --show fig3a` for a file to "
+        "start from.",
+    )
+    run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
+    run.add_argument("--out", required=True, type=Path, metavar="DIR",
+                     help="folder to write into (created; files of the same name replaced)")
+    run.add_argument("--dt", type=float, default=None, help="override the scene's step")
+    run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    run.set_defaults(run=_run)
+
+    scenes = commands.add_parser(
+        "scenes",
+        help="list the shipped scenes",
+        description="List the scenes shipped with the package, or print one (a template "
+        "for your own).",
+    )
+    scenes.add_argument("--show", metavar="NAME", help="print the TOML file of scene NAME")
+    scenes.set_defaults(run=_scenes)
+
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))
-    except (ValueError, TypeError) as exc:
+    except (SceneError, ValueError, TypeError) as exc:
         print(f"dzhanibekov: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:
+        print("dzhanibekov: interrupted; nothing written", file=sys.stderr)
+        return 130

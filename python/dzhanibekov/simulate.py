@@ -80,18 +80,9 @@ def simulate(
     >>> traj.omega.shape, traj.q.shape, traj.t[-1]
     ((201, 3), (201, 4), 100.0)
     """
-    if not isinstance(body, Body):
-        body = Body(body)
-    omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
-    q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
-    if not np.any(q0):
-        raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), got (0, 0, 0, 0)")
-    t_end = as_float("t_end", t_end, positive=True)
-    frames = as_int("frames", frames, minimum=2)
-    dt = as_float("dt", dt, positive=True)
-    max_steps = as_int("max_steps", max_steps, minimum=1)
-    if method not in METHODS:
-        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    body, omega0, q0, t_end, frames, dt, max_steps = _checked(
+        body, omega0, q0, t_end, frames, dt, method, max_steps
+    )
     check_size(frames * 8 * 8, f"frames={frames}", "ask for fewer frames")
     out = _core.simulate(
         body._core,
@@ -117,6 +108,25 @@ def simulate(
         nfev=out["nfev"],
         drift=Drift(**out["drift"]),
     )
+
+
+def _checked(
+    body: Any, omega0: Any, q0: Any, t_end: Any, frames: Any, dt: Any, method: Any, max_steps: Any
+) -> tuple[Body, np.ndarray, np.ndarray, float, int, float, int]:
+    """The arguments of a run, coerced and checked (shared by `simulate` and `summarize`)."""
+    if not isinstance(body, Body):
+        body = Body(body)
+    omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
+    q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
+    if not np.any(q0):
+        raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), got (0, 0, 0, 0)")
+    t_end = as_float("t_end", t_end, positive=True)
+    frames = as_int("frames", frames, minimum=2)
+    dt = as_float("dt", dt, positive=True)
+    max_steps = as_int("max_steps", max_steps, minimum=1)
+    if method not in METHODS:
+        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    return body, omega0, q0, t_end, frames, dt, max_steps
 
 
 def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:

@@ -1,0 +1,454 @@
+"""The paper's figures, and more, with matplotlib.
+
+Each function takes a computed scene (:func:`compute`; a :class:`~dzhanibekov.scene.Scene`
+is computed on the fly), returns a :class:`~matplotlib.figure.Figure` so that figures can
+be composed or restyled, and saves it when given a path. Single-panel figures also draw into
+an existing 3-D or 2-D axes (`ax`). No pyplot state is touched: the figures are plain
+``Figure`` objects, garbage-collected like any other.
+
+>>> import dzhanibekov as dz
+>>> fig = dz.plotting.path_figure(dz.SCENES["fig3a"])          # doctest: +SKIP
+>>> fig.savefig("fig3a.png")                                    # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import textwrap
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+from mpl_toolkits.mplot3d import Axes3D  # type: ignore[import-untyped]
+from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
+    Line3DCollection,
+    Poly3DCollection,
+)
+
+from .geometry import box_edges
+from .plan import SceneResult, execute, make_plan
+from .scene import Scene
+
+__all__ = [
+    "compute",
+    "phases_figure",
+    "path_figure",
+    "fig3_figure",
+    "omega_figure",
+    "invariants_figure",
+    "polhode_figure",
+    "FIGURE_FUNCTIONS",
+]
+
+ISOMETRIC = (np.degrees(np.arctan(1 / np.sqrt(2))), -45.0)
+"""Elevation and azimuth (degrees) of the isometric view; with the orthographic projection,
+an axonometric picture as in the paper."""
+
+COLORS = {
+    "box": "#1f3b73",
+    "ellipsoid": "#f2a541",
+    "signal": "#c0392b",
+    "path": "#c0392b",
+    "momentum": "#111111",
+    "axes": ("#d62728", "#2ca02c", "#1f77b4"),
+    "omega": ("#d62728", "#2ca02c", "#1f77b4"),
+    "separatrix": "#c0392b",
+    "polhode": "#9a9a9a",
+}
+DPI = 100
+
+
+def compute(scene: Scene | SceneResult) -> SceneResult:
+    """The scene's computed data: its plan, executed (a result is returned as it is)."""
+    if isinstance(scene, SceneResult):
+        return scene
+    if not isinstance(scene, Scene):
+        raise TypeError(f"expected a Scene or a SceneResult, got {type(scene).__name__}")
+    return execute(make_plan(scene))
+
+
+def _need(result: SceneResult, what: str, *names: str) -> None:
+    missing = [n for n in names if n not in result.world]
+    if result.trajectory is None or missing:
+        raise ValueError(
+            f"scene {result.scene.name!r} was computed without what the {what} needs "
+            f"({', '.join(missing) or 'frames'}); add it to the scene's `draw` table"
+        )
+
+
+def _figure_of(ax: Axes) -> Figure:
+    fig = ax.get_figure()
+    while fig is not None and not isinstance(fig, Figure):  # a SubFigure: its parent's
+        fig = fig.get_figure()
+    assert isinstance(fig, Figure), "the axes belongs to no figure"
+    return fig
+
+
+def _saved(fig: Figure, save: str | Path | None) -> Figure:
+    if save is not None:
+        fig.savefig(save, dpi=DPI)
+    return fig
+
+
+def _axes3d(fig: Figure, *args: Any) -> Axes3D:
+    ax: Axes3D = fig.add_subplot(*args, projection="3d")
+    ax.set_proj_type("ortho")
+    ax.view_init(elev=ISOMETRIC[0], azim=ISOMETRIC[1])
+    ax.set_box_aspect((1, 1, 1))
+    return ax
+
+
+def _limits(ax: Axes3D, extent: float) -> None:
+    for setter in (ax.set_xlim, ax.set_ylim, ax.set_zlim):
+        setter(-extent, extent)
+
+
+def extent(result: SceneResult) -> float:
+    """Half the side of a cube that holds everything the scene draws in space."""
+    sizes = [np.abs(w.points).max() for w in result.world.values() if w.points.size]
+    sizes.append(float(np.linalg.norm(result.scene.signal_point)))
+    return 1.08 * float(max(sizes))
+
+
+def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True) -> dict[str, Any]:
+    """Draws the scene's objects at frame index `frame` into `ax`; returns the artists by name
+    (the animation moves them)."""
+    scene, d = result.scene, result.scene.draw
+    artists: dict[str, Any] = {}
+    if "ellipsoid" in result.world:
+        assert result.mesh is not None
+        verts = result.at("ellipsoid", frame)[result.mesh[1]]
+        artists["ellipsoid"] = ax.add_collection3d(Poly3DCollection(
+            verts, facecolor=COLORS["ellipsoid"], edgecolor="#8a5a12", linewidths=0.3,
+            alpha=0.35, label="inertia ellipsoid"))
+    if "box" in result.world:
+        corners = result.at("box", frame)
+        artists["box"] = ax.add_collection3d(Line3DCollection(
+            corners[box_edges()], colors=COLORS["box"], linewidths=1.4, label="box"))
+    if "body_axes" in result.world:
+        tips = result.at("body_axes", frame)
+        segments = np.stack([np.zeros_like(tips), tips], axis=1)
+        artists["body_axes"] = ax.add_collection3d(Line3DCollection(
+            segments, colors=COLORS["axes"], linewidths=1.0, label="body axes"))
+    if d.momentum and result.trajectory is not None:
+        tip = _unit(result.momentum_world) * extent(result)
+        (artists["momentum"],) = ax.plot(*np.stack([-tip, tip]).T, color=COLORS["momentum"],
+                                         lw=0.8, ls="--", label="L (angular momentum)")
+    if "signal" in result.world and (d.path or d.signal_point):
+        path = result.path if len(result.world["signal"].frames) == scene.frames else None
+        if d.path and path is not None and trail:
+            (artists["trail"],) = ax.plot(*path[: frame + 1].T, color=COLORS["path"], lw=1.0,
+                                          label="signal point's path")
+            ax.plot(*path.T, color=COLORS["path"], lw=0.4, alpha=0.25)
+        if d.signal_point:
+            p = result.at("signal", frame)[0]
+            (artists["mast"],) = ax.plot(*np.stack([np.zeros(3), p]).T, color=COLORS["signal"],
+                                         lw=1.0)
+            (artists["signal"],) = ax.plot(*p[:, None], "o", color=COLORS["signal"], ms=4,
+                                           label="signal point")
+    return artists
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = float(np.linalg.norm(v))
+    return v / n if n > 0 else np.array([0.0, 0.0, 1.0])
+
+
+def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
+                  save: str | Path | None = None) -> Figure:
+    """Fig. 2: the body (box, inertia ellipsoid, signal point …) at the scene's instants,
+    axonometric, each with the signal point's path up to that instant.
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+        A scene whose `draw.figures` has ``"phases"``.
+    columns : int
+        Panels per row.
+    save : str or Path, optional
+        Where to save the figure (format from the suffix).
+
+    Returns
+    -------
+    Figure
+        One 3-D axes per instant, titled with its time.
+    """
+    result = compute(scene)
+    _need(result, "phases panel")
+    from .plan import phase_frames  # the frames the plan rotated the objects at
+
+    frames = phase_frames(result.scene)
+    rows = -(-len(frames) // columns)
+    cols = min(columns, len(frames))
+    fig = Figure(figsize=(2.4 * cols, 2.5 * rows + 0.5), layout="constrained")
+    size = extent(result)
+    for k, frame in enumerate(frames):
+        ax = _axes3d(fig, rows, cols, k + 1)
+        draw_body(ax, result, frame)
+        _limits(ax, size)
+        ax.set_axis_off()
+        ax.set_title(f"t = {result.trajectory.t[frame]:g}" if result.trajectory is not None
+                     else "", fontsize=9)
+    fig.suptitle(_title(result), fontsize=10)
+    return _saved(fig, save)
+
+
+def _title(result: SceneResult, width: int = 0) -> str:
+    verdict = result.verdict
+    title = result.scene.title + (f" — {verdict}" if verdict else "")
+    return textwrap.fill(title, width) if width else title
+
+
+def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
+                save: str | Path | None = None) -> Figure:
+    """Fig. 3: the signal point's path in space, in 3-D, with its start and end.
+
+    The dashed circle is the equator of the sphere the point moves on, perpendicular to the
+    angular momentum L (drawn when the scene draws ``momentum``): a flip takes the point from
+    one hemisphere to the other.
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+        A scene that draws the path (``"path"`` in `draw.figures`).
+    ax : Axes3D, optional
+        Draw into this axes instead of a new figure.
+    save : str or Path, optional
+        Where to save the figure.
+
+    Returns
+    -------
+    Figure
+    """
+    result = compute(scene)
+    _need(result, "path figure", "signal")
+    if ax is None:
+        fig = Figure(figsize=(5.2, 5.2), layout="constrained")
+        ax = _axes3d(fig, 1, 1, 1)
+    fig = _figure_of(ax)
+    path = result.path
+    ax.plot(*path.T, color=COLORS["path"], lw=0.9, label="signal point's path")
+    ax.plot(*path[0], "o", color="#2e8b57", ms=5, label="start")
+    ax.plot(*path[-1], "s", color="#333333", ms=4, label="end")
+    size = extent(result)
+    if result.scene.draw.momentum:
+        ell = _unit(result.momentum_world)
+        ax.plot(*np.stack([np.zeros(3), ell * size]).T, color=COLORS["momentum"], lw=1.2,
+                label="L (angular momentum)")
+        radius = float(np.linalg.norm(result.scene.signal_point))
+        a = _unit(np.cross(ell, [1.0, 0.0, 0.0] if abs(ell[0]) < 0.9 else [0.0, 1.0, 0.0]))
+        b = np.cross(ell, a)
+        phi = np.linspace(0, 2 * np.pi, 97)
+        circle = radius * (np.outer(np.cos(phi), a) + np.outer(np.sin(phi), b))
+        ax.plot(*circle.T, color="#777777", lw=0.6, ls="--", label="equator ⊥ L")
+    _limits(ax, size)
+    ax.set_xlabel("X")
+    ax.set_ylabel("Y")
+    ax.set_zlabel("Z")
+    ax.set_title(_title(result, 56), fontsize=9)
+    ax.legend(loc="upper left", fontsize=7)
+    return _saved(fig, save)
+
+
+def fig3_figure(scenes: Sequence[Scene | SceneResult], *, save: str | Path | None = None) -> Figure:
+    """Fig. 3 a–c side by side: :func:`path_figure` of each scene in one row."""
+    fig = Figure(figsize=(4.6 * len(scenes), 4.8), layout="constrained")
+    for k, scene in enumerate(scenes):
+        path_figure(scene, ax=_axes3d(fig, 1, len(scenes), k + 1))
+    return _saved(fig, save)
+
+
+def omega_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+                 save: str | Path | None = None) -> Figure:
+    """The body angular velocity ``u, v, w`` against time, each flip marked by a vertical line.
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+    ax : Axes, optional
+        Draw into this axes instead of a new figure.
+    save : str or Path, optional
+
+    Returns
+    -------
+    Figure
+        One line per component (labels ``u``, ``v``, ``w``) and one vertical line per flip
+        (the first labelled ``flip``).
+    """
+    result = compute(scene)
+    _need(result, "ω(t) figure")
+    traj = result.trajectory
+    assert traj is not None
+    if ax is None:
+        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
+        ax = fig.add_subplot()
+    fig = _figure_of(ax)
+    for k, name in enumerate("uvw"):
+        ax.plot(traj.t, traj.omega[:, k], color=COLORS["omega"][k], lw=1.1, label=name)
+    for k, t in enumerate(traj.flip_times if traj.flip_times is not None else ()):
+        ax.axvline(float(t), color="#555555", lw=0.8, ls=":", label="flip" if k == 0 else None)
+    ax.set_xlabel("t")
+    ax.set_ylabel("ω (body frame)")
+    ax.set_xlim(0, traj.t[-1])
+    ax.set_title(_title(result), fontsize=9)
+    ax.legend(loc="upper right", fontsize=8, ncols=4)
+    return _saved(fig, save)
+
+
+def invariants_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+                      save: str | Path | None = None) -> Figure:
+    """The drift of the invariants against time, log scale: relative energy and ``|L|``, the
+    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``.
+
+    Returns
+    -------
+    Figure
+        Four lines, labelled by invariant; exact zeros (the first frame) are not drawn.
+    """
+    result = compute(scene)
+    _need(result, "invariants figure")
+    traj = result.trajectory
+    assert traj is not None
+    inv = traj.invariants()
+    l_body = np.linalg.norm(inv["momentum_body"], axis=1)
+    l0 = l_body[0]
+    series = {
+        "energy  |E/E₀ − 1|": np.abs(inv["energy"] / inv["energy"][0] - 1),
+        "|L|  ||L|/|L₀| − 1|": np.abs(l_body / l0 - 1),
+        "L in space  |L − L₀|/|L₀|": np.linalg.norm(
+            inv["momentum_world"] - inv["momentum_world"][0], axis=1) / l0,
+        "|q| − 1": np.abs(inv["q_norm"] - 1),
+    }
+    if ax is None:
+        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
+        ax = fig.add_subplot()
+    fig = _figure_of(ax)
+    for label, values in series.items():
+        ax.plot(traj.t, np.where(values > 0, values, np.nan), lw=0.9, label=label)
+    ax.set_yscale("log")
+    ax.set_xlabel("t")
+    ax.set_ylabel("drift")
+    ax.set_xlim(0, traj.t[-1])
+    ax.set_title(f"{result.scene.title}: invariants' drift ({traj.method}, dt = {traj.dt:g})",
+                 fontsize=9)
+    ax.legend(loc="lower right", fontsize=7, ncols=2)
+    return _saved(fig, save)
+
+
+def polhodes(inertia: Sequence[float] | np.ndarray, energy: float, levels: int = 4,
+             points: int = 121) -> tuple[list[np.ndarray], list[np.ndarray]]:
+    """Polhodes on the energy ellipsoid ``ω · I ω = 2E`` of a body, in the body frame.
+
+    A polhode is where the energy ellipsoid meets the momentum sphere ``|I ω| = |L|``; with
+    ``D = |L|² / 2E`` between the smallest and largest moment, it circles the axis of the
+    largest moment when ``D`` exceeds the intermediate moment and the smallest when not. At
+    ``D = I_mid`` it is the separatrix: two ellipses crossing at ±(the intermediate axis),
+    in the planes ``I_max (I_max − I_mid) ω_max² = I_min (I_mid − I_min) ω_min²``.
+
+    Parameters
+    ----------
+    inertia : (3,) principal moments
+    energy : float
+        Kinetic energy ``E = ½ ω · I ω`` (positive).
+    levels : int
+        Polhodes drawn about each stable axis (each a pair, one about each end).
+    points : int
+        Points per curve.
+
+    Returns
+    -------
+    family : list of ndarray (points, 3)
+        The polhodes about the stable axes, closed curves.
+    separatrix : list of ndarray (points, 3)
+        Its two ellipses; empty for a symmetric top, which has none.
+    """
+    moments = np.asarray(inertia, dtype=float)
+    order = np.argsort(moments)
+    lo, mid, hi = order
+    i_lo, i_mid, i_hi = moments[order]
+    two_e = 2.0 * energy
+    phi = np.linspace(0.0, 2.0 * np.pi, points)
+    family: list[np.ndarray] = []
+    symmetric = np.isclose(i_lo, i_mid, rtol=1e-9) or np.isclose(i_mid, i_hi, rtol=1e-9)
+    for a, (b, c) in ((hi, (lo, mid)), (lo, (mid, hi))):
+        i_a = moments[a]
+        if np.isclose(i_a, i_mid, rtol=1e-9):
+            continue
+        for f in np.linspace(0.0, 1.0, levels + 2)[1:-1]:
+            d = i_mid + f * (i_a - i_mid)  # between the intermediate moment and I_a
+            # I_b (I_b − I_a) ω_b² + I_c (I_c − I_a) ω_c² = 2E (D − I_a): an ellipse in (ω_b, ω_c)
+            wb = np.sqrt(two_e * (d - i_a) / (moments[b] * (moments[b] - i_a))) * np.cos(phi)
+            wc = np.sqrt(two_e * (d - i_a) / (moments[c] * (moments[c] - i_a))) * np.sin(phi)
+            wa = np.sqrt(np.maximum(two_e - moments[b] * wb**2 - moments[c] * wc**2, 0.0) / i_a)
+            for sign in (1.0, -1.0):
+                curve = np.zeros((points, 3))
+                curve[:, a], curve[:, b], curve[:, c] = sign * wa, wb, wc
+                family.append(curve)
+    separatrix: list[np.ndarray] = []
+    if not symmetric:
+        k = np.sqrt(i_lo * (i_mid - i_lo) / (i_hi * (i_hi - i_mid)))
+        for sign in (1.0, -1.0):
+            d = np.zeros(3)
+            d[lo], d[hi] = 1.0, sign * k
+            d *= np.sqrt(two_e / (i_lo + i_hi * k**2))
+            e_mid = np.zeros(3)
+            e_mid[mid] = np.sqrt(two_e / i_mid)
+            separatrix.append(np.outer(np.cos(phi), e_mid) + np.outer(np.sin(phi), d))
+    return family, separatrix
+
+
+def polhode_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
+                   save: str | Path | None = None) -> Figure:
+    """The polhode: ω's path on the energy ellipsoid, where it meets the momentum sphere.
+
+    Drawn in body-frame ω-space: the run's energy ellipsoid (wireframe), polhodes about the
+    stable axes (grey), the separatrix through the intermediate axis (red) and ω(t) of the
+    run (blue). A flip is a pass of ω near the separatrix, from one side of the intermediate
+    axis's end to the other.
+
+    Returns
+    -------
+    Figure
+        Lines labelled ``ω(t)`` and ``separatrix`` (two ellipses; none for a symmetric top).
+    """
+    result = compute(scene)
+    _need(result, "polhode")
+    traj = result.trajectory
+    assert traj is not None
+    moments = np.array(traj.body.inertia)
+    energy = float(traj.invariants()["energy"][0])
+    if ax is None:
+        fig = Figure(figsize=(5.2, 5.2), layout="constrained")
+        ax = _axes3d(fig, 1, 1, 1)
+    fig = _figure_of(ax)
+    semi = np.sqrt(2 * energy / moments)
+    u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 25), np.linspace(0, np.pi, 13))
+    ax.plot_wireframe(semi[0] * np.sin(v) * np.cos(u), semi[1] * np.sin(v) * np.sin(u),
+                      semi[2] * np.cos(v), color="#dddddd", lw=0.3)
+    family, separatrix = polhodes(moments, energy)
+    for curve in family:
+        ax.plot(*curve.T, color=COLORS["polhode"], lw=0.6)
+    for k, curve in enumerate(separatrix):
+        ax.plot(*curve.T, color=COLORS["separatrix"], lw=1.2,
+                label="separatrix" if k == 0 else None)
+    ax.plot(*traj.omega.T, color="#1f4fd6", lw=2.0, label="ω(t)")
+    ax.plot(*traj.omega[0], "o", color="#2e8b57", ms=5, label="ω(0)")
+    _limits(ax, 1.1 * float(semi.max()))
+    ax.set_xlabel("u")
+    ax.set_ylabel("v")
+    ax.set_zlabel("w")
+    ax.set_title(f"{result.scene.title}: polhode", fontsize=9)
+    ax.legend(loc="upper left", fontsize=7)
+    return _saved(fig, save)
+
+
+FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {
+    "phases": phases_figure,
+    "path": path_figure,
+    "omega": omega_figure,
+    "invariants": invariants_figure,
+    "polhode": polhode_figure,
+}
+"""The figure function of each name a scene's `draw.figures` may hold."""

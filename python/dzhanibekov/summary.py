@@ -1,0 +1,126 @@
+"""Runs that keep no frames: flip times, the invariants' drift and the run's cost only.
+
+For scenes that ask only *when* a body flips, and for sweeps that need a few numbers per run,
+:func:`summarize` integrates exactly as :func:`~dzhanibekov.simulate` does but stores no
+frames: its memory does not grow with `frames` or with the run's length.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from .body import Body
+from .simulate import DEFAULT_MAX_STEPS, _checked
+from .trajectory import Drift
+
+__all__ = ["Summary", "summarize"]
+
+
+@dataclass(frozen=True, eq=False)
+class Summary:
+    """What a run measured, without its frames.
+
+    Attributes
+    ----------
+    flip_times : ndarray, shape (n_flips,)
+        Times of the flips (half-turns of the intermediate axis relative to the angular
+        momentum; see the README), located within the step.
+    drift : Drift
+        The invariants' largest drift over the frame times.
+    t_end : float
+    body : Body
+    method : str
+    dt : float
+        The step actually taken.
+    n_steps, nfev : int
+        Steps taken and right-hand-side evaluations.
+    """
+
+    flip_times: np.ndarray
+    drift: Drift
+    t_end: float
+    body: Body
+    method: str
+    dt: float
+    n_steps: int
+    nfev: int
+
+    @property
+    def flips(self) -> int:
+        """How many times the body flipped."""
+        return len(self.flip_times)
+
+    @property
+    def verdict(self) -> str:
+        """The run's stability verdict in words: how often it flipped in ``[0, t_end]``."""
+        if not self.flips:
+            return f"no flip in [0, {self.t_end:g}]"
+        return f"{self.flips} flip{'s' if self.flips > 1 else ''} in [0, {self.t_end:g}]"
+
+    def __repr__(self) -> str:
+        return (
+            f"Summary(flips={self.flips}, t_end={self.t_end:g}, method={self.method!r}, "
+            f"n_steps={self.n_steps})"
+        )
+
+
+def summarize(
+    body: Body | Any,
+    omega0: Any,
+    q0: Any = (1.0, 0.0, 0.0, 0.0),
+    t_end: float = 100.0,
+    frames: int = 201,
+    dt: float = 1e-3,
+    method: str = "rk4",
+    *,
+    max_steps: int = DEFAULT_MAX_STEPS,
+) -> Summary:
+    """Simulates like :func:`~dzhanibekov.simulate` but keeps no frames: flip times only.
+
+    The run is the same, step for step, as ``simulate`` with the same arguments, so its
+    flip times and drift are equal to a full run's; only ω and q are not stored. Use it when
+    only *when* the body flips is asked (a scene that draws nothing, one run of a sweep).
+
+    Parameters
+    ----------
+    body, omega0, q0, t_end, dt, method, max_steps
+        As for :func:`~dzhanibekov.simulate`.
+    frames : int
+        The frame grid, as for ``simulate``: between frames the run takes equal substeps no
+        longer than `dt`, and the invariants' drift is measured at the frames. None are stored.
+
+    Returns
+    -------
+    Summary
+
+    Raises
+    ------
+    TypeError, ValueError, KeyboardInterrupt
+        As for :func:`~dzhanibekov.simulate`.
+
+    Examples
+    --------
+    >>> s = summarize((52.0833, 27.0833, 41.6666), (0.01, 0.01, 1.0))
+    >>> s.flips, s.verdict
+    (2, '2 flips in [0, 100]')
+    """
+    body, omega0, q0, t_end, frames, dt, max_steps = _checked(
+        body, omega0, q0, t_end, frames, dt, method, max_steps
+    )
+    out = _core.simulate(
+        body._core, tuple(omega0), tuple(q0), t_end, frames, dt, method, max_steps, False, True
+    )
+    return Summary(
+        flip_times=out["flip_times"],
+        drift=Drift(**out["drift"]),
+        t_end=t_end,
+        body=body,
+        method=method,
+        dt=out["dt"],
+        n_steps=out["n_steps"],
+        nfev=out["nfev"],
+    )

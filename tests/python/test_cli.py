@@ -1,0 +1,137 @@
+"""The command line end to end, in a temporary folder: the files it promises exist and are
+not blank; bad scenes are refused with a clear message and leave nothing behind."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import dzhanibekov as dz
+from dzhanibekov import animation, plotting
+from dzhanibekov.cli import main
+
+
+def assert_picture(path):
+    """A real image: more than a handful of colours (not one blank colour)."""
+    with Image.open(path) as image:
+        pixels = np.asarray(image.convert("RGB")).reshape(-1, 3)
+    assert len(np.unique(pixels, axis=0)) > 16, f"{path} is (nearly) blank"
+
+
+def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
+    out = tmp_path / "figures"
+    assert main(["paper", "--out", str(out), "--no-progress"]) == 0
+    expected = {"fig3.png", "stable.png", "example.gif"}
+    for name in list(dz.PAPER_SCENES) + ["stable-largest", "stable-smallest"]:
+        expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
+    if animation.ffmpeg_path() is not None:
+        expected.add("example.mp4")
+    assert {p.name for p in out.iterdir()} == expected
+    for path in out.glob("*.png"):
+        assert_picture(path)
+    with Image.open(out / "example.gif") as gif:
+        assert gif.n_frames == dz.SCENES["example"].frames
+    summary = json.loads((out / "fig3a.json").read_text())
+    assert summary["verdict"] == "2 flips in [0, 100]" and len(summary["flip_times"]) == 2
+    assert json.loads((out / "stable-largest.json").read_text())["flip_times"] == []
+    table = capsys.readouterr().out
+    for name in dz.SCENES:
+        assert name in table
+    # nothing else beside the output folder: the temporary one is gone; and the folder has
+    # the usual mode, not the temporary folder's 0700
+    assert [p.name for p in tmp_path.iterdir()] == ["figures"]
+    umask = os.umask(0)
+    os.umask(umask)
+    assert out.stat().st_mode & 0o777 == 0o777 & ~umask
+
+
+def test_run_renders_a_scene_file(tmp_path, capsys):
+    scene = dz.SCENES["fig3a"].replace(t_end=30.0, frames=61)
+    path = scene.save(tmp_path / "mine.toml")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == sorted([f"mine-{f}.png" for f in scene.draw.figures] + ["mine.json"])
+    for png in out.glob("*.png"):
+        assert_picture(png)
+    assert "mine.json" in capsys.readouterr().out
+
+
+def test_run_takes_a_shipped_scene_by_name_and_replaces_files_in_place(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("mine")
+    (out / "fig3b-omega.png").write_text("stale")
+    assert main(["run", "fig3b", "--out", str(out)]) == 0
+    assert (out / "keep.txt").read_text() == "mine"
+    assert_picture(out / "fig3b-omega.png")
+
+
+def test_a_bad_scene_file_is_named_with_its_key_and_nothing_is_written(tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(dz.SCENES["fig3a"].to_toml().replace('method = "rk4"', 'method = "rk5"'))
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: `run.method` must be one of {list(dz.METHODS)}, got 'rk5'" in err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]
+
+
+def test_a_failure_while_rendering_leaves_the_folder_as_it_was(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "fig3a-path.png").write_bytes(b"old")
+
+    def broken(*args, **kwargs):
+        raise ValueError("the plot broke")
+
+    # the first figures are written into the temporary folder, then one fails
+    monkeypatch.setitem(plotting.FIGURE_FUNCTIONS, "invariants", broken)
+    assert main(["run", "fig3a", "--out", str(out)]) == 2
+    assert "the plot broke" in capsys.readouterr().err
+    assert [p.name for p in out.iterdir()] == ["fig3a-path.png"]
+    assert (out / "fig3a-path.png").read_bytes() == b"old"
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+
+
+def test_out_must_be_a_folder(tmp_path, capsys):
+    (tmp_path / "file").write_text("")
+    assert main(["run", "fig3a", "--out", str(tmp_path / "file")]) == 2
+    assert "`--out` must be a folder" in capsys.readouterr().err
+
+
+def test_scenes_lists_and_shows_the_shipped_scenes(capsys, tmp_path):
+    assert main(["scenes"]) == 0
+    listing = capsys.readouterr().out
+    for name, scene in dz.SCENES.items():
+        assert f"{name}" in listing and scene.title in listing
+    assert main(["scenes", "--show", "fig3a"]) == 0
+    text = capsys.readouterr().out
+    (tmp_path / "fig3a.toml").write_text(text)
+    assert dz.load_scene(tmp_path / "fig3a.toml") == dz.SCENES["fig3a"]
+    assert main(["scenes", "--show", "fig9"]) == 2
+    assert "no shipped scene 'fig9'" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv", [["--help"], ["paper", "--help"], ["run", "--help"],
+                                  ["scenes", "--help"]])
+def test_help_everywhere(argv, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(argv)
+    assert exit_.value.code == 0
+    assert "usage: dzhanibekov" in capsys.readouterr().out
+
+
+def test_the_module_and_the_script_run(tmp_path):
+    for command in ([sys.executable, "-m", "dzhanibekov"],
+                    [str(Path(sys.executable).parent / "dzhanibekov")]):
+        done = subprocess.run(command + ["scenes"], capture_output=True, text=True, check=True)
+        assert "stable-largest" in done.stdout
+    done = subprocess.run([sys.executable, "-m", "dzhanibekov", "run"], capture_output=True,
+                          text=True)
+    assert done.returncode == 2 and "required: SCENE, --out" in done.stderr

@@ -1,0 +1,231 @@
+"""Scene files: the shipped ones load and say what the paper says, round trips, bad files."""
+
+import dataclasses
+from pathlib import Path
+from importlib import resources
+
+import numpy as np
+import pytest
+
+import dzhanibekov as dz
+from dzhanibekov.scene import Draw, EllipsoidStyle
+
+
+def test_the_scene_files_ship_inside_the_package():
+    folder = resources.files("dzhanibekov") / "scenes"
+    names = {f.name for f in folder.iterdir() if f.name.endswith(".toml")}
+    assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
+                     "stable-largest.toml", "stable-smallest.toml"}
+    assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
+
+
+def test_the_paper_scenes_hold_the_papers_numbers():
+    # DESIGN §1: Fig. 2 u0 = v0 = 5e-6, w0 = 1; Fig. 3 (a) T = 100, (0.01, 0.01, 1),
+    # (b) T = 100, (0.01, 0.1, 0.03), (c) T = 900, (0.01, 0.01, 0.03); N = 200 intervals
+    expected = {
+        "example": ((5e-6, 5e-6, 1.0), 100.0),
+        "fig3a": ((0.01, 0.01, 1.0), 100.0),
+        "fig3b": ((0.01, 0.1, 0.03), 100.0),
+        "fig3c": ((0.01, 0.01, 0.03), 900.0),
+    }
+    for name, (omega0, t_end) in expected.items():
+        s = dz.SCENES[name]
+        assert (s.omega0, s.t_end, s.frames) == (omega0, t_end, 201)
+        assert s.q0 == (1.0, 0.0, 0.0, 0.0) and s.inertia == dz.PAPER_INERTIA
+        assert s.box == (20.0, 10.0, 15.0) and s.signal_point == (0.0, 0.0, 13.0)
+    assert dz.PAPER_SCENES == tuple(expected)
+    # the paper's figures draw the paper's ellipsoid (erratum 3)
+    assert dz.SCENES["example"].draw.ellipsoid
+    assert dz.SCENES["example"].ellipsoid == EllipsoidStyle("gyration", (24, 12))
+
+
+def test_the_counter_examples_spin_about_the_largest_and_smallest_axes():
+    inertia = np.array(dz.PAPER_INERTIA)
+    for name, axis in (("stable-largest", np.argmax(inertia)),
+                       ("stable-smallest", np.argmin(inertia))):
+        s = dz.SCENES[name]
+        assert np.argmax(np.abs(s.omega0)) == axis
+        # the signal point sits on the spin axis, as the paper's sits on z
+        assert np.argmax(np.abs(s.signal_point)) == axis
+        assert np.count_nonzero(s.signal_point) == 1
+
+
+@pytest.mark.parametrize("name", list(dz.SCENES))
+def test_every_shipped_scene_round_trips_through_toml(name, tmp_path):
+    s = dz.SCENES[name]
+    assert dz.Scene.from_toml(s.to_toml(), name) == s
+    path = s.save(tmp_path / f"{name}.toml")
+    loaded = dz.load_scene(path)
+    assert loaded == s and loaded.source == str(path)
+
+
+def test_a_scene_built_in_python_round_trips(tmp_path):
+    s = dz.Scene("mine", "a body of my own", (1.0, 2.0, 3.0), (0.1, 2.0, 0.1), t_end=5.0,
+                 frames=11, box=(1.0, 2.0, 3.0), signal_point=(0.0, 2.0, 0.0), flips=False,
+                 draw=Draw(box=True, ellipsoid=True, figures=("phases", "polhode"),
+                           phases=(0.0, 2.5)),
+                 ellipsoid=EllipsoidStyle("poinsot", (8, 4)), about="testing")
+    assert dz.load_scene(s.save(tmp_path / "mine.toml")) == s
+    assert s.replace(t_end=6.0).t_end == 6.0
+
+
+def test_every_shipped_scene_runs_and_the_paper_scenes_match_the_scenarios():
+    for name, s in dz.SCENES.items():
+        traj = s.run(t_end=min(s.t_end, 10.0))
+        assert traj.q.shape == (s.frames, 4), name
+    assert dz.SCENARIOS == {n: dz.SCENES[n] for n in dz.PAPER_SCENES}
+    assert dz.scenario("stable-largest") is dz.SCENES["stable-largest"]
+    assert dz.Scenario is dz.Scene
+
+
+def test_a_box_gives_the_moments_and_moments_give_the_drawn_box():
+    s = dz.Scene.from_toml("""
+        title = "box"
+        [body]
+        box = [20.0, 10.0, 15.0]
+        mass = 2.0
+        [start]
+        omega = [0.0, 0.0, 1.0]
+        [run]
+        t_end = 1.0
+        frames = 2
+    """, "box")
+    assert s.inertia == dz.Body.box(20, 10, 15, mass=2.0).inertia
+    # without `box`, the box drawn is the uniform box with the scene's moments
+    for edges in ((20.0, 10.0, 15.0), (1.0, 7.0, 3.0)):
+        body = dz.Body.box(*edges)
+        drawn = dz.Scene("x", "x", body.inertia, (0, 0, 1), 1.0, 2).drawn_box
+        np.testing.assert_allclose(drawn, edges, rtol=1e-12)
+
+
+def test_defaults_of_the_optional_keys():
+    s = dz.Scene.from_toml("""
+        title = "minimal"
+        [body]
+        inertia = [1, 2, 3]
+        [start]
+        omega = [0, 1, 0]
+        [run]
+        t_end = 10
+        frames = 3
+    """, "minimal")
+    assert (s.q0, s.dt, s.method, s.flips, s.draw) == ((1.0, 0.0, 0.0, 0.0), 1e-3, "rk4", True,
+                                                      Draw())
+    assert s.inertia == (1.0, 2.0, 3.0) and isinstance(s.t_end, float)
+    # six evenly spread instants when the phases panel names none
+    assert s.phase_times == (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
+
+
+GOOD = """\
+title = "good"
+[body]
+inertia = [52.0833, 27.0833, 41.6666]
+[start]
+omega = [0.01, 0.01, 1.0]
+[run]
+t_end = 100.0
+frames = 201
+method = "rk4"
+[draw]
+figures = ["path"]
+[ellipsoid]
+convention = "gyration"
+mesh = [24, 12]
+"""
+
+BAD = [
+    # (replace this, with this, the key named, what the message says is allowed)
+    ('title = "good"', 'title = "good"\ncolour = "red"', "colour", "allowed: title, about, [body]"),
+    ("frames = 201", "frames = 201\nframe = 3", "run.frame", "allowed in [run]: t_end, frames"),
+    ("frames = 201", "frames = 201.5", "run.frames", "must be an integer"),
+    ("frames = 201", "frames = 1", "run.frames", "must be at least 2"),
+    ("t_end = 100.0", "t_end = -1.0", "run.t_end", "must be positive and finite"),
+    ("t_end = 100.0", 't_end = "long"', "run.t_end", "must be a real number"),
+    ('method = "rk4"', 'method = "euler"', "run.method", f"must be one of {list(dz.METHODS)}"),
+    ('convention = "gyration"', 'convention = "classical"', "ellipsoid.convention",
+     "must be one of ['gyration', 'poinsot']"),
+    ("mesh = [24, 12]", "mesh = [2, 12]", "ellipsoid.mesh[0]", "must be at least 3"),
+    ("mesh = [24, 12]", "mesh = [24, 1]", "ellipsoid.mesh[1]", "must be at least 2"),
+    ("mesh = [24, 12]", "mesh = [24]", "ellipsoid.mesh", "must be [eN, eM]"),
+    ("mesh = [24, 12]", "mesh = [24, 1000]", "ellipsoid.mesh[1]", "must be at most 256"),
+    ('figures = ["path"]', 'figures = ["path", "movie"]', "draw.figures",
+     "must name only ['phases', 'path', 'omega', 'invariants', 'polhode']"),
+    ('figures = ["path"]', 'figures = "path"', "draw.figures", "must be a list of names"),
+    ('figures = ["path"]', 'figures = ["path"]\nphases = [50.0, 150.0]', "draw.phases",
+     "must be times in [0, run.t_end = 100]"),
+    ('figures = ["path"]', 'figures = ["path"]\nbox = "yes"', "draw.box", "must be true or false"),
+    ("omega = [0.01, 0.01, 1.0]", "omega = [0.01, 1.0]", "start.omega", "must be a list of 3"),
+    ("omega = [0.01, 0.01, 1.0]", "omega = [0.01, true, 1.0]", "start.omega",
+     "must be a list of 3"),
+    ("omega = [0.01, 0.01, 1.0]", "q = [1.0, 0.0, 0.0, 0.0]", "start.omega", "is missing"),
+    ("omega = [0.01, 0.01, 1.0]", "omega = [0.01, 0.01, 1.0]\nq = [0, 0, 0, 0]", "start.q",
+     "must be a non-zero quaternion"),
+    ("inertia = [52.0833, 27.0833, 41.6666]", "inertia = [52.0, -1.0, 41.0]", "body.inertia",
+     "must hold three positive numbers"),
+    ("inertia = [52.0833, 27.0833, 41.6666]", "signal_point = [0, 0, 13]", "body.inertia",
+     "is missing; give the principal moments"),
+    ("inertia = [52.0833, 27.0833, 41.6666]", "inertia = [52.0833, 27.0833, 41.6666]\nmass = 2",
+     "body.mass", "only used with `body.box`"),
+    ('title = "good"', 'about = "no title"', "title", "is missing"),
+    ('title = "good"', 'title = "good"\nask = 3', "ask", "must be a table [ask]"),
+    ('figures = ["path"]', 'figures = ["path"]\nbox = true', "body.box",
+     "no uniform box has the moments"),
+]
+
+
+@pytest.mark.parametrize("old, new, key, allowed", BAD, ids=[b[2] + ":" + b[3][:20] for b in BAD])
+def test_bad_scene_files_name_the_file_the_key_and_what_is_allowed(tmp_path, old, new, key,
+                                                                   allowed):
+    assert old in GOOD
+    path = tmp_path / "bad.toml"
+    path.write_text(GOOD.replace(old, new, 1))
+    if key == "body.box":  # moments that no uniform box has (Ix > Iy + Iz)
+        path.write_text(path.read_text().replace("[52.0833, 27.0833, 41.6666]", "[5, 1, 1]"))
+    with pytest.raises(dz.SceneError) as err:
+        dz.load_scene(path)
+    message = str(err.value)
+    assert message.startswith(f"{path}: `{key}` "), message
+    assert allowed in message, message
+    assert (err.value.source, err.value.key) == (str(path), key)
+
+
+def test_the_good_file_of_those_tests_loads(tmp_path):
+    path = tmp_path / "good.toml"
+    path.write_text(GOOD)
+    assert dz.load_scene(path).name == "good"
+
+
+def test_a_file_that_is_not_toml_or_not_there(tmp_path):
+    path = tmp_path / "broken.toml"
+    path.write_text("title = 'unterminated\n")
+    with pytest.raises(dz.SceneError, match=rf"^{path}: is not valid TOML: "):
+        dz.load_scene(path)
+    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: example, fig3a"):
+        dz.load_scene(tmp_path / "missing.toml")
+    assert isinstance(dz.SceneError("f", "k", "m"), ValueError)
+
+
+def test_scenes_built_in_python_are_checked_too():
+    with pytest.raises(dz.SceneError, match=r"^<scene x>: `run.frames` must be at least 2"):
+        dz.Scene("x", "x", (1, 2, 3), (0, 0, 1), 1.0, 1)
+    with pytest.raises(dz.SceneError, match="`name` must be letters"):
+        dz.Scene("no/slash", "x", (1, 2, 3), (0, 0, 1), 1.0, 2)
+    with pytest.raises(dz.SceneError, match="`draw.figures` names a figure twice"):
+        dz.Scene("x", "x", (1, 2, 3), (0, 0, 1), 1.0, 2, draw=Draw(figures=("path", "path")))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        dz.SCENES["fig3a"].t_end = 5.0  # type: ignore[misc]
+
+
+def test_every_method_on_offer_is_accepted():
+    for method in dz.METHODS:
+        assert dz.SCENES["fig3a"].replace(method=method).method == method
+
+
+def test_the_readmes_example_scene_is_valid_and_means_what_it_says():
+    readme = Path(__file__).resolve().parents[2] / "README.md"
+    if not readme.exists():
+        pytest.skip("no README beside the tests")
+    text = readme.read_text(encoding="utf-8")
+    block = text.split("```toml\n", 1)[1].split("```", 1)[0]
+    scene = dz.Scene.from_toml(block, "mine", "README.md")
+    assert scene == dz.SCENES["fig3a"].replace(name="mine", about="", source="README.md")
