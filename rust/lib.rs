@@ -20,7 +20,9 @@
 pub mod body;
 pub mod buffer;
 pub mod dynamics;
+pub mod elliptic;
 pub mod error;
+pub mod exact;
 pub mod integrators;
 pub mod kinematics;
 pub mod mesh;

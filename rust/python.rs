@@ -9,8 +9,8 @@ use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray2, PyReadwriteArray3,
-    PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyReadwriteArray3, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
@@ -18,7 +18,9 @@ use pyo3::types::PyDict;
 
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
+use crate::elliptic::Jacobi;
 use crate::error::Error;
+use crate::exact;
 use crate::kinematics::rotate_points;
 use crate::mesh::ellipsoid;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
@@ -123,6 +125,8 @@ impl PyRigidBody {
 
 /// Steps above which a run goes to a helper thread and watches for Ctrl-C (about 5 ms).
 const LONG_RUN_STEPS: u64 = 200_000;
+/// Frames of the exact solution above which it does the same (about 5 ms).
+const LONG_EXACT_FRAMES: usize = 5_000;
 
 #[pyfunction]
 #[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips))]
@@ -141,13 +145,22 @@ fn simulate<'py>(
     keep_flips: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let method: Method = method.parse()?;
-    let grid = FrameGrid::try_new(t_end, frames, dt, max_steps)?;
+    let (grid, long) = match method {
+        // The exact solution takes no steps: `dt` and `max_steps` do not apply.
+        Method::Exact => (
+            FrameGrid::try_frames(t_end, frames)?,
+            frames > LONG_EXACT_FRAMES,
+        ),
+        _ => {
+            let grid = FrameGrid::try_new(t_end, frames, dt, max_steps)?;
+            (grid, grid.n_steps() > LONG_RUN_STEPS)
+        }
+    };
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
     };
     let body = body.inner;
-    let long = grid.n_steps() > LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
         core_simulate(&body, omega0, q0, &grid, method, keep, cancel)
     })?;
@@ -289,6 +302,66 @@ fn ellipsoid_mesh<'py>(
     Ok((vertices.into_pyarray(py), quads.into_pyarray(py)))
 }
 
+/// The flip period `2K(m)/λ` (infinite when the motion never flips).
+#[pyfunction]
+fn flip_period(body: &PyRigidBody, omega0: [f64; 3]) -> PyResult<f64> {
+    Ok(exact::flip_period(&body.inner, omega0)?)
+}
+
+type Triple<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray1<f64>>,
+);
+
+/// `(sn, cn, dn)` of parameter `m` (given with its complement `m1 = 1 − m`) at each `u`.
+#[pyfunction]
+fn ellipj<'py>(
+    py: Python<'py>,
+    u: PyReadonlyArray1<'py, f64>,
+    m: f64,
+    m1: f64,
+) -> PyResult<Triple<'py>> {
+    check_parameter(m, m1)?;
+    let jacobi = Jacobi::new(m, m1);
+    let u = u.as_array().to_vec();
+    let (sn, cn, dn) = detach(py, false, |_| {
+        let (mut sn, mut cn, mut dn) = (
+            Vec::with_capacity(u.len()),
+            Vec::with_capacity(u.len()),
+            Vec::with_capacity(u.len()),
+        );
+        for &x in &u {
+            let (s, c, d) = jacobi.sn_cn_dn(x);
+            sn.push(s);
+            cn.push(c);
+            dn.push(d);
+        }
+        Ok((sn, cn, dn))
+    })?;
+    Ok((
+        PyArray1::from_vec(py, sn),
+        PyArray1::from_vec(py, cn),
+        PyArray1::from_vec(py, dn),
+    ))
+}
+
+/// `K(m)` from the AGM of `1` and `√m1` (infinite for `m1 = 0`).
+#[pyfunction]
+fn ellipk(m: f64, m1: f64) -> PyResult<f64> {
+    check_parameter(m, m1)?;
+    Ok(Jacobi::new(m, m1).quarter_period())
+}
+
+fn check_parameter(m: f64, m1: f64) -> PyResult<()> {
+    if !((0.0..=1.0).contains(&m) && (0.0..=1.0).contains(&m1)) {
+        return Err(PyValueError::new_err(format!(
+            "`m` and `m1` must lie in [0, 1], got m = {m}, m1 = {m1}"
+        )));
+    }
+    Ok(())
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
@@ -296,6 +369,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;
+    m.add_function(wrap_pyfunction!(flip_period, m)?)?;
+    m.add_function(wrap_pyfunction!(ellipj, m)?)?;
+    m.add_function(wrap_pyfunction!(ellipk, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

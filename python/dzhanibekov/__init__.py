@@ -11,6 +11,7 @@ point arrays without trigonometry; this package is the thin Python side.
 from ._core import __version__
 from .body import Body, InertiaWarning
 from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
+from .flips import flip_period
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
 from .plan import Plan, SceneResult, execute, make_plan
 from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
@@ -27,6 +28,7 @@ __all__ = [
     "Drift",
     "simulate",
     "rotate",
+    "flip_period",
     "METHODS",
     "BOX_SIZE",
     "SIGNAL_POINT",

@@ -5,7 +5,17 @@ from typing import Any, final, overload
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["RigidBody", "__version__", "ellipsoid_mesh", "invariants", "rotate", "simulate"]
+__all__ = [
+    "RigidBody",
+    "__version__",
+    "ellipj",
+    "ellipk",
+    "ellipsoid_mesh",
+    "flip_period",
+    "invariants",
+    "rotate",
+    "simulate",
+]
 __version__: str
 
 @final
@@ -46,3 +56,8 @@ def invariants(
 def ellipsoid_mesh(
     semi_axes: tuple[float, float, float], n_around: int, n_along: int
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]: ...
+def flip_period(body: RigidBody, omega0: tuple[float, float, float]) -> float: ...
+def ellipj(
+    u: npt.NDArray[np.float64], m: float, m1: float
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def ellipk(m: float, m1: float) -> float: ...

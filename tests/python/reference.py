@@ -111,3 +111,100 @@ class ExactOmega:
         out = np.empty_like(w)
         out[..., self.order] = w
         return out
+
+
+class ExactOmegaMP:
+    """`ExactOmega` in mpmath arithmetic: the same Landau–Lifshitz solution, with the
+    invariants, parameter, phase and Jacobi functions all computed to `dps` digits from the
+    (exactly representable) float inputs, so it stays exact near the separatrix too."""
+
+    def __init__(self, inertia, omega0, dps=50):
+        import mpmath as mp
+
+        self.mp, self.dps = mp, dps
+        with mp.workdps(dps):
+            inertia = [mp.mpf(float(i)) for i in inertia]
+            omega0 = [mp.mpf(float(w)) for w in omega0]
+            order = list(np.argsort([float(i) for i in inertia]))
+            cyclic = tuple(order) in {(0, 1, 2), (1, 2, 0), (2, 0, 1)}
+            self.order, self.hand = order, 1 if cyclic else -1
+            i1, i2, i3 = (inertia[k] for k in order)
+            w = [omega0[k] for k in order]
+            w[2] *= self.hand
+            two_e = i1 * w[0] ** 2 + i2 * w[1] ** 2 + i3 * w[2] ** 2
+            l2 = (i1 * w[0]) ** 2 + (i2 * w[1]) ** 2 + (i3 * w[2]) ** 2
+            self.about_major = l2 > two_e * i2
+            if not self.about_major:
+                i1, i3 = i3, i1
+                w = [w[2], -w[1], w[0]]
+            a1 = mp.sqrt((two_e * i3 - l2) / (i1 * (i3 - i1)))
+            a2 = mp.sqrt((two_e * i3 - l2) / (i2 * (i3 - i2)))
+            a3 = mp.sqrt((l2 - two_e * i1) / (i3 * (i3 - i1)))
+            self.lam = mp.sqrt((i3 - i2) * (l2 - two_e * i1) / (i1 * i2 * i3))
+            self.m = (i2 - i1) * (two_e * i3 - l2) / ((i3 - i2) * (l2 - two_e * i1))
+            s3 = mp.sign(w[2])
+            s1 = s3 if self.about_major else -s3
+            self.signs, self.amps = (s1, 1, s3), (a1, a2, a3)
+            phi = mp.atan2(w[1] / a2, w[0] / (s1 * a1))
+            self.u_start = mp.ellipf(phi, self.m)
+
+    @property
+    def flip_period(self) -> float:
+        with self.mp.workdps(self.dps):
+            return float(2 * self.mp.ellipk(self.m) / self.lam)
+
+    def __call__(self, t):
+        mp = self.mp
+        out = np.empty((len(t), 3))
+        with mp.workdps(self.dps):
+            for row, ti in enumerate(np.asarray(t, float)):
+                u = self.lam * mp.mpf(float(ti)) + self.u_start
+                sn, cn, dn = (mp.ellipfun(f, u, m=self.m) for f in ("sn", "cn", "dn"))
+                w = [s * a * f for s, a, f in zip(self.signs, self.amps, (cn, sn, dn))]
+                if not self.about_major:
+                    w = [w[2], -w[1], w[0]]
+                w[2] *= self.hand
+                for k, wk in zip(self.order, w):
+                    out[row, k] = float(wk)
+        return out
+
+
+def taylor_longdouble(inertia, omega0, q0, t, order=24, h=0.25):
+    """Eq. 1 by a Taylor-series method in extended precision (numpy longdouble), sampled at
+    times `t` (from t[0] = 0); returns (omega, q) rounded to float64.
+
+    Eq. 1 is quadratic, so its Taylor coefficients follow from Cauchy products:
+    (k+1) x_{k+1} = Σ_i f(x_i, x_{k−i}). With steps of `h` well inside the radius of
+    convergence the truncation error is far below the longdouble round-off (~1e-19 on
+    x86-64), about a thousand times smaller than float64's.
+    """
+    ld = np.longdouble
+    ix, iy, iz = (ld(float(i)) for i in inertia)
+    coef = np.array([(iy - iz) / ix, (iz - ix) / iy, (ix - iy) / iz], dtype=ld)
+    x = np.concatenate([np.asarray(omega0, float), np.asarray(q0, float)]).astype(ld)
+    x[3:] /= np.sqrt(np.sum(x[3:] ** 2))
+    out = np.empty((len(t), 7))
+    out[0] = x.astype(float)
+    now = ld(0)
+    for row in range(1, len(t)):
+        target = ld(float(t[row]))
+        n = max(1, int(np.ceil(float((target - now) / ld(h)))))
+        step = (target - now) / n
+        for _ in range(n):
+            c = np.zeros((order + 1, 7), dtype=ld)
+            c[0] = x
+            for k in range(order):
+                w, q = c[: k + 1, :3], c[: k + 1, 3:]
+                rev = w[::-1]
+                pair = [rev[:, 1] @ w[:, 2], rev[:, 0] @ w[:, 2], rev[:, 0] @ w[:, 1]]
+                m = q.T @ rev  # m[a, b] = Σ_i q_a(i) ω_b(k − i)
+                dq = [-(m[1, 0] + m[2, 1] + m[3, 2]), m[0, 0] + m[2, 2] - m[3, 1],
+                      m[0, 1] + m[3, 0] - m[1, 2], m[0, 2] + m[1, 1] - m[2, 0]]
+                c[k + 1, :3] = coef * np.array(pair, dtype=ld) / (k + 1)
+                c[k + 1, 3:] = np.array(dq, dtype=ld) / (2 * (k + 1))
+            x = c[order]
+            for k in range(order - 1, -1, -1):  # Horner
+                x = x * step + c[k]
+        now = target
+        out[row] = x.astype(float)
+    return out[:, :3], out[:, 3:]
