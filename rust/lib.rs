@@ -17,6 +17,7 @@
 //! The crate is Python-free unless the `python` feature is on; then [`python`] holds the
 //! bindings and nothing else.
 
+pub mod adaptive;
 pub mod body;
 pub mod buffer;
 pub mod dynamics;
@@ -28,6 +29,7 @@ pub mod kinematics;
 pub mod mesh;
 pub mod observe;
 pub mod run;
+pub mod step_size;
 
 #[cfg(feature = "python")]
 mod python;

@@ -17,6 +17,20 @@ pub trait Observer {
 
     /// Called after every step from `(t0, x0)` to `(t1, x1)`.
     fn step(&mut self, _t0: f64, _x0: &State, _t1: f64, _x1: &State) {}
+
+    /// Called instead of [`Observer::step`] by methods with a continuous extension (the
+    /// adaptive ones, whose steps can be long): `at(θ)` is the state at `t0 + θ (t1 − t0)`,
+    /// to the method's accuracy. By default it is ignored.
+    fn step_dense(
+        &mut self,
+        t0: f64,
+        x0: &State,
+        t1: f64,
+        x1: &State,
+        _at: &mut dyn FnMut(f64) -> State,
+    ) {
+        self.step(t0, x0, t1, x1);
+    }
 }
 
 impl Observer for () {}
@@ -39,6 +53,22 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
             self.1.step(t0, x0, t1, x1);
         }
     }
+
+    fn step_dense(
+        &mut self,
+        t0: f64,
+        x0: &State,
+        t1: f64,
+        x1: &State,
+        at: &mut dyn FnMut(f64) -> State,
+    ) {
+        if A::WANTS_STEPS {
+            self.0.step_dense(t0, x0, t1, x1, at);
+        }
+        if B::WANTS_STEPS {
+            self.1.step_dense(t0, x0, t1, x1, at);
+        }
+    }
 }
 
 impl<O: Observer> Observer for &mut O {
@@ -52,6 +82,17 @@ impl<O: Observer> Observer for &mut O {
     #[inline(always)]
     fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
         (**self).step(t0, x0, t1, x1);
+    }
+
+    fn step_dense(
+        &mut self,
+        t0: f64,
+        x0: &State,
+        t1: f64,
+        x1: &State,
+        at: &mut dyn FnMut(f64) -> State,
+    ) {
+        (**self).step_dense(t0, x0, t1, x1, at);
     }
 }
 
@@ -69,6 +110,19 @@ impl<O: Observer> Observer for Option<O> {
     fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
         if let Some(o) = self {
             o.step(t0, x0, t1, x1);
+        }
+    }
+
+    fn step_dense(
+        &mut self,
+        t0: f64,
+        x0: &State,
+        t1: f64,
+        x1: &State,
+        at: &mut dyn FnMut(f64) -> State,
+    ) {
+        if let Some(o) = self {
+            o.step_dense(t0, x0, t1, x1, at);
         }
     }
 }
@@ -174,8 +228,8 @@ impl Observer for DriftMonitor {
 /// A flip is counted when the body's intermediate axis, having been the axis nearest to `L`
 /// on one side (`|L_mid| > |L|/√2`, which no other axis can then match), becomes the nearest
 /// on the other side. Its time is the sign change of the intermediate-axis rate in between,
-/// located inside the step by cubic Hermite interpolation (error O(h⁴)), not on the frame
-/// grid. Small wobbles about a stable axis also change that rate's sign but never bring the
+/// located inside the step by cubic Hermite interpolation (error O(h⁴)), or on the method's
+/// own continuous extension when it has one (the adaptive methods), not on the frame grid. Small wobbles about a stable axis also change that rate's sign but never bring the
 /// intermediate axis near `L`, so they are not flips. A symmetric top has no intermediate
 /// axis and no flips.
 #[derive(Debug, Clone)]
@@ -253,6 +307,51 @@ impl FlipDetector {
         }
         t0 + 0.5 * (lo + hi) * h
     }
+
+    /// The zero of ω_mid on `[t0, t1]` on a continuous extension `at`, by bisection.
+    #[cold]
+    #[inline(never)]
+    fn crossing_on(
+        &self,
+        k: usize,
+        t0: f64,
+        t1: f64,
+        positive_at_t0: bool,
+        at: &mut dyn FnMut(f64) -> State,
+    ) -> f64 {
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if (at(mid)[k] > 0.0) == positive_at_t0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        t0 + 0.5 * (lo + hi) * (t1 - t0)
+    }
+
+    /// Counts a flip if the intermediate axis has come near `L` on the side opposite to the
+    /// last one, at the crossing seen since.
+    #[inline(always)]
+    fn settle(&mut self, rate: f64) {
+        let side = self.side_of(rate);
+        if side != 0 {
+            if side == -self.side {
+                if let Some(tc) = self.candidate {
+                    self.flip_times.push(tc);
+                }
+            }
+            self.side = side;
+            self.candidate = None;
+        }
+    }
+}
+
+/// Whether the rate changes sign from `r0` to `r1` (reaching zero counts).
+#[inline(always)]
+fn crosses(r0: f64, r1: f64) -> bool {
+    (r0 > 0.0 && r1 <= 0.0) || (r0 < 0.0 && r1 >= 0.0)
 }
 
 /// `x[k]` for `k < 3`, by selection rather than indexing, so that the state can stay in
@@ -273,19 +372,26 @@ impl Observer for FlipDetector {
     fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
         let Some(k) = self.axis else { return };
         let (r0, r1) = (component(x0, k), component(x1, k));
-        if (r0 > 0.0 && r1 <= 0.0) || (r0 < 0.0 && r1 >= 0.0) {
+        if crosses(r0, r1) {
             self.candidate = Some(self.crossing(k, t0, x0, t1, x1));
         }
-        let side = self.side_of(r1);
-        if side != 0 {
-            if side == -self.side {
-                if let Some(tc) = self.candidate {
-                    self.flip_times.push(tc);
-                }
-            }
-            self.side = side;
-            self.candidate = None;
+        self.settle(r1);
+    }
+
+    fn step_dense(
+        &mut self,
+        t0: f64,
+        x0: &State,
+        t1: f64,
+        x1: &State,
+        at: &mut dyn FnMut(f64) -> State,
+    ) {
+        let Some(k) = self.axis else { return };
+        let (r0, r1) = (component(x0, k), component(x1, k));
+        if crosses(r0, r1) {
+            self.candidate = Some(self.crossing_on(k, t0, t1, r0 > 0.0, at));
         }
+        self.settle(r1);
     }
 
     fn frame(&mut self, index: usize, _t: f64, x: &State) {

@@ -16,6 +16,7 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
+use crate::adaptive::Adaptive;
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
 use crate::elliptic::Jacobi;
@@ -24,6 +25,7 @@ use crate::exact;
 use crate::kinematics::rotate_points;
 use crate::mesh::ellipsoid;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
+use crate::step_size::plan;
 
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
@@ -129,7 +131,7 @@ const LONG_RUN_STEPS: u64 = 200_000;
 const LONG_EXACT_FRAMES: usize = 5_000;
 
 #[pyfunction]
-#[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips))]
+#[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = 1e-9, atol = 1e-12))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -143,24 +145,29 @@ fn simulate<'py>(
     max_steps: u64,
     keep_frames: bool,
     keep_flips: bool,
+    rtol: f64,
+    atol: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method: Method = method.parse()?;
-    let (grid, long) = match method {
+    let method = adaptive_method(method, rtol, atol, Some(dt))?;
+    let grid = match method {
         // The exact solution takes no steps: `dt` and `max_steps` do not apply.
-        Method::Exact => (
-            FrameGrid::try_frames(t_end, frames)?,
-            frames > LONG_EXACT_FRAMES,
-        ),
-        _ => {
-            let grid = FrameGrid::try_new(t_end, frames, dt, max_steps)?;
-            (grid, grid.n_steps() > LONG_RUN_STEPS)
-        }
+        Method::Exact => FrameGrid::try_frames(t_end, frames)?,
+        _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
+        _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
     };
+    let method = method.with_adaptive(match method {
+        Method::Dopri5(a) | Method::Dop853(a) => a.with_max_steps(max_steps),
+        _ => Adaptive::default(),
+    });
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
     };
     let body = body.inner;
+    let long = match method {
+        Method::Exact => frames > LONG_EXACT_FRAMES,
+        _ => method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS,
+    };
     let out = detach(py, long, |cancel| {
         core_simulate(&body, omega0, q0, &grid, method, keep, cancel)
     })?;
@@ -183,7 +190,46 @@ fn simulate<'py>(
     result.set_item("drift", drift)?;
     result.set_item("nfev", out.stats.nfev)?;
     result.set_item("n_steps", out.stats.n_steps)?;
+    result.set_item("n_rejected", out.stats.n_rejected)?;
     result.set_item("dt", out.dt)?;
+    Ok(result)
+}
+
+/// The method named `name`, with tolerances `rtol`, `atol` and first step `dt` if adaptive.
+fn adaptive_method(name: &str, rtol: f64, atol: f64, dt: Option<f64>) -> PyResult<Method> {
+    let method: Method = name.parse()?;
+    if !method.is_adaptive() {
+        return Ok(method);
+    }
+    let settings = Adaptive::try_new(rtol, atol)?;
+    Ok(method.with_adaptive(match dt {
+        Some(dt) => settings.with_first_step(dt)?,
+        None => settings,
+    }))
+}
+
+/// The step a run will take and RK4's predicted drift at it (see `step_size::plan`).
+#[pyfunction]
+#[pyo3(signature = (body, omega0, t_end, frames, dt, method, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn step_plan<'py>(
+    py: Python<'py>,
+    body: &PyRigidBody,
+    omega0: [f64; 3],
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let method = adaptive_method(method, rtol, atol, None)?;
+    let p = plan(&body.inner, omega0, t_end, frames, method, dt, rtol)?;
+    let result = PyDict::new(py);
+    result.set_item("dt", p.dt)?;
+    result.set_item("step", p.step)?;
+    result.set_item("rate_bound", p.rate_bound)?;
+    result.set_item("predicted_drift", p.predicted_drift)?;
     Ok(result)
 }
 
@@ -372,6 +418,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(flip_period, m)?)?;
     m.add_function(wrap_pyfunction!(ellipj, m)?)?;
     m.add_function(wrap_pyfunction!(ellipk, m)?)?;
+    m.add_function(wrap_pyfunction!(step_plan, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -9,11 +9,14 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::Vector3;
 
+use crate::adaptive::{integrate_adaptive, Adaptive};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, FreeRigidBody, State};
 use crate::error::{Error, Result};
 use crate::exact::ExactMotion;
-use crate::integrators::{Rk4, Stats, Stepper};
+use crate::integrators::{
+    Dop853, Dopri5, Rk4, Rk4Projected, Splitting2, Splitting4, Stats, Stepper,
+};
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
 
 /// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
@@ -82,6 +85,14 @@ impl FrameGrid {
         Ok(grid)
     }
 
+    /// The frames alone, for a method that chooses its own steps: one "substep" per frame.
+    ///
+    /// # Errors
+    /// As [`FrameGrid::try_new`] for `t_end` and `frames`.
+    pub fn frames_only(t_end: f64, frames: usize) -> Result<Self> {
+        Self::try_new(t_end, frames, t_end.max(f64::MIN_POSITIVE), u64::MAX)
+    }
+
     pub fn frames(&self) -> usize {
         self.frames
     }
@@ -115,7 +126,8 @@ impl FrameGrid {
 }
 
 /// Integrates `sys` from `x0` over `grid` with a fixed-step method, showing frames (and steps,
-/// if asked) to `obs`. Returns the final state and the run's cost.
+/// if asked) to `obs`. Returns the final state (in the method's own variables, see
+/// [`Stepper::to_internal`]) and the run's cost.
 ///
 /// # Errors
 /// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
@@ -132,8 +144,8 @@ where
     M: Stepper<7, FreeRigidBody>,
     O: Observer,
 {
-    let mut x = x0;
-    obs.frame(0, 0.0, &x);
+    obs.frame(0, 0.0, &x0);
+    let mut x = method.to_internal(sys, &x0);
     let n = grid.substeps();
     for i in 1..grid.frames() {
         let (ta, tb) = (grid.time(i - 1), grid.time(i));
@@ -145,7 +157,7 @@ where
             done += chunk;
             check(&x, ta + done as f64 * h, cancel)?;
         }
-        obs.frame(i, tb, &x);
+        obs.frame(i, tb, &method.to_state(sys, &x));
     }
     let n_steps = grid.n_steps();
     Ok((
@@ -153,6 +165,7 @@ where
         Stats {
             nfev: n_steps * M::RHS_PER_STEP,
             n_steps,
+            n_rejected: 0,
         },
     ))
 }
@@ -178,10 +191,10 @@ where
     for k in range {
         let t = ta + k as f64 * h;
         if O::WANTS_STEPS {
-            let before = x;
+            let before = method.to_state(sys, &x);
             method.step(sys, t, h, &mut x);
             let t1 = if k + 1 == n { tb } else { t + h };
-            obs.step(t, &before, t1, &x);
+            obs.step(t, &before, t1, &method.to_state(sys, &x));
         } else {
             method.step(sys, t, h, &mut x);
         }
@@ -204,24 +217,69 @@ fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
 }
 
 /// The integration methods on offer.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
     /// Classic fixed-step fourth-order Runge–Kutta, the paper's method.
     Rk4,
     /// The closed-form solution ([`crate::exact`]): frames evaluated directly, no steps.
     Exact,
+    /// RK4, each step projected back onto the energy, `|L|`, `L_world` and `|q| = 1`.
+    Rk4Projected,
+    /// Strang's splitting into exact rotations about the body axes (order 2).
+    Splitting,
+    /// Suzuki's composition of the splitting (order 4).
+    Splitting4,
+    /// Dormand–Prince 5(4) with error control and dense output.
+    Dopri5(Adaptive),
+    /// DOP853: Dormand–Prince 8(5,3) with error control and dense output.
+    Dop853(Adaptive),
+}
+
+impl Method {
+    /// Whether the method chooses its own steps (then `dt` is only the first one tried).
+    pub fn is_adaptive(&self) -> bool {
+        matches!(self, Method::Dopri5(_) | Method::Dop853(_))
+    }
+
+    /// The same method with adaptive `settings` (unchanged for a fixed-step method).
+    pub fn with_adaptive(self, settings: Adaptive) -> Self {
+        match self {
+            Method::Dopri5(_) => Method::Dopri5(settings),
+            Method::Dop853(_) => Method::Dop853(settings),
+            fixed => fixed,
+        }
+    }
+
+    /// The order of the method's global error (`u32::MAX` for the exact solution, which has
+    /// no truncation error).
+    pub fn order(&self) -> u32 {
+        match self {
+            Method::Rk4 | Method::Rk4Projected | Method::Splitting4 => 4,
+            Method::Splitting => 2,
+            Method::Dopri5(_) => 5,
+            Method::Dop853(_) => 8,
+            Method::Exact => u32::MAX,
+        }
+    }
 }
 
 impl FromStr for Method {
     type Err = Error;
 
+    /// The method of the given name, adaptive ones with default tolerances.
     fn from_str(s: &str) -> Result<Self> {
         match s {
             "rk4" => Ok(Method::Rk4),
             "exact" => Ok(Method::Exact),
+            "rk4_projected" => Ok(Method::Rk4Projected),
+            "splitting" => Ok(Method::Splitting),
+            "splitting4" => Ok(Method::Splitting4),
+            "dopri5" => Ok(Method::Dopri5(Adaptive::default())),
+            "dop853" => Ok(Method::Dop853(Adaptive::default())),
             other => Err(Error::invalid(
                 "method",
-                "must be one of 'rk4', 'exact'",
+                "must be one of 'rk4', 'rk4_projected', 'splitting', 'splitting4', 'dopri5', \
+                 'dop853', 'exact'",
                 other,
             )),
         }
@@ -247,7 +305,7 @@ pub struct RunOutput {
     pub flip_times: Vec<f64>,
     pub drift: Drift,
     pub stats: Stats,
-    /// The step actually taken.
+    /// The step actually taken; for an adaptive method, the mean accepted step.
     pub dt: f64,
 }
 
@@ -294,7 +352,7 @@ pub fn simulate(
         false => None,
     };
     let mut obs = (DriftMonitor::new(body, &omega), recorder);
-    if method == Method::Exact {
+    if matches!(method, Method::Exact) {
         return simulate_exact(body, omega0, q0, grid, keep, obs, cancel);
     }
     let x0 = state_from(omega0, q0);
@@ -316,8 +374,12 @@ pub fn simulate(
         q: frames.q,
         flip_times,
         drift: drift.drift,
+        dt: if method.is_adaptive() {
+            grid.t_end() / stats.n_steps.max(1) as f64
+        } else {
+            grid.step_size()
+        },
         stats,
-        dt: grid.step_size(),
     })
 }
 
@@ -364,10 +426,18 @@ fn run_method<O: Observer>(
     obs: &mut O,
     cancel: &AtomicBool,
 ) -> Result<Stats> {
+    let body = sys.body();
     let (_, stats) = match method {
         Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
         // `simulate` evaluates the exact solution before it gets here: nothing to step.
         Method::Exact => (x0, Stats::default()),
+        Method::Rk4Projected => {
+            integrate(&Rk4Projected::new(body, &x0), sys, x0, grid, obs, cancel)?
+        }
+        Method::Splitting => integrate(&Splitting2::new(body, &x0), sys, x0, grid, obs, cancel)?,
+        Method::Splitting4 => integrate(&Splitting4::new(body, &x0), sys, x0, grid, obs, cancel)?,
+        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, obs, cancel)?,
+        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, obs, cancel)?,
     };
     Ok(stats)
 }

@@ -9,6 +9,7 @@ point arrays without trigonometry; this package is the thin Python side.
 """
 
 from ._core import __version__
+from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .body import Body, InertiaWarning
 from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
 from .flips import flip_period
@@ -30,6 +31,8 @@ __all__ = [
     "rotate",
     "flip_period",
     "METHODS",
+    "StepSizeWarning",
+    "MAX_PREDICTED_DRIFT",
     "BOX_SIZE",
     "SIGNAL_POINT",
     "box_vertices",

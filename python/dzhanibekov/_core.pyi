@@ -15,6 +15,7 @@ __all__ = [
     "invariants",
     "rotate",
     "simulate",
+    "step_plan",
 ]
 __version__: str
 
@@ -41,7 +42,19 @@ def simulate(
     max_steps: int,
     keep_frames: bool,
     keep_flips: bool,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
 ) -> dict[str, Any]: ...
+def step_plan(
+    body: RigidBody,
+    omega0: tuple[float, float, float],
+    t_end: float,
+    frames: int,
+    dt: float | None,
+    method: str,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+) -> dict[str, float]: ...
 @overload
 def rotate(
     q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: None = None

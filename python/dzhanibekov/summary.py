@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from .accuracy import plan_step
 from .body import Body
 from .simulate import DEFAULT_MAX_STEPS, _checked
 from .trajectory import Drift
@@ -74,9 +75,11 @@ def summarize(
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     t_end: float = 100.0,
     frames: int = 201,
-    dt: float = 1e-3,
+    dt: float | None = 1e-3,
     method: str = "rk4",
     *,
+    rtol: float | None = None,
+    atol: float | None = None,
     max_steps: int = DEFAULT_MAX_STEPS,
 ) -> Summary:
     """Simulates like :func:`~dzhanibekov.simulate` but keeps no frames: flip times only.
@@ -87,7 +90,7 @@ def summarize(
 
     Parameters
     ----------
-    body, omega0, q0, t_end, dt, method, max_steps
+    body, omega0, q0, t_end, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`.
     frames : int
         The frame grid, as for ``simulate``: between frames the run takes equal substeps no
@@ -108,11 +111,14 @@ def summarize(
     >>> s.flips, s.verdict
     (2, '2 flips in [0, 100]')
     """
-    body, omega0, q0, t_end, frames, dt, max_steps = _checked(
-        body, omega0, q0, t_end, frames, dt, method, max_steps
+    body, omega0, q0, t_end, frames, max_steps = _checked(
+        body, omega0, q0, t_end, frames, method, max_steps
     )
+    omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
+    dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)
     out = _core.simulate(
-        body._core, tuple(omega0), tuple(q0), t_end, frames, dt, method, max_steps, False, True
+        body._core, tuple(omega0), tuple(q0), t_end, frames, dt, method, max_steps, False, True,
+        rtol_, atol_,
     )
     return Summary(
         flip_times=out["flip_times"],

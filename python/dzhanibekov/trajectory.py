@@ -48,11 +48,14 @@ class Trajectory:
     method : str
     dt : float
         The step actually taken: ``t_end / (frames - 1)`` split evenly, at most the ``dt``
-        asked for.
+        asked for; for an adaptive method, the mean accepted step.
     n_steps, nfev : int
-        Steps taken and right-hand-side evaluations.
+        Steps taken (accepted) and right-hand-side evaluations (0 for the splittings,
+        which evaluate none).
     drift : Drift
         The invariants' largest drift over the frames.
+    n_rejected : int
+        Steps an adaptive method tried and rejected; 0 for fixed-step methods.
     """
 
     t: np.ndarray
@@ -65,6 +68,7 @@ class Trajectory:
     n_steps: int
     nfev: int
     drift: Drift
+    n_rejected: int = 0
     _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def invariants(self) -> dict[str, np.ndarray]:

@@ -70,8 +70,9 @@ def test_bad_simulate_arguments(paper_body, kwargs, error, match):
 
 
 def test_a_step_far_beyond_stability_is_an_error_not_nan(paper_body):
-    with pytest.raises(ValueError, match="diverged"):
-        dz.simulate(paper_body, (3.0, 5.0, 40.0), t_end=1e3, frames=2, dt=10.0)
+    with pytest.warns(dz.StepSizeWarning, match="stability limit"):
+        with pytest.raises(ValueError, match="diverged"):
+            dz.simulate(paper_body, (3.0, 5.0, 40.0), t_end=1e3, frames=2, dt=10.0)
 
 
 def test_max_steps_bounds_the_run(paper_body):

@@ -1,0 +1,283 @@
+//! Driving an embedded Runge–Kutta pair with error control over the frame grid.
+//!
+//! Steps go where the error estimate lets them; frames stay exactly at `t_end · i /
+//! (frames − 1)` and are read off the step's continuous extension (the step never has to
+//! land on a frame, except the last step, which ends at `t_end`). Observers see every
+//! accepted step, with the step's interpolant (flips are located on it), then the frames it
+//! covers.
+//!
+//! **Error control** (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4): a step is accepted
+//! when the root-mean-square of its error estimate over `atol_k + rtol · max(|x_k|, |x̃_k|)`
+//! is at most 1. The rates' absolute tolerance is `atol · Ω`, with `Ω` the rate bound of
+//! [`crate::step_size`], and the quaternion's is `atol`: both are then relative to the
+//! motion's own scale, so a run is unchanged (bit for bit when `s` is a power of two) under
+//! `(ω, t) → (s ω, t / s)`. The next step is `h · clamp(0.9 · err^(−α) · err_prev^β)`
+//! (Gustafsson's PI controller in Hairer's form, `α = 1/(q+1) − 0.75 β` with `q` the
+//! estimate's order; `β = 0.04` for DOPRI5 and 0 for DOP853, Hairer's defaults), never
+//! growing right after a rejection.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::dynamics::{FreeRigidBody, State};
+use crate::error::{Error, Result};
+use crate::integrators::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem, Stats};
+use crate::observe::Observer;
+use crate::run::FrameGrid;
+use crate::step_size::{check_rtol, rate_bound};
+
+/// Accepted steps between two looks at the cancel flag and the state's finiteness.
+const CHECK_EVERY: u64 = 1 << 10;
+
+/// The settings of an adaptive run.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Adaptive {
+    /// Relative tolerance of the local error.
+    pub rtol: f64,
+    /// Absolute tolerance: on `q`, and on `ω` in units of the rate bound `Ω`.
+    pub atol: f64,
+    /// The first step tried; `None` picks `(rtol + atol)^(1/(q+1)) / Ω`.
+    pub first_step: Option<f64>,
+    /// Refuse runs needing more step attempts than this.
+    pub max_steps: u64,
+}
+
+/// The smallest relative tolerance allowed: 100 ulps, below which the error estimate is
+/// round-off.
+pub const MIN_RTOL: f64 = 100.0 * f64::EPSILON;
+
+impl Default for Adaptive {
+    fn default() -> Self {
+        Self {
+            rtol: 1e-9,
+            atol: 1e-12,
+            first_step: None,
+            max_steps: u64::MAX,
+        }
+    }
+}
+
+impl Adaptive {
+    /// Settings with the given tolerances.
+    ///
+    /// # Errors
+    /// `rtol` must lie in `[100 ε, 1)` and `atol` be positive and finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::adaptive::Adaptive;
+    /// assert!(Adaptive::try_new(1e-10, 1e-12).is_ok());
+    /// assert!(Adaptive::try_new(1e-17, 1e-12).is_err());
+    /// ```
+    pub fn try_new(rtol: f64, atol: f64) -> Result<Self> {
+        check_rtol(rtol)?;
+        if !(atol.is_finite() && atol > 0.0) {
+            return Err(Error::invalid("atol", "must be positive and finite", atol));
+        }
+        Ok(Self {
+            rtol,
+            atol,
+            ..Self::default()
+        })
+    }
+
+    /// The same settings with a first step.
+    ///
+    /// # Errors
+    /// `h` must be positive and finite.
+    pub fn with_first_step(self, h: f64) -> Result<Self> {
+        if !(h.is_finite() && h > 0.0) {
+            return Err(Error::invalid("dt", "must be positive and finite", h));
+        }
+        Ok(Self {
+            first_step: Some(h),
+            ..self
+        })
+    }
+
+    /// The same settings with a cap on step attempts.
+    pub fn with_max_steps(self, max_steps: u64) -> Self {
+        Self { max_steps, ..self }
+    }
+
+    /// The first step tried for a pair whose estimate has order `error_order`, at rate bound
+    /// `rate`, over `t_end`: scale-free, so that it follows `(ω, t) → (s ω, t / s)`.
+    pub fn first_step_for(&self, error_order: u32, rate: f64, t_end: f64) -> f64 {
+        let h = match self.first_step {
+            Some(h) => h,
+            None if rate > 0.0 && rate.is_finite() => {
+                (self.rtol + self.atol).powf(1.0 / (error_order + 1) as f64) / rate
+            }
+            None => t_end,
+        };
+        h.min(t_end)
+    }
+}
+
+/// The step-size controller's constants: Hairer's defaults for each pair.
+struct Controller {
+    alpha: f64,
+    beta: f64,
+    safety: f64,
+    min_factor: f64,
+    max_factor: f64,
+}
+
+impl Controller {
+    fn for_pair(error_order: u32) -> Self {
+        // DOPRI5: β = 0.04, factors in [0.2, 10]; DOP853: β = 0, factors in [1/3, 6].
+        let (beta, min_factor, max_factor) = if error_order < 6 {
+            (0.04, 0.2, 10.0)
+        } else {
+            (0.0, 1.0 / 3.0, 6.0)
+        };
+        Self {
+            alpha: 1.0 / (error_order + 1) as f64 - 0.75 * beta,
+            beta,
+            safety: 0.9,
+            min_factor,
+            max_factor,
+        }
+    }
+}
+
+/// Integrates `sys` from `x0` over the frames of `grid` with the pair `pair` under `settings`,
+/// showing every accepted step and every frame to `obs`. Returns the final state and the
+/// run's cost.
+///
+/// # Errors
+/// [`Error::Interrupted`] soon after `cancel` is set; [`Error::TooLarge`] when the run needs
+/// more than `settings.max_steps` attempts; [`Error::Diverged`] if the state stops being
+/// finite or the step shrinks below round-off.
+pub fn integrate_adaptive<P, O>(
+    pair: &P,
+    sys: &FreeRigidBody,
+    x0: State,
+    grid: &FrameGrid,
+    settings: &Adaptive,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<(State, Stats)>
+where
+    P: EmbeddedPair<7, FreeRigidBody>,
+    O: Observer,
+{
+    let t_end = grid.t_end();
+    let rate = rate_bound(sys.body(), [x0[0], x0[1], x0[2]]);
+    let omega_scale = if rate > 0.0 && rate.is_finite() {
+        rate
+    } else {
+        1.0
+    };
+    let atol: State =
+        std::array::from_fn(|k| settings.atol * if k < 3 { omega_scale } else { 1.0 });
+    let ctl = Controller::for_pair(P::ERROR_ORDER);
+
+    obs.frame(0, 0.0, &x0);
+    let (mut t, mut x) = (0.0, x0);
+    let mut f = sys.rhs(t, &x);
+    if !f.iter().all(|v| v.is_finite()) {
+        return Err(Error::Diverged {
+            t,
+            hint: "the rates are too large for float64: their products overflow",
+        });
+    }
+    let mut stats = Stats {
+        nfev: 1,
+        n_steps: 0,
+        n_rejected: 0,
+    };
+    let mut h = settings.first_step_for(P::ERROR_ORDER, rate, t_end);
+    let mut err_prev: f64 = 1e-4;
+    let mut rejected = false;
+    let mut next_frame = 1;
+    while next_frame < grid.frames() {
+        // Stretch a step that would stop just short of the end (Hairer's 1.01 rule).
+        let last = t + 1.01 * h >= t_end;
+        if last {
+            h = t_end - t;
+        }
+        if h <= 4.0 * f64::EPSILON * t.abs() || h == 0.0 {
+            return Err(Error::Diverged {
+                t,
+                hint: "the adaptive step fell below round-off; the tolerance cannot be met \
+                       in float64 here",
+            });
+        }
+        if stats.n_steps + stats.n_rejected >= settings.max_steps {
+            return Err(Error::TooLarge {
+                what: "the adaptive run",
+                needed: format!("more than {} step attempts (at t = {t:.6e})", stats.n_steps),
+                limit: format!("max_steps = {}", settings.max_steps),
+                hint: "raise max_steps, or loosen rtol and atol",
+            });
+        }
+        let step = pair.attempt(sys, t, h, &x, &f);
+        stats.nfev += P::RHS_PER_STEP;
+        let x1 = *step.x1();
+        let scale: State =
+            std::array::from_fn(|k| atol[k] + settings.rtol * x[k].abs().max(x1[k].abs()));
+        let err = step.error_norm(h, &scale);
+        if err.is_nan() || err > 1.0 {
+            // rejected (a NaN estimate, from an overflow, is rejected too)
+            stats.n_rejected += 1;
+            let factor = if err.is_finite() {
+                (ctl.safety * err.powf(-ctl.alpha)).max(ctl.min_factor)
+            } else {
+                ctl.min_factor
+            };
+            h *= factor.min(1.0);
+            rejected = true;
+            continue;
+        }
+        let t1 = if last { t_end } else { t + h };
+        // The interpolant is built only if a frame or an observer (a flip) needs it.
+        let mut dense: Option<P::Dense> = None;
+        let mut dense_nfev = 0;
+        let mut at = |theta: f64| {
+            dense
+                .get_or_insert_with(|| {
+                    dense_nfev = P::RHS_PER_DENSE;
+                    pair.dense(sys, t, h, &x, &step)
+                })
+                .at(theta)
+        };
+        if O::WANTS_STEPS {
+            obs.step_dense(t, &x, t1, &x1, &mut at);
+        }
+        while next_frame < grid.frames() && grid.time(next_frame) <= t1 {
+            let tf = grid.time(next_frame);
+            let xf = if tf == t1 { x1 } else { at((tf - t) / h) };
+            obs.frame(next_frame, tf, &xf);
+            next_frame += 1;
+        }
+        stats.nfev += dense_nfev;
+        let mut factor = ctl.safety * err.powf(-ctl.alpha) * err_prev.powf(ctl.beta);
+        factor = factor.clamp(ctl.min_factor, ctl.max_factor);
+        if rejected {
+            factor = factor.min(1.0);
+        }
+        err_prev = err.max(1e-4);
+        rejected = false;
+        (t, x, f) = (t1, x1, *step.f1());
+        h *= factor;
+        stats.n_steps += 1;
+        if stats.n_steps % CHECK_EVERY == 0 {
+            check(&x, t, cancel)?;
+        }
+    }
+    check(&x, t, cancel)?;
+    Ok((x, stats))
+}
+
+fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Interrupted);
+    }
+    if !x.iter().all(|v| v.is_finite()) {
+        return Err(Error::Diverged {
+            t,
+            hint: "the state overflowed; the body rates are too large for float64",
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,217 @@
+"""The extremes, for every method: near-degenerate moments, symmetric tops, moment ratios of
+10⁶ (rods, plates), perturbations down to 1e-15, spin rates up to 1e6 and the symmetry
+(ω, t) → (sω, t/s), stable axes, and long runs. Each checks physics against what the code
+cannot fake, or a clear error or warning; none may end in a silent NaN."""
+
+import numpy as np
+import pytest
+from reference import dop853
+
+import dzhanibekov as dz
+
+METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853")
+
+
+def run(body, omega0, method, t_end, frames=11, **kwargs):
+    """A run at a step fit for `method`: the accuracy rule (dt=None) for RK4 and the
+    adaptive methods, a fixed step for the splittings (whose rule is for ordinary bodies)."""
+    if method in ("splitting", "splitting4"):
+        kwargs.setdefault("dt", 1e-4 if method == "splitting" else 1e-3)
+    else:
+        kwargs.setdefault("dt", None)
+        kwargs.setdefault("rtol", 1e-8 if method.startswith("dop") else 1e-6)
+    traj = dz.simulate(body, omega0, t_end=t_end, frames=frames, method=method, **kwargs)
+    assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
+    return traj
+
+
+# the error each method is held to below, relative to the largest initial rate (ω) and
+# absolute (q), at the steps `run` takes
+TOLERANCE = {"rk4": 1e-5, "rk4_projected": 1e-5, "splitting": 2e-2, "splitting4": 1e-6,
+             "dopri5": 1e-5, "dop853": 1e-5}
+
+
+def symmetric_top_omega(i, i3, omega0, t):
+    """ω(t) of a top with I1 = I2 = i: ω3 fixed, ω⊥ turning at (i3 − i) ω3 / i."""
+    w1, w2, w3 = omega0
+    a = (i3 - i) / i * w3 * np.asarray(t)
+    return np.stack([w1 * np.cos(a) - w2 * np.sin(a), w1 * np.sin(a) + w2 * np.cos(a),
+                     np.full_like(a, w3)], axis=-1)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_near_degenerate_moments_behave_as_the_symmetric_top(method):
+    # Ix = Iy (1 + 1e-12): x is strictly the intermediate axis, but its instability grows at
+    # √((Iz − Ix)(Ix − Iy)/(Ix Iz)) ω ≈ 1e-6 ω: no flip for a very long time, and the motion
+    # is the symmetric top's to about 1e-12 per unit time.
+    body, omega0 = dz.Body((1.0 + 1e-12, 1.0, 2.0)), (0.3, -0.4, 1.0)
+    assert body.intermediate_axis == 0
+    traj = run(body, omega0, method, t_end=50.0)
+    expected = symmetric_top_omega(1.0, 2.0, omega0, traj.t)
+    assert np.abs(traj.omega - expected).max() < TOLERANCE[method]
+    assert len(traj.flip_times) == 0
+    assert traj.drift.momentum < 1e-5 and traj.drift.energy < 1e-5
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("inertia", [(1.0, 1.0, 2.0), (2.0, 2.0, 1.0), (1.0, 1.0, 1.0)])
+def test_symmetric_tops_precess_and_never_flip(method, inertia):
+    # an oblate disc, a prolate top, a sphere: no intermediate axis, no flips
+    omega0 = (0.6, -0.4, 1.3)
+    traj = run(dz.Body(inertia), omega0, method, t_end=20.0)
+    expected = symmetric_top_omega(inertia[0], inertia[2], omega0, traj.t)
+    assert np.abs(traj.omega - expected).max() < TOLERANCE[method] * 1.3
+    assert traj.flip_times is not None and len(traj.flip_times) == 0
+
+
+EXTREME_BODIES = {
+    # a rod of 1 × 1e-3 × 1e-3: Ix / Iy = 2e-6, tumbling and spinning about its axis
+    "rod": (dz.Body.box(1.0, 1e-3, 1e-3), (0.3, 1.0, 0.5)),
+    # a needle of moments (1e-6, 1, 1), spinning fast about its axis
+    "needle": (dz.Body((1e-6, 1.0, 1.0)), (2.0, 0.5, 1.0)),
+    # a plate of 1e3 × 1 × 1e-3: Iy / Ix = 1e6, spun about its intermediate axis: it flips
+    "plate": (dz.Body.box(1e3, 1.0, 1e-3), (1e-3, 1.0, 2e-3)),
+    # huge and tiny moments of ordinary proportions: the rates do not depend on the scale
+    "huge": (dz.Body((1e6, 1.5e6, 2e6)), (0.3, 1.0, 0.5)),
+    "tiny": (dz.Body((1e-6, 1.5e-6, 2e-6)), (0.3, 1.0, 0.5)),
+}
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("name", EXTREME_BODIES)
+def test_extreme_moment_ratios_match_the_reference(name, method):
+    body, omega0 = EXTREME_BODIES[name]
+    traj = run(body, omega0, method, t_end=20.0)
+    ref_omega, ref_q = dop853(body.inertia, np.array(omega0), (1, 0, 0, 0), traj.t)
+    scale = np.abs(omega0).max()
+    error = max(np.abs(traj.omega - ref_omega).max() / scale, np.abs(traj.q - ref_q).max())
+    assert error < TOLERANCE[method], error
+    assert traj.drift.momentum < 1e-6 and traj.drift.energy < 1e-6
+    if method in ("splitting", "splitting4", "rk4_projected"):
+        assert traj.drift.momentum < 1e-13
+    expected_flips = 1 if name == "plate" else (2 if name in ("huge", "tiny") else 0)
+    assert len(traj.flip_times) == expected_flips
+
+
+def test_the_scale_of_the_moments_changes_nothing():
+    # I → sI leaves Euler's equations unchanged: with s a power of two, bit for bit
+    for method in METHODS:
+        a = run(dz.Body((1.0, 1.5, 2.0)), (0.3, 1.0, 0.5), method, t_end=20.0)
+        b = run(dz.Body((2.0**40, 1.5 * 2.0**40, 2.0**41)), (0.3, 1.0, 0.5), method, t_end=20.0)
+        assert np.array_equal(a.omega, b.omega) and np.array_equal(a.q, b.q), method
+        assert np.array_equal(a.flip_times, b.flip_times), method
+
+
+def linearised_first_flip(inertia, eps_x, eps_y, w_z=1.0):
+    """The first flip of a spin w_z about the intermediate axis z perturbed by (eps_x, eps_y).
+
+    Near the unstable axis (ωx, ωy) grow as c₊ (1, −r) e^{λt} with λ = w_z √(ab),
+    r = √(b/a), a = (Iy − Iz)/Ix, b = (Iz − Ix)/Iy. On the separatrix ωx = A sech(λ(t − t*)),
+    whose tail is 2A e^{λ(t − t*)}, with A = w_z √(Iz (Iz − Iy) / (Ix (Ix − Iy))) (ωz = 0 at
+    the flip, from the energy and |L|). Matching the tails: t* = ln(2A / |c₊|) / λ.
+    """
+    ix, iy, iz = inertia
+    a, b = (iy - iz) / ix, (iz - ix) / iy
+    lam, r = w_z * np.sqrt(a * b), np.sqrt(b / a)
+    c_plus = (eps_x - eps_y / r) / 2
+    amplitude = w_z * np.sqrt(iz * (iz - iy) / (ix * (ix - iy)))
+    return np.log(2 * amplitude / abs(c_plus)) / lam
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("eps", [1e-9, 1e-12, 1e-15])
+def test_perturbations_down_to_1e15_flip_when_the_linearisation_says(method, eps):
+    # The paper's example at ever smaller perturbations: the small rates are carried to
+    # full relative precision (Euler's products round relative to each factor), so the first
+    # flip comes at t* = ln(2A/|c₊|)/λ, 36 e-foldings after the start at 1e-15.
+    body = dz.Body(dz.PAPER_INERTIA)
+    expected = linearised_first_flip(dz.PAPER_INERTIA, eps, eps)
+    kwargs = {"splitting": dict(dt=None, rtol=1e-6)}.get(method, dict(dt=None, rtol=1e-9))
+    traj = dz.simulate(body, (eps, eps, 1.0), t_end=1.2 * expected, frames=2, method=method,
+                       **kwargs)
+    assert len(traj.flip_times) == 1
+    assert traj.flip_times[0] == pytest.approx(expected, rel=1e-8)
+    assert traj.drift.energy < 1e-6 and traj.drift.momentum < 1e-6
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_spin_rates_up_to_1e6_scale_time_exactly(method):
+    # (ω, t) → (sω, t/s) maps solutions to solutions. With s = 2²⁰ every floating-point
+    # operation scales exactly: bit-for-bit equal runs. With s = 1e6 they agree to round-off.
+    body, omega0 = dz.Body(dz.PAPER_INERTIA), np.array([0.01, 0.1, 0.03])
+    kwargs = {"dt": 0.01} if method in ("splitting", "splitting4", "rk4", "rk4_projected") \
+        else {"dt": None, "rtol": 1e-10}
+    base = dz.simulate(body, omega0, t_end=200.0, frames=21, method=method, **kwargs)
+    for s in (2.0**20, 1e6):
+        scaled = dict(kwargs)
+        if scaled["dt"] is not None:
+            scaled["dt"] = kwargs["dt"] / s
+        fast = dz.simulate(body, s * omega0, t_end=200.0 / s, frames=21, method=method,
+                           **scaled)
+        if s == 2.0**20:
+            assert np.array_equal(fast.omega / s, base.omega)
+            assert np.array_equal(fast.q, base.q)
+            assert np.array_equal(fast.flip_times * s, base.flip_times)
+            assert fast.n_steps == base.n_steps
+        else:
+            # round-off in s ω0 and dt / s, amplified by 200 time units of motion
+            np.testing.assert_allclose(fast.omega / s, base.omega, rtol=0, atol=1e-10 * 0.1)
+            np.testing.assert_allclose(fast.q, base.q, rtol=0, atol=1e-10)
+            np.testing.assert_allclose(fast.flip_times * s, base.flip_times, rtol=1e-10)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_stable_axes_never_flip(method):
+    # wobbles of 10 % of the spin about the axes of least and greatest inertia, over a
+    # hundred wobble periods: the intermediate axis never comes near L (with wobbles of 30 %
+    # about x it does, |L_y| > |L|/√2, and the body turns over: those are flips)
+    body = dz.Body((1.0, 2.0, 3.0))
+    dt = None if method.startswith("dop") else 1e-2
+    for omega0 in [(1.0, 0.1, 0.1), (0.1, 0.1, 1.0)]:
+        traj = dz.simulate(body, omega0, t_end=500.0, frames=2, dt=dt, method=method)
+        assert np.isfinite(traj.omega).all()
+        assert len(traj.flip_times) == 0, (omega0, traj.flip_times)
+
+
+@pytest.mark.slow
+def test_a_long_rk4_run_loses_q_as_predicted():
+    # 10⁸ RK4 steps at dt·Ω = 0.1 on a spin about the axis of least inertia (|ω| ≈ Ω):
+    # |R(i/20)|^(10⁸) predicts a loss of 1.08 % of |q|, which the run must not exceed
+    body, omega0 = dz.Body((1.0, 2.0, 3.0)), (1.0, 1e-3, 1e-3)
+    rate = np.sqrt(np.dot((1.0, 2.0, 3.0), np.square(omega0)))
+    y = 0.05
+    predicted = 1 - (1 - y**6 / 72 + y**8 / 576) ** (1e8 / 2)
+    with pytest.warns(dz.StepSizeWarning):
+        traj = dz.simulate(body, omega0, t_end=1e7 / rate, frames=11, dt=0.1 / rate,
+                           flips=False)
+    assert traj.n_steps == 10**8
+    lost = 1 - np.linalg.norm(traj.q[-1])
+    assert 0.9 * predicted < lost <= predicted, (lost, predicted)
+
+
+@pytest.mark.slow
+def test_a_long_splitting_run_keeps_the_momentum():
+    # 10⁸ steps: |L| within the issue's 1e-13, the energy error no larger than over 10⁶
+    body, omega0 = dz.Body(dz.PAPER_INERTIA), (0.01, 0.1, 0.03)
+    short = dz.simulate(body, omega0, t_end=1e4, frames=101, dt=1e-2, method="splitting",
+                        flips=False)
+    traj = dz.simulate(body, omega0, t_end=1e6, frames=101, dt=1e-2, method="splitting",
+                       flips=False)
+    assert traj.n_steps == 10**8
+    assert traj.drift.momentum < 1e-13 and traj.drift.q_norm < 1e-13
+    assert traj.drift.energy < 1.5 * short.drift.energy
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_rates_beyond_float64_give_a_clear_error_or_a_finite_run(method):
+    # products of two rates of 1e200 overflow: Runge–Kutta methods stop with a clear error;
+    # the splittings only form angles ω·dt and rotate, so they run
+    body = dz.Body((1.0, 2.0, 3.0))
+    try:
+        traj = dz.simulate(body, (1e200, 1e199, 0.0), t_end=1e-198, frames=3, dt=None,
+                           method=method)
+    except ValueError as err:
+        assert "diverged" in str(err) and method not in ("splitting", "splitting4")
+    else:
+        assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
+        assert traj.drift.momentum < 1e-13

@@ -1,0 +1,151 @@
+"""The methods beyond RK4 against independent references (scipy's DOP853 at rtol 1e-13 and
+the exact Jacobi-elliptic ω(t)): orders, the adaptive methods' tolerances and dense output,
+the invariants each method keeps, and flips for every method."""
+
+import numpy as np
+import pytest
+from reference import ExactOmega, dop853
+
+import dzhanibekov as dz
+
+BODY, OMEGA0, Q0 = (1.0, 1.7, 2.3), np.array([0.4, -0.9, 0.6]), (0.8, 0.1, -0.3, 0.5)
+FIXED = ("rk4", "rk4_projected", "splitting", "splitting4")
+ADAPTIVE = ("dopri5", "dop853")
+
+
+def rate_bound(inertia, omega0):
+    """Ω = √(2E / I_min), computed here from its definition."""
+    return np.sqrt(np.dot(inertia, np.square(omega0)) / min(inertia))
+
+
+def frame_error(traj, ref_omega, ref_q, rate):
+    """The error the package's accuracy is stated in: ω relative to Ω, q absolute."""
+    return max(np.abs(traj.omega - ref_omega).max() / rate, np.abs(traj.q - ref_q).max())
+
+
+def test_methods_on_offer():
+    assert set(dz.METHODS) >= set(FIXED + ADAPTIVE)
+
+
+@pytest.mark.parametrize("method, order, steps", [
+    ("rk4_projected", 4, (0.04, 0.02, 0.01)),
+    ("splitting", 2, (0.04, 0.02, 0.01)),
+    ("splitting4", 4, (0.04, 0.02, 0.01)),
+])
+def test_error_ratio_when_the_step_halves_is_two_to_the_order(method, order, steps):
+    t = np.linspace(0.0, 10.0, 11)
+    ref_omega, ref_q = dop853(BODY, OMEGA0, Q0, t)
+    errors = []
+    for dt in steps:
+        traj = dz.simulate(dz.Body(BODY), OMEGA0, Q0, t_end=10.0, frames=11, dt=dt, method=method)
+        errors.append(max(np.abs(traj.omega - ref_omega).max(), np.abs(traj.q - ref_q).max()))
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    assert np.all(np.abs(np.log2(ratios) - order) < 0.2), (ratios, errors)
+
+
+CASES = [
+    (dz.PAPER_INERTIA, (0.01, 0.1, 0.03)),   # about the minor axis (fig. 3b)
+    (dz.PAPER_INERTIA, (0.01, 0.01, 0.03)),  # about the major axis, flipping (fig. 3c)
+    (BODY, tuple(OMEGA0)),
+    ((3.0, 1.0, 2.0), (-0.3, 0.5, -0.9)),
+]
+
+
+@pytest.mark.parametrize("method", ADAPTIVE)
+@pytest.mark.parametrize("inertia, omega0", CASES)
+def test_adaptive_methods_meet_their_tolerance(method, inertia, omega0):
+    # Local error control keeps each step's error within the tolerance; over five flip
+    # periods the global error at the frames — read off the dense output, the frames fall
+    # between steps — stays within a small multiple of it, and falls in proportion to it.
+    exact = ExactOmega(inertia, omega0)
+    t_end = 5 * exact.flip_period
+    t = t_end * (np.arange(101) / 100)  # the frame times, exactly
+    ref_omega, ref_q = dop853(inertia, np.array(omega0), (1, 0, 0, 0), t)
+    rate = rate_bound(inertia, omega0)
+    errors = {}
+    for rtol in (1e-4, 1e-6, 1e-8, 1e-10, 1e-12):
+        traj = dz.simulate(dz.Body(inertia), omega0, t_end=t_end, frames=101, dt=None,
+                           method=method, rtol=rtol, atol=1e-3 * rtol)
+        assert np.array_equal(traj.t, t)
+        errors[rtol] = frame_error(traj, ref_omega, ref_q, rate)
+        assert errors[rtol] <= 30 * rtol, (rtol, errors[rtol], traj)
+    # tolerance proportionality: 10⁻⁴ in tolerance buys about 10⁻⁴ in error
+    assert 1e3 < errors[1e-6] / errors[1e-10] < 1e5, errors
+
+
+@pytest.mark.parametrize("method", ADAPTIVE)
+def test_many_frames_per_step_are_interpolated_accurately(method):
+    # at rtol 1e-10 DOP853 takes a few steps per flip period: most of the 2001 frames lie
+    # inside steps, on the interpolant
+    inertia, omega0 = dz.PAPER_INERTIA, (0.01, 0.1, 0.03)
+    t = np.linspace(0.0, 100.0, 2001)
+    ref_omega, ref_q = dop853(inertia, np.array(omega0), (1, 0, 0, 0), t)
+    traj = dz.simulate(dz.Body(inertia), omega0, t_end=100.0, frames=2001, dt=None,
+                       method=method, rtol=1e-10, atol=1e-13)
+    assert traj.n_steps < 2000
+    assert frame_error(traj, ref_omega, ref_q, rate_bound(inertia, omega0)) < 1e-9
+    assert traj.dt == pytest.approx(100.0 / traj.n_steps)
+
+
+def test_adaptive_counters():
+    traj = dz.simulate(dz.Body(dz.PAPER_INERTIA), (0.01, 0.01, 1.0), t_end=100.0, dt=None,
+                       method="dop853", rtol=1e-8)
+    assert traj.n_steps > 0 and traj.n_rejected >= 0
+    assert traj.nfev >= 1 + 12 * (traj.n_steps + traj.n_rejected)
+    assert dz.simulate(dz.Body(dz.PAPER_INERTIA), (0.01, 0.01, 1.0), t_end=1.0).n_rejected == 0
+
+
+@pytest.mark.parametrize("method, steps", [("splitting", 10**6), ("splitting4", 2 * 10**5)])
+def test_splitting_keeps_momentum_and_its_energy_error_does_not_grow(method, steps):
+    body, omega0 = dz.Body(dz.PAPER_INERTIA), (0.01, 0.1, 0.03)
+    # |L|, |q| and L_world: kept to round-off however long the run (the issue's target is
+    # 1e-13 relative for |L|; the bench measures 10⁷ steps)
+    run = dz.simulate(body, omega0, t_end=steps * 0.01, frames=1001, dt=0.01, method=method,
+                      flips=False)
+    l_norm = np.linalg.norm(run.invariants()["momentum_body"], axis=1)
+    assert np.abs(l_norm / l_norm[0] - 1).max() < 1e-14
+    assert run.drift.momentum < 1e-14 and run.drift.q_norm < 1e-14
+    assert run.drift.momentum_world < 1e-12
+    # the energy error is bounded: over ten times the run it is no larger than over the
+    # first tenth, at a coarse step (dt·Ω ≈ 0.05) where it is well above round-off
+    short = dz.simulate(body, omega0, t_end=2e3, frames=201, dt=0.5, method=method, flips=False)
+    long = dz.simulate(body, omega0, t_end=2e4, frames=2001, dt=0.5, method=method, flips=False)
+    assert 1e-12 < long.drift.energy < 1.5 * short.drift.energy, (short.drift, long.drift)
+    # RK4's, at the same step, grows with the run
+    rk4_short = dz.simulate(body, omega0, t_end=2e3, frames=201, dt=0.5, flips=False)
+    rk4_long = dz.simulate(body, omega0, t_end=2e4, frames=2001, dt=0.5, flips=False)
+    assert rk4_long.drift.energy > 5 * rk4_short.drift.energy
+
+
+def test_projected_rk4_keeps_every_invariant_that_rk4_loses():
+    body, omega0 = dz.Body(dz.PAPER_INERTIA), (0.01, 0.1, 0.03)
+    plain = dz.simulate(body, omega0, t_end=2e3, frames=101, dt=0.4, flips=False)
+    projected = dz.simulate(body, omega0, t_end=2e3, frames=101, dt=0.4, flips=False,
+                            method="rk4_projected")
+    assert min(plain.drift) > 1e-11, plain.drift
+    assert max(projected.drift) < 1e-13, projected.drift
+    # the phase error along the polhode remains: ω is no closer to the truth than RK4's
+    t = projected.t
+    ref_omega, _ = dop853(dz.PAPER_INERTIA, np.array(omega0), (1, 0, 0, 0), t)
+    err_plain = np.abs(plain.omega - ref_omega).max()
+    err_projected = np.abs(projected.omega - ref_omega).max()
+    assert 0.1 * err_plain < err_projected < 10 * err_plain
+
+
+@pytest.mark.parametrize("method", FIXED + ADAPTIVE)
+@pytest.mark.parametrize("inertia, omega0", [
+    (dz.PAPER_INERTIA, (0.01, 0.01, 1.0)),
+    ((1.0, 2.0, 3.0), (0.05, 1.0, 0.3)),
+])
+def test_every_method_locates_the_flips(method, inertia, omega0):
+    exact = ExactOmega(inertia, omega0)
+    t_end = 6.5 * exact.flip_period
+    # sn(λt + u0) vanishes at λt + u0 = 2Kk: the flips, exactly
+    k = np.arange(1, 20)
+    zeros = (k * exact.flip_period * exact.lam - exact.u_start) / exact.lam
+    zeros = zeros[(zeros > 0) & (zeros < t_end)]
+    rtol = 1e-6
+    traj = dz.simulate(dz.Body(inertia), omega0, t_end=t_end, frames=11, dt=None,
+                       method=method, rtol=rtol)
+    assert len(traj.flip_times) == len(zeros) >= 5, (traj.flip_times, zeros)
+    np.testing.assert_allclose(traj.flip_times, zeros, rtol=0, atol=10 * rtol * exact.flip_period)
