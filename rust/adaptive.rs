@@ -178,7 +178,7 @@ where
     if !f.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,
-            hint: "the rates are too large for float64: their products overflow",
+            hint: "the body rates `omega0` are too large for float64: their products overflow",
         });
     }
     let mut stats = Stats {
@@ -199,8 +199,8 @@ where
         if h <= 4.0 * f64::EPSILON * t.abs() || h == 0.0 {
             return Err(Error::Diverged {
                 t,
-                hint: "the adaptive step fell below round-off; the tolerance cannot be met \
-                       in float64 here",
+                hint: "the adaptive step fell below round-off; `rtol` and `atol` cannot be \
+                       met in float64 here",
             });
         }
         if stats.n_steps + stats.n_rejected >= settings.max_steps {
@@ -276,7 +276,7 @@ fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
     if !x.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,
-            hint: "the state overflowed; the body rates are too large for float64",
+            hint: "the state overflowed; the body rates `omega0` are too large for float64",
         });
     }
     Ok(())

@@ -51,7 +51,9 @@ impl RigidBody {
     /// A solid box of the given edge lengths along x, y, z: `Ix = m (b² + c²) / 12`, etc.
     ///
     /// # Errors
-    /// Edges and mass must be positive and finite.
+    /// Edges and mass must be positive and finite, and give moments that float64 holds (the
+    /// squares are taken relative to the longest edge, so only moments that are themselves out
+    /// of range are refused) within the ratio [`RigidBody::try_new`] allows.
     ///
     /// # Example
     /// ```
@@ -70,12 +72,27 @@ impl RigidBody {
         if !(mass.is_finite() && mass > 0.0) {
             return Err(Error::invalid("mass", "must be positive and finite", mass));
         }
-        let k = mass / 12.0;
-        Self::try_new([
-            k * (b * b + c * c),
-            k * (a * a + c * c),
-            k * (a * a + b * b),
-        ])
+        let moments = |a: f64, b: f64, c: f64, k: f64| {
+            [
+                k * (b * b + c * c),
+                k * (a * a + c * c),
+                k * (a * a + b * b),
+            ]
+        };
+        let mut inertia = moments(a, b, c, mass / 12.0);
+        if !inertia.iter().all(|i| i.is_normal()) {
+            // A square overflowed or underflowed: square the edges over the longest instead.
+            let s = a.max(b).max(c);
+            inertia = moments(a / s, b / s, c / s, mass / 12.0 * s * s);
+        }
+        Self::try_new(inertia).map_err(|_| {
+            Error::invalid(
+                "a, b, c",
+                "and `mass` must give principal moments m (b² + c²) / 12, … that are positive \
+                 and finite in float64, with a ratio of largest to smallest of at most 1e150",
+                [a, b, c, mass],
+            )
+        })
     }
 }
 

@@ -53,11 +53,16 @@ pub const MAX_FLIPS: u64 = 100_000_000;
 /// `(J3 − J1) / J1` above which `G` is integrated numerically (see [`Asymmetric::g`]).
 const ROD_RATIO: f64 = 4.0;
 
+/// The most Gauss–Legendre panels [`integral_of_reciprocal`] takes.
+const MAX_PANELS: f64 = 4096.0;
+
 /// `∫₀^r du / (L + κ dn u)` for `0 ≤ r ≤ K`, by 16-point Gauss–Legendre on equal panels no
 /// longer than `panel`.
 fn integral_of_reciprocal(jacobi: &Jacobi, l: f64, kappa: f64, r: f64, panel: f64) -> f64 {
     let (nodes, weights) = gauss_legendre();
-    let panels = (r / panel).ceil().max(1.0);
+    // `r ≤ K` and `panel ≥ min(K, K')/2 ≥ π/4` give at most a few hundred panels; the cap
+    // only guards against a degenerate parameter ever making this loop endless.
+    let panels = (r / panel).ceil().clamp(1.0, MAX_PANELS);
     let h = r / panels;
     let mut sum = 0.0;
     for p in 0..panels as usize {
@@ -287,8 +292,7 @@ impl Asymmetric {
         let a3 = w.z.hypot((j2 * d21 / (j3 * d31)).sqrt() * w.y);
         let lambda = a3 * (d32 * d31 / (j1 * j2)).sqrt();
         let p_mid = j3 * d32 * w.z * w.z - j1 * d21 * w.x * w.x;
-        let separatrix = p_mid == 0.0;
-        let (m, m1) = if separatrix {
+        let (m, m1) = if p_mid == 0.0 {
             (1.0, 0.0)
         } else {
             let ratio = a1 / a3;
@@ -297,6 +301,10 @@ impl Asymmetric {
                 p_mid / (d32 * j3 * a3 * a3),
             )
         };
+        // An `m1` that underflows to zero is the separatrix as far as float64 can tell (and
+        // with no period, `K = ∞`, the periodic formulas below would not end).
+        let separatrix = m1 == 0.0;
+        let (m, m1) = if separatrix { (1.0, 0.0) } else { (m, m1) };
         let jacobi = Jacobi::new(m, m1);
 
         let s3 = w.z.signum();

@@ -5,6 +5,8 @@
 //! any non-zero `q` and equal to the paper's when `|q| = 1`, so a drifting `|q|` shows as
 //! error in the attitude, never as a stretched body.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use nalgebra::{Matrix3, Quaternion};
 use rayon::prelude::*;
 
@@ -41,12 +43,30 @@ pub fn rotation_matrix(q: &Quaternion<f64>) -> Matrix3<f64> {
     )
 }
 
+/// The rotation matrix of a row `(Q, U, V, W)` of any finite, non-zero size: rows whose
+/// squared norm would overflow or underflow are scaled by their largest component first.
+#[inline]
+fn matrix_of_row(c: &[f64]) -> Matrix3<f64> {
+    let q = Quaternion::new(c[0], c[1], c[2], c[3]);
+    let n2 = q.norm_squared();
+    if (1e-300..=1e300).contains(&n2) {
+        return rotation_matrix(&q);
+    }
+    let largest = c.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    rotation_matrix(&(q / largest))
+}
+
+/// The largest coordinate [`rotate_points`] takes: a rotated coordinate is a sum of three
+/// terms bounded by `√3` times the largest, so no sum overflows.
+pub const MAX_COORDINATE: f64 = f64::MAX / 4.0;
+
 /// Work below this many point-frames runs on the calling thread; above, on all cores.
 const PARALLEL_THRESHOLD: usize = 1 << 16;
 /// Points per task: 2048 points (48 KiB in, 48 KiB out per frame) stay in L2.
 const POINT_BLOCK: usize = 2048;
 
-/// Checks a flat `(N, 4)` array of quaternions: finite and non-zero, row by row.
+/// Checks a flat `(N, 4)` array of quaternions: finite and non-zero, row by row (of any
+/// size: a row is scaled before its norm is taken).
 ///
 /// # Errors
 /// Names the first bad row.
@@ -55,8 +75,7 @@ pub fn check_quaternions(q: &[f64]) -> Result<()> {
         return Err(Error::invalid("q", "must have shape (N, 4)", q.len()));
     }
     for (row, c) in q.chunks_exact(4).enumerate() {
-        let n2 = c.iter().map(|x| x * x).sum::<f64>();
-        if !(c.iter().all(|x| x.is_finite()) && n2 > 0.0 && n2.is_finite()) {
+        if !(c.iter().all(|x| x.is_finite()) && c.iter().any(|x| *x != 0.0)) {
             return Err(Error::InvalidArgument {
                 name: "q",
                 allowed: "rows must be finite, non-zero quaternions",
@@ -74,8 +93,23 @@ pub fn check_quaternions(q: &[f64]) -> Result<()> {
 /// cache while every frame is written.
 ///
 /// # Errors
-/// Shapes that do not fit, or a quaternion row that is zero or not finite.
+/// Shapes that do not fit, a quaternion row that is zero or not finite, or a point that is
+/// not finite or beyond [`MAX_COORDINATE`].
 pub fn rotate_points(q: &[f64], points: &[f64], out: &mut [f64]) -> Result<()> {
+    rotate_points_until(q, points, out, &AtomicBool::new(false))
+}
+
+/// [`rotate_points`], stopping soon after `cancel` is set (checked once per frame of each
+/// block of points, so within microseconds); `out` is then partly written.
+///
+/// # Errors
+/// As [`rotate_points`], and [`Error::Interrupted`] when cancelled.
+pub fn rotate_points_until(
+    q: &[f64],
+    points: &[f64],
+    out: &mut [f64],
+    cancel: &AtomicBool,
+) -> Result<()> {
     check_quaternions(q)?;
     if points.len() % 3 != 0 {
         return Err(Error::invalid(
@@ -83,6 +117,17 @@ pub fn rotate_points(q: &[f64], points: &[f64], out: &mut [f64]) -> Result<()> {
             "must have shape (P, 3)",
             points.len(),
         ));
+    }
+    if let Some(row) = points
+        .chunks_exact(3)
+        .position(|p| !p.iter().all(|x| x.abs() <= MAX_COORDINATE))
+    {
+        return Err(Error::InvalidArgument {
+            name: "points",
+            allowed: "must be finite, of magnitude at most 4.49e307 (larger coordinates \
+                      overflow when rotated)",
+            got: format!("row {row} = {:?}", &points[3 * row..3 * row + 3]),
+        });
     }
     let (n, p) = (q.len() / 4, points.len() / 3);
     if n.checked_mul(p).and_then(|np| np.checked_mul(3)) != Some(out.len()) {
@@ -95,16 +140,17 @@ pub fn rotate_points(q: &[f64], points: &[f64], out: &mut [f64]) -> Result<()> {
     if n == 0 || p == 0 {
         return Ok(());
     }
-    let matrices: Vec<Matrix3<f64>> = q
-        .chunks_exact(4)
-        .map(|c| rotation_matrix(&Quaternion::new(c[0], c[1], c[2], c[3])))
-        .collect();
+    let matrices: Vec<Matrix3<f64>> = q.chunks_exact(4).map(matrix_of_row).collect();
     let frame_len = p * 3;
+    let stopped = || match cancel.load(Ordering::Relaxed) {
+        true => Err(Error::Interrupted),
+        false => Ok(()),
+    };
     if n * p < PARALLEL_THRESHOLD {
         for (m, frame) in matrices.iter().zip(out.chunks_exact_mut(frame_len)) {
             rotate_block(m, points, frame);
         }
-        return Ok(());
+        return stopped();
     }
     // Split the output into (frame, point-block) tiles, grouped by point block so that each
     // task reads its block of points once from memory and writes it for every frame.
@@ -115,6 +161,9 @@ pub fn rotate_points(q: &[f64], points: &[f64], out: &mut [f64]) -> Result<()> {
         let end = (start + POINT_BLOCK).min(p);
         let src = &points[start * 3..end * 3];
         for (i, m) in matrices.iter().enumerate() {
+            if cancel.load(Ordering::Relaxed) {
+                return;
+            }
             let offset = i * frame_len + start * 3;
             // SAFETY: tiles (i, b) are disjoint ranges of `out`, each written by one task.
             let dst = unsafe {
@@ -123,7 +172,7 @@ pub fn rotate_points(q: &[f64], points: &[f64], out: &mut [f64]) -> Result<()> {
             rotate_block(m, src, dst);
         }
     });
-    Ok(())
+    stopped()
 }
 
 #[inline]
@@ -177,6 +226,48 @@ mod tests {
             rotate_block(&m, &points, &mut serial);
             assert_eq!(&par[i * 15000..(i + 1) * 15000], &serial[..]);
         }
+    }
+
+    #[test]
+    fn quaternions_of_any_finite_size_rotate_alike() {
+        let points = [1.0, -2.0, 3.0, 1e300, 0.0, -4e307];
+        let mut unit = vec![0.0; 6];
+        rotate_points(&[0.5, 0.5, -0.5, 0.5], &points, &mut unit).unwrap();
+        for scale in [1e-320, 1e-200, 1e200, 1e307] {
+            let mut out = vec![0.0; 6];
+            let q = [0.5 * scale, 0.5 * scale, -0.5 * scale, 0.5 * scale];
+            rotate_points(&q, &points, &mut out).unwrap();
+            for (a, b) in out.iter().zip(&unit) {
+                assert!(
+                    (a - b).abs() <= 1e-15 * b.abs().max(1.0),
+                    "{scale}: {a} vs {b}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn rejects_points_that_would_overflow() {
+        let mut out = vec![0.0; 3];
+        let q = [0.5, 0.5, -0.5, 0.5];
+        assert!(rotate_points(&q, &[f64::MAX, 0.0, 0.0], &mut out).is_err());
+        assert!(rotate_points(&q, &[f64::NAN, 0.0, 0.0], &mut out).is_err());
+        rotate_points(&q, &[MAX_COORDINATE; 3], &mut out).unwrap();
+        assert!(out.iter().all(|x| x.is_finite()));
+    }
+
+    #[test]
+    fn a_cancelled_rotation_stops() {
+        let q = vec![1.0; 4 * 64];
+        let points = vec![1.0; 3 * 4096];
+        let mut out = vec![f64::NAN; 64 * 4096 * 3];
+        let cancel = AtomicBool::new(true);
+        let err = rotate_points_until(&q, &points, &mut out, &cancel).unwrap_err();
+        assert_eq!(err, Error::Interrupted);
+        assert!(
+            out.iter().all(|x| x.is_nan()),
+            "nothing written after the cancel"
+        );
     }
 
     #[test]

@@ -29,6 +29,7 @@ pub mod kinematics;
 pub mod mesh;
 pub mod observe;
 pub mod run;
+pub mod scale;
 pub mod step_size;
 
 #[cfg(feature = "python")]

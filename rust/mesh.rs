@@ -80,7 +80,7 @@ pub fn ellipsoid(semi_axes: [f64; 3], n_around: usize, n_along: usize) -> Result
         .filter(|&c| c <= MAX_CELLS)
         .ok_or_else(|| Error::TooLarge {
             what: "the ellipsoid mesh",
-            needed: format!("{n_around} × {n_along} cells"),
+            needed: format!("n_around × n_along = {n_around} × {n_along} cells"),
             limit: format!("{MAX_CELLS} cells"),
             hint: "ask for fewer cells",
         })?;

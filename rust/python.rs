@@ -22,7 +22,7 @@ use crate::dynamics::{state_from, Invariants};
 use crate::elliptic::Jacobi;
 use crate::error::Error;
 use crate::exact;
-use crate::kinematics::rotate_points;
+use crate::kinematics::rotate_points_until;
 use crate::mesh::ellipsoid;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
 use crate::step_size::plan;
@@ -267,7 +267,9 @@ fn rotate<'py>(
             let dst = out
                 .as_slice_mut()
                 .map_err(|_| PyValueError::new_err("`out` must be C-contiguous"))?;
-            detach(py, long, |_| rotate_points(q, points, dst))?;
+            detach(py, long, |cancel| {
+                rotate_points_until(q, points, dst, cancel)
+            })?;
             Ok(None)
         }
         None => {
@@ -276,11 +278,16 @@ fn rotate<'py>(
             let array = unsafe { PyArray3::<f64>::new(py, [n, p, 3], false) };
             // SAFETY: the array is new, C-contiguous and not yet shared with Python code.
             let dst = unsafe { array.as_slice_mut() }.map_err(internal)?;
-            detach(py, long, |_| rotate_points(q, points, dst))?;
+            detach(py, long, |cancel| {
+                rotate_points_until(q, points, dst, cancel)
+            })?;
             Ok(Some(array))
         }
     }
 }
+
+/// Rows above which the invariants are computed on a helper thread that watches for Ctrl-C.
+const LONG_INVARIANTS: usize = 1 << 22;
 
 /// Energy, body and world angular momentum and `|q|` at each row of `omega` and `q`.
 #[pyfunction]
@@ -303,20 +310,23 @@ fn invariants<'py>(
         ));
     }
     let inertia = body.inner.inertia_body();
-    let (mut energy, mut l_body, mut l_world, mut q_norm) = (
-        Vec::with_capacity(n),
-        Vec::with_capacity(3 * n),
-        Vec::with_capacity(3 * n),
-        Vec::with_capacity(n),
-    );
-    for (w, c) in omega.chunks_exact(3).zip(q.chunks_exact(4)) {
-        let x = state_from([w[0], w[1], w[2]], [c[0], c[1], c[2], c[3]]);
-        let inv = Invariants::of(&inertia, &x);
-        energy.push(inv.energy);
-        l_body.extend_from_slice(inv.l_body.as_slice());
-        l_world.extend_from_slice(inv.l_world.as_slice());
-        q_norm.push(inv.q_norm);
-    }
+    let (energy, l_body, l_world, q_norm) = detach(py, n > LONG_INVARIANTS, |_| {
+        let (mut energy, mut l_body, mut l_world, mut q_norm) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(3 * n),
+            Vec::with_capacity(3 * n),
+            Vec::with_capacity(n),
+        );
+        for (w, c) in omega.chunks_exact(3).zip(q.chunks_exact(4)) {
+            let x = state_from([w[0], w[1], w[2]], [c[0], c[1], c[2], c[3]]);
+            let inv = Invariants::of(&inertia, &x);
+            energy.push(inv.energy);
+            l_body.extend_from_slice(inv.l_body.as_slice());
+            l_world.extend_from_slice(inv.l_world.as_slice());
+            q_norm.push(inv.q_norm);
+        }
+        Ok((energy, l_body, l_world, q_norm))
+    })?;
     let result = PyDict::new(py);
     result.set_item("energy", PyArray1::from_vec(py, energy))?;
     let shaped = |v: Vec<f64>| Array2::from_shape_vec((n, 3), v).map_err(internal);

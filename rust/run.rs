@@ -18,6 +18,7 @@ use crate::integrators::{
     Dop853, Dopri5, Rk4, Rk4Projected, Splitting2, Splitting4, Stats, Stepper,
 };
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
+use crate::scale::RateScale;
 
 /// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
 const CHECK_EVERY: u64 = 1 << 14;
@@ -312,8 +313,12 @@ pub struct RunOutput {
 /// Simulates the free rotation of `body` from body rates `omega0` and attitude `q0`
 /// (normalised here) over `grid`.
 ///
+/// Rates of any size are integrated in the motion's own units (see [`crate::scale`]), so
+/// that rates of 1e-300 or 1e300 neither underflow nor overflow in Euler's products.
+///
 /// # Errors
-/// Non-finite `omega0`, a zero or non-finite `q0`, and the errors of [`integrate`].
+/// Non-finite `omega0`, a zero or non-finite `q0`, a span `t_end · max|ω₀|` beyond float64,
+/// and the errors of [`integrate`].
 ///
 /// # Example
 /// ```
@@ -343,6 +348,11 @@ pub fn simulate(
             "must be three finite body rates",
             omega0,
         ));
+    }
+    let scale = RateScale::of(omega0);
+    if !scale.is_identity() && !matches!(method, Method::Exact) {
+        normalized(q0)?; // refused before anything else, as unscaled; normalised once, inside
+        return simulate_scaled(body, omega0, q0, grid, method, keep, cancel, scale);
     }
     let q0 = normalized(q0)?;
     let sys = FreeRigidBody::new(*body);
@@ -383,6 +393,72 @@ pub fn simulate(
     })
 }
 
+/// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
+#[allow(clippy::too_many_arguments)]
+fn simulate_scaled(
+    body: &RigidBody,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+    scale: RateScale,
+) -> Result<RunOutput> {
+    let t_end = scale.time_to_unit(grid.t_end);
+    if !t_end.is_finite() {
+        return Err(Error::TooLarge {
+            what: "the run",
+            needed: format!(
+                "t_end · max|omega0| = {:.3e} · {:.3e} radians",
+                grid.t_end,
+                omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs()))
+            ),
+            limit: "what float64 holds".into(),
+            hint: "take a shorter t_end",
+        });
+    }
+    // A span that underflows is one in which nothing moves that float64 can show.
+    let unit_grid = FrameGrid {
+        t_end: t_end.max(f64::from_bits(1)),
+        ..*grid
+    };
+    // an adaptive method's first step is a time too
+    let method = match method {
+        Method::Dopri5(a) | Method::Dop853(a) => method.with_adaptive(Adaptive {
+            first_step: a
+                .first_step
+                .map(|h| scale.time_to_unit(h))
+                .filter(|h| h.is_finite() && *h > 0.0),
+            ..a
+        }),
+        fixed => fixed,
+    };
+    let mut out = simulate(
+        body,
+        omega0.map(|w| scale.rate_to_unit(w)),
+        q0,
+        &unit_grid,
+        method,
+        keep,
+        cancel,
+    )?;
+    for w in &mut out.omega {
+        *w = scale.rate_from_unit(*w);
+    }
+    if !out.omega.iter().all(|w| w.is_finite()) {
+        return Err(Error::Diverged {
+            t: grid.t_end,
+            hint: "the body rates `omega0` are too large for float64",
+        });
+    }
+    for t in &mut out.flip_times {
+        *t = scale.time_from_unit(*t).min(grid.t_end);
+    }
+    out.dt = scale.time_from_unit(out.dt);
+    Ok(out)
+}
+
 /// Frames evaluated from the closed form at the frame times: no steps, the same observers,
 /// flip times from the solution by the detector's definition.
 fn simulate_exact(
@@ -400,7 +476,16 @@ fn simulate_exact(
             return Err(Error::Interrupted);
         }
         let t = grid.time(i);
-        obs.frame(i, t, &motion.state_at(t));
+        let x = motion.state_at(t);
+        if !x.iter().all(|v| v.is_finite()) {
+            return Err(Error::TooLarge {
+                what: "the exact solution",
+                needed: format!("its phase at t = {t:.3e} (t_end · max|omega0| radians)"),
+                limit: "what float64 holds".into(),
+                hint: "take a shorter t_end",
+            });
+        }
+        obs.frame(i, t, &x);
     }
     let flip_times = match keep.flips {
         true => motion.flip_times(grid.t_end())?,

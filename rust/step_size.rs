@@ -51,6 +51,16 @@ pub fn rate_bound(body: &RigidBody, omega0: [f64; 3]) -> f64 {
     big * s.sqrt()
 }
 
+/// `max(1, |I_j − I_k| / I_i)` over the axes: the motion's frequencies are at most this times
+/// [`rate_bound`]. It is 1 for every body that meets the triangle inequality; moments that no
+/// body has, such as `(1, 1, 10)`, precess faster than `Ω` (9 times, there).
+pub fn frequency_factor(body: &RigidBody) -> f64 {
+    let i = body.inertia_body();
+    (0..3).fold(1.0_f64, |m, k| {
+        m.max((i[(k + 1) % 3] - i[(k + 2) % 3]).abs() / i[k])
+    })
+}
+
 /// `|R(iy)|²` for RK4's stability function `R(z) = 1 + z + z²/2 + z³/6 + z⁴/24`.
 pub fn rk4_gain_squared(y: f64) -> f64 {
     let y2 = y * y;
@@ -62,6 +72,9 @@ pub fn rk4_gain_squared(y: f64) -> f64 {
 /// `h` at rate `rate` (`y = h · rate / 2`); infinite when it overflows.
 pub fn rk4_predicted_drift(h: f64, rate: f64, n_steps: f64) -> f64 {
     let y = 0.5 * h * rate;
+    if y.is_nan() || y >= 8f64.sqrt() {
+        return f64::INFINITY; // at or past the stability limit: |q| grows without bound
+    }
     let g = rk4_gain_squared(y);
     if g <= 0.0 {
         return 1.0; // a step that maps the mode to zero: all of |q| is lost
@@ -120,8 +133,25 @@ pub fn step_for_accuracy(
         return Ok(t_end); // nothing moves
     }
     let turns = (rate * t_end).max(1.0);
+    if !turns.is_finite() {
+        return Err(Error::TooLarge {
+            what: "the run",
+            needed: format!("t_end · Ω = {t_end:.3e} · {rate:.3e} radians"),
+            limit: "what float64 holds".into(),
+            hint: "take a shorter t_end",
+        });
+    }
     let h_rate = (rtol / (constant * turns)).powf(1.0 / order as f64);
-    Ok((h_rate.min(MAX_STEP_RATE) / rate).min(t_end))
+    let h = (h_rate.min(MAX_STEP_RATE) / rate).min(t_end);
+    if h.is_nan() || h <= 0.0 {
+        return Err(Error::TooLarge {
+            what: "the run",
+            needed: format!("steps of {h_rate:.3e} / Ω = {h_rate:.3e} / {rate:.3e}"),
+            limit: "the smallest step float64 holds".into(),
+            hint: "take a larger rtol or a shorter t_end",
+        });
+    }
+    Ok(h)
 }
 
 /// The step of a run and what it predicts, worked out before the run.
@@ -133,7 +163,8 @@ pub struct StepPlan {
     /// The step a fixed-step method will take (`t_end / (frames − 1)` split evenly, at most
     /// `dt`); `dt` itself for an adaptive method.
     pub step: f64,
-    /// The rate bound `Ω` (see the module docs).
+    /// The rate bound `Ω` (see the module docs), times [`frequency_factor`] for moments that
+    /// break the triangle inequality.
     pub rate_bound: f64,
     /// RK4's predicted relative drift of `|q|` over the run, for `rk4` and `rk4_projected`
     /// (whose projection hides the drift, not the error behind it); 0 for other methods.
@@ -155,7 +186,15 @@ pub fn plan(
     dt: Option<f64>,
     rtol: f64,
 ) -> Result<StepPlan> {
-    let rate = rate_bound(body, omega0);
+    // Ω, or the faster precession of moments that break the triangle inequality
+    let rate = rate_bound(body, omega0) * frequency_factor(body);
+    if !rate.is_finite() {
+        return Err(Error::invalid(
+            "omega0",
+            "must give a rate bound √(2E / I_min) that float64 holds",
+            omega0,
+        ));
+    }
     if matches!(method, Method::Exact) {
         FrameGrid::try_frames(t_end, frames)?;
         return Ok(StepPlan {

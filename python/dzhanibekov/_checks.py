@@ -12,27 +12,43 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["as_float", "as_int", "as_array", "check_size"]
+__all__ = ["as_float", "as_int", "as_array", "check_size", "MAX_INT"]
+
+MAX_INT = 2**63 - 1
+"""The largest integer argument: counts cross into the core as 64-bit integers."""
+
+
+def _short(value: Any, limit: int = 60) -> str:
+    """`repr(value)`, cut to `limit` characters (a 400-digit integer is not a message)."""
+    text = repr(value)
+    return text if len(text) <= limit else f"{text[: limit - 5]}…{text[-4:]}"
 
 
 def as_float(name: str, value: Any, *, positive: bool = False) -> float:
     """A finite real number (positive if asked)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
-        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} {value!r}")
-    x = float(value)
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} "
+                        f"{_short(value)}")
+    allowed = "positive and finite" if positive else "finite"
+    try:
+        x = float(value)
+    except OverflowError:  # an int or a Fraction beyond float64
+        raise ValueError(f"`{name}` must be {allowed} in float64, got {_short(value)}") from None
     if not np.isfinite(x) or (positive and not x > 0):
-        allowed = "positive and finite" if positive else "finite"
         raise ValueError(f"`{name}` must be {allowed}, got {x!r}")
     return x
 
 
-def as_int(name: str, value: Any, *, minimum: int) -> int:
-    """An integer of at least `minimum` (Python or NumPy integer; no floats, no bools)."""
+def as_int(name: str, value: Any, *, minimum: int, maximum: int = MAX_INT) -> int:
+    """An integer in ``[minimum, maximum]`` (Python or NumPy integer; no floats, no bools)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"`{name}` must be an integer, got {type(value).__name__} {value!r}")
+        raise TypeError(f"`{name}` must be an integer, got {type(value).__name__} "
+                        f"{_short(value)}")
     n = int(value)
     if n < minimum:
-        raise ValueError(f"`{name}` must be at least {minimum}, got {n}")
+        raise ValueError(f"`{name}` must be at least {minimum}, got {_short(n)}")
+    if n > maximum:
+        raise ValueError(f"`{name}` must be at most {maximum}, got {_short(n)}")
     return n
 
 
@@ -56,18 +72,55 @@ def as_array(name: str, value: Any, shape: str, *, last: int, ndim: tuple[int, .
     return arr
 
 
-def _memory_bytes() -> int | None:
+def _read_int(path: str, field: str | None = None) -> int | None:
+    """An integer from a /proc or /sys file: the whole file, or the line `field: N kB`."""
     try:
-        return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
-    except (ValueError, OSError, AttributeError):  # not on this platform
+        with open(path, encoding="ascii") as f:
+            text = f.read()
+    except (OSError, ValueError):
         return None
+    if field is None:
+        text = text.strip()
+        return int(text) if text.isdigit() else None
+    for line in text.splitlines():
+        key, _, rest = line.partition(":")
+        if key == field:
+            number, _, unit = rest.strip().partition(" ")
+            return int(number) * (1024 if unit == "kB" else 1) if number.isdigit() else None
+    return None
+
+
+def memory_available() -> tuple[int, str] | None:
+    """The memory a new allocation can still get, in bytes, and what bounds it: on Linux the
+    kernel's estimate of available memory (free plus reclaimable) or the room left under the
+    process's cgroup limit, whichever is smaller; elsewhere the physical memory."""
+    limits: list[tuple[int, str]] = []
+    available = _read_int("/proc/meminfo", "MemAvailable")
+    if available is not None:
+        limits.append((available, "available memory"))
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        limit, usage = _read_int(limit_file), _read_int(usage_file)
+        if limit is not None and usage is not None and limit < 2**60:
+            limits.append((max(limit - usage, 0), "room under the memory limit (cgroup)"))
+            break
+    if not limits:
+        try:
+            limits.append((os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"),
+                           "physical memory"))
+        except (ValueError, OSError, AttributeError):  # not on this platform
+            return None
+    return min(limits)
 
 
 def check_size(nbytes: int, what: str, hint: str) -> None:
-    """Refuses a request for more memory than this machine has, before allocating it."""
-    total = _memory_bytes()
-    if total is not None and nbytes > total:
+    """Refuses a request for more memory than this machine can give now, before allocating
+    it: the allocation itself would succeed (memory is committed lazily) and the process
+    would be killed when it touched the pages."""
+    room = memory_available()
+    if room is not None and nbytes > room[0]:
         raise ValueError(
-            f"{what} would need {nbytes / 1e9:.3g} GB, more than this machine's "
-            f"{total / 1e9:.3g} GB of memory; {hint}"
+            f"{what} would need {nbytes / 1e9:.3g} GB ({nbytes} bytes), more than this "
+            f"machine's {room[0] / 1e9:.3g} GB of {room[1]}; {hint}"
         )

@@ -8,7 +8,7 @@ from typing import Any
 from . import _core
 from ._checks import as_array, as_float
 
-__all__ = ["Body", "InertiaWarning"]
+__all__ = ["Body", "InertiaWarning", "as_body"]
 
 
 class InertiaWarning(UserWarning):
@@ -83,6 +83,18 @@ class Body:
 
     def __hash__(self) -> int:
         return hash(self.inertia)
+
+
+def as_body(value: Any, name: str = "body") -> Body:
+    """`value` if a Body, else the Body of the principal moments it holds; a failure names
+    `name` as well as the moments."""
+    if isinstance(value, Body):
+        return value
+    try:
+        return Body(value)
+    except (TypeError, ValueError) as exc:
+        raise type(exc)(f"`{name}` must be a Body or its principal moments (Ix, Iy, Iz): "
+                        f"{exc}") from None
 
 
 def _warn_if_unphysical(core: _core.RigidBody) -> None:

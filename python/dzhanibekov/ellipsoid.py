@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _core
 from ._checks import as_array, as_int
-from .body import Body
+from .body import Body, as_body
 
 __all__ = ["CONVENTIONS", "ellipsoid_semi_axes", "ellipsoid_mesh"]
 
@@ -50,15 +50,16 @@ def ellipsoid_semi_axes(body: Body | Any, convention: str = "gyration") -> np.nd
     >>> ellipsoid_semi_axes((4.0, 1.0, 16.0), "poinsot")
     array([2., 4., 1.])
     """
-    inertia = np.array(body.inertia if isinstance(body, Body) else Body(body).inertia)
-    semi_axes: np.ndarray
-    if convention == "gyration":
-        semi_axes = np.sqrt(inertia)
-        return semi_axes
+    if not (isinstance(convention, str) and convention in CONVENTIONS):
+        raise ValueError(f"`convention` must be one of {CONVENTIONS}, got {convention!r}")
+    inertia = np.array(as_body(body).inertia)
+    semi_axes: np.ndarray = np.sqrt(inertia)
     if convention == "poinsot":
-        semi_axes = np.cbrt(np.prod(inertia)) / np.sqrt(inertia)
-        return semi_axes
-    raise ValueError(f"`convention` must be one of {CONVENTIONS}, got {convention!r}")
+        # (Ix Iy Iz)^(1/3) / √I, from ratios to the largest moment: the product of the
+        # moments themselves over- or underflows long before the semi-axes do
+        top = inertia.max()
+        semi_axes = np.sqrt(top) * np.prod(np.cbrt(inertia / top)) / np.sqrt(inertia / top)
+    return semi_axes
 
 
 def ellipsoid_mesh(semi_axes: Any, n_around: int = 24, n_along: int = 12) -> tuple[np.ndarray, np.ndarray]:

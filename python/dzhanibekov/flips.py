@@ -6,7 +6,7 @@ from typing import Any
 
 from . import _core
 from ._checks import as_array
-from .body import Body
+from .body import Body, as_body
 
 __all__ = ["flip_period"]
 
@@ -58,7 +58,6 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     >>> flip_period(dz.Body(dz.PAPER_INERTIA), (0.0, 0.0, 1.0))
     inf
     """
-    if not isinstance(body, Body):
-        body = Body(body)
+    body = as_body(body)
     w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     return _core.flip_period(body._core, (float(w[0]), float(w[1]), float(w[2])))

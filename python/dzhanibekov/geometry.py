@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._checks import as_float
+
 __all__ = ["BOX_SIZE", "box_vertices", "box_edges", "SIGNAL_POINT"]
 
 BOX_SIZE = (20.0, 10.0, 15.0)
@@ -16,11 +18,13 @@ SIGNAL_POINT = np.array([0.0, 0.0, 13.0])
 def box_vertices(a: float = BOX_SIZE[0], b: float = BOX_SIZE[1], c: float = BOX_SIZE[2]) -> np.ndarray:
     """The 8 corners ``(±a/2, ±b/2, ±c/2)`` of a box centred on the origin, shape (8, 3).
 
-    Vertex ``k`` has sign ``-`` on axis ``j`` where bit ``j`` of ``k`` is 0.
+    Vertex ``k`` has sign ``-`` on axis ``j`` where bit ``j`` of ``k`` is 0. The edges must
+    be positive and finite.
     """
+    edges = [as_float(n, v, positive=True) for n, v in (("a", a), ("b", b), ("c", c))]
     k = np.arange(8)
     signs = np.stack([(k >> j) & 1 for j in range(3)], axis=1) * 2.0 - 1.0
-    return signs * (np.array([a, b, c]) / 2.0)
+    return signs * (np.array(edges) / 2.0)
 
 
 def box_edges() -> np.ndarray:

@@ -13,6 +13,8 @@ are rotated at which frames. :func:`execute` does exactly that work and nothing 
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -73,6 +75,8 @@ def phase_frames(scene: Scene) -> tuple[int, ...]:
 
 def make_plan(scene: Scene) -> Plan:
     """The work `scene` needs, decided from what it draws and asks (nothing runs here)."""
+    if not isinstance(scene, Scene):
+        raise TypeError(f"`scene` must be a Scene, got {type(scene).__name__}")
     d = scene.draw
     views = "phases" in d.figures or d.animation  # pictures of the body in 3-D
     keep_frames = bool(d.figures) or d.animation
@@ -135,7 +139,7 @@ def body_points(scene: Scene, name: str, mesh: tuple[np.ndarray, np.ndarray] | N
 
 def axis_length(scene: Scene) -> float:
     """Length of the body axes drawn: a little beyond the largest object."""
-    sizes = [float(np.linalg.norm(scene.signal_point))]
+    sizes = [math.hypot(*scene.signal_point)]
     if scene.draw.box:
         sizes.append(max(scene.drawn_box) / 2)
     if scene.draw.ellipsoid:
@@ -207,6 +211,8 @@ class SceneResult:
 
 def execute(plan: Plan) -> SceneResult:
     """Does the work of `plan`: one run, the meshes it names, one `rotate` per rotation."""
+    if not isinstance(plan, Plan):
+        raise TypeError(f"`plan` must be a Plan (from make_plan), got {type(plan).__name__}")
     scene = plan.scene
     traj, summary = None, None
     if plan.keep_frames:

@@ -13,8 +13,12 @@ an existing 3-D or 2-D axes (`ax`). No pyplot state is touched: the figures are 
 
 from __future__ import annotations
 
+import math
+
 import textwrap
+import warnings
 from collections.abc import Callable, Sequence
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -27,9 +31,13 @@ from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
     Poly3DCollection,
 )
 
+from ._checks import as_float, as_int
+from .body import InertiaWarning, as_body
 from .geometry import box_edges
+from . import _core
 from .plan import SceneResult, execute, make_plan
 from .scene import Scene
+from .trajectory import Trajectory
 
 __all__ = [
     "compute",
@@ -65,7 +73,7 @@ def compute(scene: Scene | SceneResult) -> SceneResult:
     if isinstance(scene, SceneResult):
         return scene
     if not isinstance(scene, Scene):
-        raise TypeError(f"expected a Scene or a SceneResult, got {type(scene).__name__}")
+        raise TypeError(f"`scene` must be a Scene or a SceneResult, got {type(scene).__name__}")
     return execute(make_plan(scene))
 
 
@@ -108,8 +116,27 @@ def _limits(ax: Axes3D, extent: float) -> None:
 def extent(result: SceneResult) -> float:
     """Half the side of a cube that holds everything the scene draws in space."""
     sizes = [np.abs(w.points).max() for w in result.world.values() if w.points.size]
-    sizes.append(float(np.linalg.norm(result.scene.signal_point)))
-    return 1.08 * float(max(sizes))
+    sizes.append(math.hypot(*result.scene.signal_point))
+    largest = float(max(sizes))
+    return 1.08 * largest if largest > 0 else 1.0  # nothing drawn away from the centre
+
+
+def _scaled_invariants(traj: Trajectory) -> tuple[dict[str, np.ndarray], float]:
+    """The invariants at every frame for moments over the largest and rates over the largest
+    initial rate, and that rate: relative measures do not change, and nothing over- or
+    underflows however large or small the body and its rates."""
+    inertia = np.array(traj.body.inertia)
+    big = float(np.abs(traj.omega[0]).max()) or 1.0
+    ix, iy, iz = (float(x) for x in inertia / inertia.max())
+    unit_body = _core.RigidBody((ix, iy, iz))
+    return _core.invariants(unit_body, traj.omega / big, traj.q), big
+
+
+def _relative(values: np.ndarray, reference: float) -> np.ndarray:
+    """``|values − reference|``, relative to the reference unless it is zero."""
+    scale = abs(reference) if reference != 0 else 1.0
+    drift: np.ndarray = np.abs(values - reference) / scale
+    return drift
 
 
 def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True) -> dict[str, Any]:
@@ -152,8 +179,13 @@ def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
-    n = float(np.linalg.norm(v))
-    return v / n if n > 0 else np.array([0.0, 0.0, 1.0])
+    """`v` over its length (scaled first, so that no square overflows); z for a zero `v`."""
+    largest = float(np.abs(v).max())
+    if not largest > 0:
+        return np.array([0.0, 0.0, 1.0])
+    w = v / largest
+    unit: np.ndarray = w / np.linalg.norm(w)
+    return unit
 
 
 def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
@@ -175,6 +207,7 @@ def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
     Figure
         One 3-D axes per instant, titled with its time.
     """
+    columns = as_int("columns", columns, minimum=1, maximum=1000)
     result = compute(scene)
     _need(result, "phases panel")
     from .plan import phase_frames  # the frames the plan rotated the objects at
@@ -237,7 +270,7 @@ def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
         ell = _unit(result.momentum_world)
         ax.plot(*np.stack([np.zeros(3), ell * size]).T, color=COLORS["momentum"], lw=1.2,
                 label="L (angular momentum)")
-        radius = float(np.linalg.norm(result.scene.signal_point))
+        radius = math.hypot(*result.scene.signal_point)
         a = _unit(np.cross(ell, [1.0, 0.0, 0.0] if abs(ell[0]) < 0.9 else [0.0, 1.0, 0.0]))
         b = np.cross(ell, a)
         phi = np.linspace(0, 2 * np.pi, 97)
@@ -311,14 +344,14 @@ def invariants_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     _need(result, "invariants figure")
     traj = result.trajectory
     assert traj is not None
-    inv = traj.invariants()
+    inv, _ = _scaled_invariants(traj)
     l_body = np.linalg.norm(inv["momentum_body"], axis=1)
-    l0 = l_body[0]
+    l0 = float(l_body[0])
     series = {
-        "energy  |E/E₀ − 1|": np.abs(inv["energy"] / inv["energy"][0] - 1),
-        "|L|  ||L|/|L₀| − 1|": np.abs(l_body / l0 - 1),
+        "energy  |E/E₀ − 1|": _relative(inv["energy"], float(inv["energy"][0])),
+        "|L|  ||L|/|L₀| − 1|": _relative(l_body, l0),
         "L in space  |L − L₀|/|L₀|": np.linalg.norm(
-            inv["momentum_world"] - inv["momentum_world"][0], axis=1) / l0,
+            inv["momentum_world"] - inv["momentum_world"][0], axis=1) / (l0 if l0 > 0 else 1.0),
         "|q| − 1": np.abs(inv["q_norm"] - 1),
     }
     if ax is None:
@@ -350,12 +383,13 @@ def polhodes(inertia: Sequence[float] | np.ndarray, energy: float, levels: int =
     Parameters
     ----------
     inertia : (3,) principal moments
+        Positive, within a ratio of 1e150 (as for :class:`~dzhanibekov.Body`).
     energy : float
-        Kinetic energy ``E = ½ ω · I ω`` (positive).
+        Kinetic energy ``E = ½ ω · I ω``, non-negative (zero: every curve is the origin).
     levels : int
-        Polhodes drawn about each stable axis (each a pair, one about each end).
+        Polhodes drawn about each stable axis (each a pair, one about each end), at least 0.
     points : int
-        Points per curve.
+        Points per curve, at least 2.
 
     Returns
     -------
@@ -363,18 +397,36 @@ def polhodes(inertia: Sequence[float] | np.ndarray, energy: float, levels: int =
         The polhodes about the stable axes, closed curves.
     separatrix : list of ndarray (points, 3)
         Its two ellipses; empty for a symmetric top, which has none.
+
+    Raises
+    ------
+    TypeError, ValueError
+        An argument of the wrong kind or out of range, naming it; an energy whose rates
+        float64 cannot hold.
     """
-    moments = np.asarray(inertia, dtype=float)
+    with warnings.catch_warnings():  # a drawing of moments no body has is still a drawing
+        warnings.simplefilter("ignore", InertiaWarning)
+        given = np.array(as_body(inertia, "inertia").inertia)
+    energy = as_float("energy", energy)
+    if energy < 0:
+        raise ValueError(f"`energy` must be non-negative, got {energy!r}")
+    levels = as_int("levels", levels, minimum=0, maximum=10_000)
+    points = as_int("points", points, minimum=2, maximum=10_000_000)
+    # In units where the largest moment is 1 and ω·Iω = 1: ω = scale · (the curves below), so
+    # that moments and energies of any size neither overflow nor underflow on the way.
+    top = float(given.max())
+    moments = given / top
     order = np.argsort(moments)
     lo, mid, hi = order
     i_lo, i_mid, i_hi = moments[order]
-    two_e = 2.0 * energy
+    two_e = 1.0
     phi = np.linspace(0.0, 2.0 * np.pi, points)
     family: list[np.ndarray] = []
-    symmetric = np.isclose(i_lo, i_mid, rtol=1e-9) or np.isclose(i_mid, i_hi, rtol=1e-9)
+    close = partial(np.isclose, rtol=1e-9, atol=0.0)
+    symmetric = close(i_lo, i_mid) or close(i_mid, i_hi)
     for a, (b, c) in ((hi, (lo, mid)), (lo, (mid, hi))):
         i_a = moments[a]
-        if np.isclose(i_a, i_mid, rtol=1e-9):
+        if close(i_a, i_mid):
             continue
         for f in np.linspace(0.0, 1.0, levels + 2)[1:-1]:
             d = i_mid + f * (i_a - i_mid)  # between the intermediate moment and I_a
@@ -396,6 +448,12 @@ def polhodes(inertia: Sequence[float] | np.ndarray, energy: float, levels: int =
             e_mid = np.zeros(3)
             e_mid[mid] = np.sqrt(two_e / i_mid)
             separatrix.append(np.outer(np.cos(phi), e_mid) + np.outer(np.sin(phi), d))
+    with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+        scale = np.sqrt(2.0) * np.sqrt(energy) / np.sqrt(top)
+        family, separatrix = [scale * c for c in family], [scale * c for c in separatrix]
+    if not all(np.isfinite(c).all() for c in family + separatrix):
+        raise ValueError(f"`energy` = {energy!r} with moments {tuple(given)} gives rates beyond "
+                         "float64")
     return family, separatrix
 
 
@@ -417,17 +475,21 @@ def polhode_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
     _need(result, "polhode")
     traj = result.trajectory
     assert traj is not None
+    # in units of the largest moment and the largest initial rate, scaled back for drawing
+    inv, big = _scaled_invariants(traj)
     moments = np.array(traj.body.inertia)
-    energy = float(traj.invariants()["energy"][0])
+    unit_moments = moments / moments.max()
+    energy = float(inv["energy"][0])
     if ax is None:
         fig = Figure(figsize=(5.2, 5.2), layout="constrained")
         ax = _axes3d(fig, 1, 1, 1)
     fig = _figure_of(ax)
-    semi = np.sqrt(2 * energy / moments)
+    semi = big * np.sqrt(2 * energy / unit_moments)
     u, v = np.meshgrid(np.linspace(0, 2 * np.pi, 25), np.linspace(0, np.pi, 13))
     ax.plot_wireframe(semi[0] * np.sin(v) * np.cos(u), semi[1] * np.sin(v) * np.sin(u),
                       semi[2] * np.cos(v), color="#dddddd", lw=0.3)
-    family, separatrix = polhodes(moments, energy)
+    family, separatrix = polhodes(unit_moments, energy)
+    family, separatrix = [big * c for c in family], [big * c for c in separatrix]
     for curve in family:
         ax.plot(*curve.T, color=COLORS["polhode"], lw=0.6)
     for k, curve in enumerate(separatrix):
@@ -435,7 +497,7 @@ def polhode_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
                 label="separatrix" if k == 0 else None)
     ax.plot(*traj.omega.T, color="#1f4fd6", lw=2.0, label="ω(t)")
     ax.plot(*traj.omega[0], "o", color="#2e8b57", ms=5, label="ω(0)")
-    _limits(ax, 1.1 * float(semi.max()))
+    _limits(ax, 1.1 * float(semi.max()) if semi.max() > 0 else 1.0)
     ax.set_xlabel("u")
     ax.set_ylabel("v")
     ax.set_zlabel("w")

@@ -29,4 +29,5 @@ def scenario(name: str) -> Scene:
     try:
         return SCENES[name]
     except (KeyError, TypeError):
-        raise ValueError(f"no scenario {name!r}; the presets are {sorted(SCENES)}") from None
+        raise ValueError(f"`name` must name a shipped scene, but there is no scenario {name!r}; "
+                         f"the presets are {sorted(SCENES)}") from None

@@ -35,6 +35,7 @@ Loading checks every key: an unknown key, a value of the wrong type or out of ra
 from __future__ import annotations
 
 import dataclasses
+import os
 import re
 import sys
 import warnings
@@ -260,6 +261,8 @@ class Scene:
     def from_toml(cls, text: str, name: str, source: str = "") -> Scene:
         """Reads a scene from TOML text; `name` is the scene's name (a file's stem)."""
         source = source or f"<scene {name}>"
+        if not isinstance(text, str):
+            raise TypeError(f"`text` must be a str of TOML, got {type(text).__name__}")
         try:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
@@ -270,6 +273,9 @@ class Scene:
     def from_dict(cls, data: Mapping[str, Any], name: str, source: str = "") -> Scene:
         """Builds a scene from the nested tables of a TOML file (see the module's docs)."""
         source = source or f"<scene {name}>"
+        if not isinstance(data, Mapping):
+            raise TypeError(f"`data` must be a mapping of a scene file's tables, got "
+                            f"{type(data).__name__}")
         return _from_tables(cls, data, name, source)
 
 
@@ -529,18 +535,29 @@ def load_scene(path: str | Path) -> Scene:
     Raises
     ------
     SceneError
-        The file is missing, not TOML, or has a key that is unknown, missing, of the wrong
-        type or out of range; the message names the file, the key and what is allowed.
+        The file is missing, not UTF-8 TOML, or has a key that is unknown, missing, of the
+        wrong type or out of range; the message names the file, the key and what is allowed.
+    TypeError
+        `path` is neither a str nor a path.
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"`path` must be a scene file (str or Path) or the name of a shipped "
+                        f"scene, got {type(path).__name__}")
+    shipped = ", ".join(SCENES)
+    if isinstance(path, str) and not path.strip():
+        raise SceneError(repr(path), None, f"is not a scene: `path` is empty; give a scene file "
+                         f"or one of the shipped scenes: {shipped}")
     p = Path(path)
-    if not p.exists() and isinstance(path, str) and path in SCENES:
-        return SCENES[path]
     try:
+        if not p.exists() and isinstance(path, str) and path in SCENES:
+            return SCENES[path]
         text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        shipped = ", ".join(SCENES)
-        raise SceneError(str(p), None, f"cannot be read ({exc.strerror or exc}); give a scene "
-                         f"file or one of the shipped scenes: {shipped}") from None
+    except (OSError, ValueError) as exc:  # ValueError: a NUL in the path, or not UTF-8
+        why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        if isinstance(exc, UnicodeDecodeError):
+            why = f"not UTF-8 text: {exc.reason} at byte {exc.start}"
+        raise SceneError(str(p), None, f"cannot be read ({why}); give a scene file or one of "
+                         f"the shipped scenes: {shipped}") from None
     return Scene.from_toml(text, p.stem, str(p))
 
 

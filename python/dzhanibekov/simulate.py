@@ -9,13 +9,17 @@ import numpy as np
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import plan_step
-from .body import Body
+from .body import Body, as_body
 from .trajectory import Drift, Trajectory
 
 __all__ = ["METHODS", "simulate", "rotate"]
 
 METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853", "exact")
 """The methods on offer (see `simulate`): integrators, and the closed-form solution."""
+
+MAX_COORDINATE = float(np.finfo(np.float64).max / 4)
+"""The largest body-point coordinate `rotate` takes: a rotated coordinate sums three terms
+each at most the largest coordinate, so nothing larger than this can overflow."""
 
 DEFAULT_MAX_STEPS = 10**10
 """Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""
@@ -127,6 +131,8 @@ def simulate(
     body, omega0, q0, t_end, frames, max_steps = _checked(
         body, omega0, q0, t_end, frames, method, max_steps
     )
+    if not isinstance(flips, (bool, np.bool_)):
+        raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
     check_size(frames * 8 * 8, f"frames={frames}", "ask for fewer frames")
     omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
     dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)
@@ -164,8 +170,7 @@ def _checked(
 ) -> tuple[Body, np.ndarray, np.ndarray, float, int, int]:
     """The arguments of a run but its step, coerced and checked (shared by `simulate` and
     `summarize`; `accuracy.plan_step` settles the step and tolerances)."""
-    if not isinstance(body, Body):
-        body = Body(body)
+    body = as_body(body)
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
     if not np.any(q0):
@@ -189,7 +194,7 @@ def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:
     q : array_like, shape (N, 4) or (4,)
         Quaternions, scalar first; non-zero and finite.
     points : array_like, shape (P, 3) or (3,)
-        Body-frame points, finite.
+        Body-frame points, finite, of magnitude at most `MAX_COORDINATE` (f64 max / 4).
     out : ndarray, shape (N, P, 3), float64, C-contiguous, optional
         Where to write the result, for callers that rotate repeatedly: reusing a buffer
         avoids the page faults of fresh memory, which cost more than the rotation itself.
@@ -216,6 +221,10 @@ def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:
     q2, p2 = qa.reshape(-1, 4), pa.reshape(-1, 3)
     if not (q2 != 0).any(axis=1).all():
         raise ValueError("`q` rows must be non-zero quaternions, got a zero row")
+    if p2.size and np.abs(p2).max() > MAX_COORDINATE:
+        raise ValueError(f"`points` must have coordinates of magnitude at most "
+                         f"{MAX_COORDINATE:.3g} (larger ones overflow when rotated), got "
+                         f"{np.abs(p2).max():.3g}")
     shape = (q2.shape[0], p2.shape[0], 3)
     kept = tuple(n for n, keep in zip(shape, (qa.ndim == 2, pa.ndim == 2, True)) if keep)
     if out is not None:

@@ -203,15 +203,13 @@ def test_a_long_splitting_run_keeps_the_momentum():
 
 
 @pytest.mark.parametrize("method", METHODS)
-def test_rates_beyond_float64_give_a_clear_error_or_a_finite_run(method):
-    # products of two rates of 1e200 overflow: Runge–Kutta methods stop with a clear error;
-    # the splittings only form angles ω·dt and rotate, so they run
+def test_rates_beyond_float64_products_still_run(method):
+    # products of two rates of 1e200 overflow float64, but every run is integrated in the
+    # motion's own units (rates over a power of two near the largest, times times it), so
+    # every method runs and keeps what it keeps at ordinary rates
     body = dz.Body((1.0, 2.0, 3.0))
-    try:
-        traj = dz.simulate(body, (1e200, 1e199, 0.0), t_end=1e-198, frames=3, dt=None,
-                           method=method)
-    except ValueError as err:
-        assert "diverged" in str(err) and method not in ("splitting", "splitting4")
-    else:
-        assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
-        assert traj.drift.momentum < 1e-13
+    traj = dz.simulate(body, (1e200, 1e199, 0.0), t_end=1e-198, frames=3, dt=None,
+                       method=method)
+    assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
+    kept = method in ("splitting", "splitting4", "rk4_projected", "exact")
+    assert traj.drift.momentum < (1e-13 if kept else 1e-8)

@@ -167,7 +167,7 @@ def test_figures_accept_a_scene_and_an_axes():
     fig = Figure()
     ax = fig.add_subplot()
     assert plotting.omega_figure(dz.SCENES["fig3b"], ax=ax) is fig
-    with pytest.raises(TypeError, match="expected a Scene"):
+    with pytest.raises(TypeError, match="`scene` must be a Scene"):
         plotting.compute("fig3a")
 
 

@@ -1,0 +1,103 @@
+"""Ctrl-C during a long call, measured in a process of its own (run as a script).
+
+    python interrupt_child.py CALL [DELAY]
+
+Starts CALL (one of `CALLS`: runs of 10⁹ steps and more, a rotation of a gigabyte), sends
+this process SIGINT after DELAY seconds (0.5 by default) from another thread, as a terminal's
+Ctrl-C would, and prints one line of JSON:
+
+- ``interrupted``: KeyboardInterrupt reached the caller;
+- ``inside``: it was raised from within the package's call (not between two calls);
+- ``latency``: seconds from the signal to the KeyboardInterrupt;
+- ``usable``: afterwards a short run gives bit for bit what it gave before, and a second
+  long call is interrupted too (the signal machinery still works).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import sys
+import threading
+import time
+import traceback
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+import dzhanibekov as dz
+
+BODY = dz.Body(dz.PAPER_INERTIA)
+OMEGA = (0.01, 0.01, 1.0)
+
+CALLS: dict[str, Callable[[], Any]] = {
+    # 10⁹ RK4 steps, about 25 s
+    "simulate-rk4": lambda: dz.simulate(BODY, OMEGA, t_end=1e6, frames=201, dt=1e-3),
+    # an adaptive run of about 10⁸ steps at a tight tolerance
+    "simulate-dop853": lambda: dz.simulate(BODY, OMEGA, t_end=1e9, frames=201, method="dop853",
+                                           rtol=1e-13, atol=1e-15, dt=None),
+    "simulate-splitting": lambda: dz.simulate(BODY, OMEGA, t_end=1e6, frames=201, dt=1e-3,
+                                              method="splitting"),
+    # 10⁹ steps keeping no frames
+    "summarize-rk4": lambda: dz.summarize(BODY, OMEGA, t_end=1e6, dt=1e-3),
+    # 10⁹ evaluations of the closed form, keeping no frames
+    "summarize-exact": lambda: dz.summarize(BODY, OMEGA, t_end=1e6, frames=10**9,
+                                            method="exact"),
+    # 4·10⁷ point-frames into a fresh gigabyte
+    "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
+                                np.random.default_rng(0).normal(size=(40_000, 3))),
+}
+
+
+def short_run() -> np.ndarray:
+    q: np.ndarray = dz.simulate(BODY, OMEGA, t_end=10.0, frames=3).q
+    return q
+
+
+def interrupt(call: Callable[[], Any], delay: float) -> dict[str, Any]:
+    """Calls `call` over and over until SIGINT, sent `delay` seconds from now, stops it."""
+    sent: list[float] = []
+
+    def send() -> None:
+        sent.append(time.perf_counter())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(delay, send)
+    completed = 0
+    timer.start()
+    try:
+        while True:  # the signal lands in a call: each takes seconds, the loop microseconds
+            call()
+            completed += 1
+    except KeyboardInterrupt as exc:
+        caught = time.perf_counter()
+        frames = traceback.extract_tb(exc.__traceback__)
+        inside = any(f"{os.sep}dzhanibekov{os.sep}" in frame.filename for frame in frames)
+    timer.join()
+    return {"latency": caught - sent[0], "inside": inside, "completed": completed}
+
+
+def main(argv: list[str]) -> None:
+    name = argv[1]
+    delay = float(argv[2]) if len(argv) > 2 else 0.5
+    before = short_run()
+    first = interrupt(CALLS[name], delay)
+    usable = bool(np.array_equal(short_run(), before))
+    second = interrupt(CALLS[name], min(delay, 0.2))
+    usable = usable and bool(np.array_equal(short_run(), before))
+    print(json.dumps({
+        "call": name,
+        "interrupted": True,
+        "inside": first["inside"] and second["inside"],
+        "latency": first["latency"],
+        "latency_second": second["latency"],
+        "completed_before_signal": first["completed"],
+        "usable": usable,
+    }))
+
+
+if __name__ == "__main__":
+    signal.signal(signal.SIGINT, signal.default_int_handler)
+    main(sys.argv)

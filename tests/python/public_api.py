@@ -1,0 +1,921 @@
+"""The table of public callables for the hostile-input tests: for each, valid (but extreme)
+arguments, hostile ones per argument, and the check a result must pass.
+
+Adding a public function to the tests is one `Entry` in `ENTRIES`: the callable, a strategy of
+valid keyword arguments, a hostile strategy for each argument, and a check of the result
+(shapes, finiteness and the physics it promises). `test_hostile.py` does the rest, and fails
+on any name of `dz.__all__` that is neither in the table nor in `NOT_CALLED`.
+"""
+
+from __future__ import annotations
+
+import math
+import tempfile
+import warnings
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from hypothesis import strategies as st
+from scipy.spatial.transform import Rotation
+
+import dzhanibekov as dz
+from dzhanibekov import plotting
+from dzhanibekov.accuracy import ADAPTIVE_METHODS, MAX_PREDICTED_DRIFT
+from dzhanibekov.scene import CONVENTIONS, FIGURES
+from hostile import (
+    JUNK,
+    LARGEST,
+    TINY,
+    as_number_types,
+    directions,
+    hostile_array,
+    hostile_int,
+    hostile_name,
+    hostile_quaternion,
+    hostile_real,
+    hostile_vector3,
+    inertias,
+    layouts,
+    log_uniform,
+    quaternions,
+    real_arrays,
+    scaled,
+    valid_int,
+    valid_positive,
+)
+
+EPS = np.finfo(float).eps
+
+
+@dataclass(frozen=True, repr=False)
+class Entry:
+    """One public callable under hostile input."""
+
+    call: Callable[..., Any]
+    valid: st.SearchStrategy[dict[str, Any]]
+    """Keyword arguments the callable documents as allowed."""
+    hostile: Mapping[str, st.SearchStrategy[Any]]
+    """For each argument, values it must refuse."""
+    check: Callable[[dict[str, Any], Any, list[warnings.WarningMessage]], None]
+    """Asserts what a successful call returned (and the warnings it gave)."""
+    covers: tuple[Any, ...] = ()
+    """The public objects this entry exercises (for the coverage test)."""
+    examples: int = 300
+    warns: tuple[type[Warning], ...] = ()
+    """Warnings the call may give (others fail the test)."""
+    aliases: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
+    """Other names an error message may use for an argument (a scene file's keys)."""
+    named_by_value: tuple[str, ...] = ()
+    """Arguments that a message names by quoting their value (a file's path)."""
+    min_success: float = 0.1
+
+    def __repr__(self) -> str:
+        return f"Entry({getattr(self.call, '__qualname__', self.call)!r})"
+    """The least fraction of all-valid draws that must return a result: checks that the
+    valid strategy reaches the physics, not just the errors."""
+
+
+# -- physics, independently of the package -----------------------------------------------------
+
+def rate_bound(inertia: np.ndarray, omega: np.ndarray) -> float:
+    """Ω = √(2E / I_min), scaled so that nothing overflows (inf if Ω itself does)."""
+    big = float(np.max(np.abs(omega)))
+    if big == 0.0:
+        return 0.0
+    with np.errstate(over="ignore"):
+        return big * math.sqrt(float(np.sum(inertia / inertia.min() * (omega / big) ** 2)))
+
+
+def euler_rate_factor(inertia: np.ndarray) -> float:
+    """The largest coefficient |I_j − I_k| / I_i of Euler's equations, at least 1: the motion's
+    frequencies are at most this times Ω (1 for every body that meets the triangle inequality,
+    up to 9 for moments like (1, 1, 10) that no body has)."""
+    return max(1.0, *(abs(float(inertia[(i + 1) % 3] - inertia[(i + 2) % 3])) / float(inertia[i])
+                      for i in range(3)))
+
+
+def matrices(q: np.ndarray) -> np.ndarray:
+    """Rotation matrices of quaternions (scalar first), normalised first."""
+    q = q / np.max(np.abs(q), axis=-1, keepdims=True)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    return Rotation.from_quat(q[..., [1, 2, 3, 0]]).as_matrix()
+
+
+def invariants(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, omega0: np.ndarray) -> dict[str, np.ndarray]:
+    """Energy, |L|, L_world and |q| at each frame, on moments over the largest and rates over
+    the largest initial rate (relative measures are unchanged)."""
+    big = float(np.max(np.abs(omega0)))
+    w = omega / big if big > 0 else omega
+    j = inertia / inertia.max()
+    l_body = j * w
+    return {
+        "energy": 0.5 * np.sum(j * w * w, axis=1),
+        "momentum": np.linalg.norm(l_body, axis=1),
+        "momentum_world": np.einsum("nij,nj->ni", matrices(q), l_body),
+        "q_norm": np.linalg.norm(q, axis=1),
+    }
+
+
+def relative_drift(values: np.ndarray) -> float:
+    v0 = values[0]
+    return float(np.max(np.abs(values - v0)) / (abs(v0) if v0 != 0 else 1.0))
+
+
+def assert_finite_array(a: Any, shape: tuple[int, ...], dtype: Any = np.float64) -> None:
+    assert isinstance(a, np.ndarray), type(a)
+    assert a.shape == shape, (a.shape, shape)
+    assert a.dtype == dtype, a.dtype
+    assert np.isfinite(a).all(), a
+
+
+# -- simulate and summarize ---------------------------------------------------------------------
+
+def quiet_body(inertia: np.ndarray) -> dz.Body:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", dz.InertiaWarning)
+        return dz.Body(inertia)
+
+
+def bodies(inertia: np.ndarray) -> st.SearchStrategy[Any]:
+    """A body as a Body or as its moments in any layout."""
+    return st.one_of(st.just(inertia).map(quiet_body), layouts(inertia))
+
+
+@st.composite
+def run_args(draw: st.DrawFn, method: str, *, flips: bool = True) -> dict[str, Any]:
+    """Arguments of a run the package accepts, as extreme as allowed: moments of any scale,
+    rates from zero through subnormal to 1e150, steps up to beyond RK4's stability limit, and
+    spans from a few steps to beyond `max_steps`."""
+    inertia = draw(inertias())
+    omega0 = scaled(draw(directions(3)), draw(st.sampled_from(
+        [0, 0, 0, -1070, -1000, -500, -50, 50, 300, 490])))
+    rate = rate_bound(inertia, omega0)
+    fixed = method not in ADAPTIVE_METHODS and method != "exact"
+    coupled = rate > 0 and draw(st.integers(0, 4)) > 0
+    if coupled:  # the span and step in units of the motion's own time scale
+        t_end = draw(log_uniform(1e-6, 30.0)) / rate
+        h_rate = draw(st.one_of(log_uniform(1e-2, 0.5), log_uniform(0.5, 8.0)))
+        dt: Any = h_rate / rate
+        if not (math.isfinite(t_end) and t_end > 0 and math.isfinite(dt) and dt > 0):
+            coupled = False
+    if not coupled:  # anything at all, mostly refused as too long
+        t_end = draw(valid_positive())
+        dt = draw(valid_positive())
+    else:
+        dt = draw(as_number_types(dt))
+        t_end = draw(as_number_types(t_end))
+    kwargs: dict[str, Any] = dict(
+        body=draw(bodies(inertia)),
+        omega0=draw(layouts(omega0)),
+        q0=draw(quaternions().flatmap(layouts)),
+        t_end=t_end,
+        frames=draw(valid_int(2, 24)),
+        method=method,
+        max_steps=draw(st.one_of(valid_int(2000, 4000), st.just(1), valid_int(1, 100))),
+    )
+    if draw(st.integers(0, 5)) == 0:
+        kwargs["dt"] = None  # the step for an accuracy (fixed) or the automatic first step
+        if draw(st.booleans()):
+            kwargs["rtol"] = draw(valid_positive(2.3e-14, 0.999))
+    else:
+        kwargs["dt"] = dt
+    if method in ADAPTIVE_METHODS:
+        if draw(st.booleans()):
+            kwargs["rtol"] = draw(valid_positive(1e-12, 0.999))
+        if draw(st.booleans()):
+            kwargs["atol"] = draw(valid_positive(1e-300, 1e3))
+    if flips:
+        kwargs["flips"] = draw(st.booleans())
+    return kwargs
+
+
+def run_hostile(method_names: tuple[str, ...], *, flips: bool = True) -> dict[str, st.SearchStrategy[Any]]:
+    hostile = {
+        "body": st.one_of(hostile_vector3(positive=True, moments=True), st.just(dz.SCENES["fig3a"])),
+        "omega0": hostile_vector3(),
+        "q0": hostile_quaternion(),
+        "t_end": hostile_real(positive=True),
+        "frames": hostile_int(2),
+        "dt": hostile_real(positive=True).filter(lambda v: v is not None),
+        "method": hostile_name(method_names),
+        "rtol": st.one_of(hostile_real(positive=True).filter(lambda v: v is not None),
+                          st.sampled_from([1.0, 2.0, 1e-15, 1e-300]).flatmap(as_number_types)),
+        "atol": hostile_real(positive=True).filter(lambda v: v is not None),
+        "max_steps": hostile_int(1),
+    }
+    if flips:
+        hostile["flips"] = st.one_of(JUNK.filter(lambda v: v is not None and not _truthy_ok(v)),
+                                     st.sampled_from(["yes", 2, 0.5, np.array([True, False])]))
+    return hostile
+
+
+def _truthy_ok(v: Any) -> bool:
+    return isinstance(v, (bool, np.bool_))
+
+
+def tolerance(method: str, kwargs: dict[str, Any], traj: Any, rate: float) -> dict[str, float]:
+    """How far each invariant may drift by the method's documentation.
+
+    Structure-preserving methods keep theirs to round-off (a few ulps a step, summed); RK4
+    drifts |q| by at most its predicted dissipation when it does not warn; the adaptive
+    methods keep the error within a small multiple of their tolerances; the exact solution
+    has no truncation error. Anything not promised is only required to be finite.
+    """
+    steps = max(traj.n_steps, 1)
+    # a few ulps per operation: one RK4 step, or each exact rotation of a splitting step
+    per_step = {"splitting": 5, "splitting4": 21}.get(method, 1)
+    roundoff = 256 * EPS * (1 + steps * per_step)
+    t_end = float(traj.t[-1])
+    turns = rate * t_end
+    out = {"q_norm": math.inf, "energy": math.inf, "momentum": math.inf, "momentum_world": math.inf}
+    if method == "exact":
+        out = dict.fromkeys(out, 1e-9)
+        out["q_norm"] = 16 * EPS
+    elif method == "rk4_projected":
+        out = dict.fromkeys(out, roundoff)
+    elif method in ("splitting", "splitting4"):
+        out.update(q_norm=roundoff, momentum=roundoff, momentum_world=roundoff)
+    elif method in ADAPTIVE_METHODS:
+        rtol = kwargs.get("rtol") or 1e-9
+        atol = kwargs.get("atol") or 1e-12
+        if rtol <= 1e-3 and atol <= 1e-3:
+            bound = 100 * (rtol + atol) * max(1.0, turns) + roundoff
+            out = dict.fromkeys(out, bound)
+    elif method == "rk4":
+        step_rate = traj.dt * rate
+        if step_rate <= 0.5:  # the guard's prediction holds, and the error model with it
+            out["q_norm"] = 1.01 * MAX_PREDICTED_DRIFT + roundoff
+            out["energy"] = 0.01 * max(turns, 1.0) * step_rate**4 + roundoff
+    return out
+
+
+def check_run(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage], *,
+              summary: bool = False) -> None:
+    """A run's result: shapes, finiteness, the frame grid, flips, and the invariants (recomputed
+    here from the frames) within the method's tolerance."""
+    method = kwargs["method"]
+    t_end = float(kwargs["t_end"])
+    frames = int(kwargs["frames"])
+    body = kwargs["body"]
+    inertia = np.array(body.inertia if isinstance(body, dz.Body) else np.asarray(body, float))
+    omega0 = np.asarray(kwargs["omega0"], dtype=float)
+    rate = min(rate_bound(inertia, omega0) * euler_rate_factor(inertia), LARGEST)
+    drift = result.drift
+    assert all(isinstance(d, float) and math.isfinite(d) and d >= 0 for d in drift), drift
+    assert isinstance(result.n_steps, int) and 0 <= result.n_steps <= int(kwargs["max_steps"])
+    assert isinstance(result.dt, float) and math.isfinite(result.dt) and result.dt >= 0
+    flips = result.flip_times
+    if summary or kwargs.get("flips", True):
+        assert isinstance(flips, np.ndarray) and flips.ndim == 1 and np.isfinite(flips).all()
+        assert (np.diff(flips) >= 0).all() and (flips >= 0).all(), flips
+        assert (flips <= t_end * (1 + 1e-12)).all(), (flips, t_end)
+    else:
+        assert flips is None
+    if summary:
+        return
+    traj = result
+    assert_finite_array(traj.t, (frames,))
+    assert_finite_array(traj.omega, (frames, 3))
+    assert_finite_array(traj.q, (frames, 4))
+    assert traj.t[0] == 0.0 and traj.t[-1] == t_end and (np.diff(traj.t) >= 0).all()
+    if method != "exact":
+        np.testing.assert_array_equal(traj.omega[0], omega0)
+    inv = invariants(inertia, traj.omega, traj.q, omega0)
+    nonzero = np.abs(traj.omega[traj.omega != 0])
+    subnormal = nonzero.size > 0 and nonzero.min() < 1e-290  # rates stored with few digits
+    measured = {
+        "energy": relative_drift(inv["energy"]),
+        "momentum": relative_drift(inv["momentum"]),
+        "momentum_world": float(np.max(np.linalg.norm(inv["momentum_world"] - inv["momentum_world"][0], axis=1))
+                                / (inv["momentum"][0] if inv["momentum"][0] > 0 else 1.0)),
+        "q_norm": float(np.max(np.abs(inv["q_norm"] - 1))),
+    }
+    # the run's own drift is the same measure, computed in the core (at full precision: from
+    # rates stored as subnormals the measure here is coarser, and the core's is the one)
+    for name, value in measured.items():
+        if subnormal:
+            measured[name] = getattr(drift, name)
+        else:
+            assert abs(getattr(drift, name) - value) <= 1e-12 + 1e-6 * value, (name, drift, measured)
+    # the core's invariants() agree with these definitions
+    core = traj.invariants()
+    np.testing.assert_allclose(core["q_norm"], inv["q_norm"], rtol=1e-14)
+    warned = any(issubclass(w.category, dz.StepSizeWarning) for w in caught)
+    bounds = tolerance(method, kwargs, traj, rate)
+    for name, bound in bounds.items():
+        if warned and method in ("rk4", "rk4_projected"):
+            continue
+        assert measured[name] <= bound, (method, name, measured[name], bound, rate * traj.dt)
+
+
+def check_summary(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
+    """A summary, and the same run as `simulate` with the same arguments, step for step."""
+    check_run(kwargs, result, caught, summary=True)
+    assert isinstance(result.verdict, str) and str(result.flips) in result.verdict or not result.flips
+    full_kwargs = dict(kwargs)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        full = dz.simulate(**full_kwargs)
+    np.testing.assert_array_equal(result.flip_times, full.flip_times)
+    assert tuple(result.drift) == tuple(full.drift)
+    assert (result.n_steps, result.nfev) == (full.n_steps, full.nfev)
+
+
+# -- rotate -----------------------------------------------------------------------------------
+
+@st.composite
+def rotate_args(draw: st.DrawFn) -> dict[str, Any]:
+    n, p = draw(st.integers(1, 6)), draw(st.integers(1, 6))
+    q = np.stack([draw(quaternions()) for _ in range(n)])
+    magnitude = draw(st.sampled_from([1.0, 1e-300, TINY, 1e300, 4e307, 1e150]))
+    points = real_arrays((p, 3), st.floats(-1, 1)).map(lambda a: a * magnitude)
+    pts = draw(points)
+    q_1d, p_1d = draw(st.booleans()), draw(st.booleans())
+    qv = q[0] if q_1d else q
+    pv = pts[0] if p_1d else pts
+    kwargs: dict[str, Any] = dict(q=draw(layouts(qv)), points=draw(layouts(pv)))
+    if draw(st.booleans()):
+        shape = tuple(s for s, keep in zip((n, p, 3), (not q_1d, not p_1d, True)) if keep)
+        kwargs["out"] = np.full(shape, np.nan)
+    return kwargs
+
+
+def check_rotate(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
+    q = np.asarray(kwargs["q"], dtype=float)
+    points = np.asarray(kwargs["points"], dtype=float)
+    q2, p2 = q.reshape(-1, 4), points.reshape(-1, 3)
+    shape = tuple(s for s, keep in zip((len(q2), len(p2), 3), (q.ndim == 2, points.ndim == 2, True)) if keep)
+    assert_finite_array(result, shape)
+    if kwargs.get("out") is not None:
+        assert result is kwargs["out"]
+    # an independent rotation (scipy's, of the normalised quaternions), and lengths kept
+    expected = np.einsum("nij,pj->npi", matrices(q2), p2)
+    got = result.reshape(len(q2), len(p2), 3)
+    scale = np.max(np.abs(p2), axis=1)[None, :, None]
+    assert (np.abs(got - expected) <= 4e-15 * scale + 1e-300).all(), (got, expected)
+
+
+hostile_out = st.one_of(
+    st.sampled_from([np.float32, np.int64, complex, object]).map(lambda d: np.zeros((2, 2, 3), dtype=d)),
+    st.just(np.zeros((3, 3, 3))[:, ::2]),
+    st.just(np.zeros((2, 2, 3)).T.copy().T),
+    st.builds(lambda: _readonly(np.zeros((1, 1, 3)))),
+    st.just(np.zeros((2, 2, 4))),
+    st.just(np.zeros((1, 1, 1, 3))),
+    st.just([[[0.0, 0.0, 0.0]]]),
+    JUNK.filter(lambda v: v is not None),
+)
+
+
+def _readonly(a: np.ndarray) -> np.ndarray:
+    a.flags.writeable = False
+    return a
+
+
+# -- bodies -------------------------------------------------------------------------------------
+
+def check_body(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    moments = np.asarray(kwargs["inertia"], dtype=float)
+    assert isinstance(body, dz.Body)
+    assert body.inertia == tuple(float(x) for x in moments)
+    middle = [k for k in range(3) if sorted(moments)[1] == moments[k]
+              and moments[k] not in (moments.min(), moments.max())]
+    assert body.intermediate_axis == (middle[0] if middle else None)
+    breaks = any(moments[k] > moments[(k + 1) % 3] + moments[(k + 2) % 3] + 1e-12 * moments.sum()
+                 for k in range(3))
+    assert breaks == any(issubclass(w.category, dz.InertiaWarning) for w in caught)
+    assert eval(repr(body), {"Body": dz.Body}) == body and hash(body) == hash(quiet_body(moments))
+
+
+def check_box(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    a, b, c = (float(kwargs[k]) for k in "abc")
+    mass = float(kwargs.get("mass", 1.0))
+    assert isinstance(body, dz.Body) and all(math.isfinite(i) and i > 0 for i in body.inertia)
+    # the formula in exact rational arithmetic, rounded once
+    from fractions import Fraction as F
+    fa, fb, fc, fm = F(a), F(b), F(c), F(mass)
+    exact = [fm * (fb * fb + fc * fc) / 12, fm * (fa * fa + fc * fc) / 12, fm * (fa * fa + fb * fb) / 12]
+    for got, want in zip(body.inertia, exact):
+        assert abs(F(got) - want) <= F(8 * EPS) * want, (got, float(want))
+    assert not caught, caught  # a real box never breaks the triangle inequality
+
+
+def box_args() -> st.SearchStrategy[dict[str, Any]]:
+    edge = st.one_of(valid_positive(1e-100, 1e100), valid_positive())
+    return st.fixed_dictionaries({"a": edge, "b": edge, "c": edge},
+                                 optional={"mass": st.one_of(valid_positive(1e-100, 1e100), valid_positive())})
+
+
+# -- the flip period ----------------------------------------------------------------------------
+
+def check_flip_period(kwargs: dict[str, Any], period: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(period, float) and period > 0 and not math.isnan(period), period
+    omega = np.asarray(kwargs["omega0"], dtype=float)
+    if math.isfinite(period) and np.abs(omega).max() < 1e300 and period > 1e-300:
+        # (ω, t) → (2ω, t/2): the period halves, exactly (powers of two scale exactly)
+        half = dz.flip_period(kwargs["body"], 2 * omega)
+        assert half == period / 2 or abs(half / (period / 2) - 1) < 1e-12, (half, period)
+
+
+# -- the ellipsoid --------------------------------------------------------------------------------
+
+def check_semi_axes(kwargs: dict[str, Any], axes: Any, caught: list[warnings.WarningMessage]) -> None:
+    body = kwargs["body"]
+    inertia = np.array(body.inertia if isinstance(body, dz.Body) else np.asarray(body, float))
+    assert_finite_array(axes, (3,))
+    assert (axes > 0).all()
+    convention = kwargs.get("convention", "gyration")
+    j = inertia / inertia.max()
+    if convention == "gyration":
+        np.testing.assert_allclose(axes / np.sqrt(inertia.max()), np.sqrt(j), rtol=1e-14)
+    else:  # ∝ 1/√I, with the gyration ellipsoid's volume
+        np.testing.assert_allclose(axes * np.sqrt(inertia) / (axes * np.sqrt(inertia))[0], 1, rtol=1e-13)
+        np.testing.assert_allclose(np.prod(axes / np.sqrt(inertia.max())), np.prod(np.sqrt(j)),
+                                   rtol=1e-12)
+
+
+@st.composite
+def mesh_args(draw: st.DrawFn) -> dict[str, Any]:
+    axes = scaled(draw(real_arrays((3,), st.floats(0.5, 2))),
+                  draw(st.sampled_from([0, 0, -1000, -1070, 1000, 1020])))
+    if not (axes > 0).all():
+        axes = np.ones(3)
+    kwargs: dict[str, Any] = {"semi_axes": draw(layouts(axes))}
+    if draw(st.booleans()):
+        kwargs["n_around"] = draw(valid_int(3, 40))
+    if draw(st.booleans()):
+        kwargs["n_along"] = draw(valid_int(2, 30))
+    return kwargs
+
+
+def check_mesh(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
+    vertices, quads = result
+    a, b, c = np.asarray(kwargs["semi_axes"], dtype=float)
+    n, m = int(kwargs.get("n_around", 24)), int(kwargs.get("n_along", 12))
+    v = n * (m - 1) + 2
+    assert_finite_array(vertices, (v, 3))
+    assert isinstance(quads, np.ndarray) and quads.shape == (n * m, 4) and quads.dtype == np.uint32
+    assert quads.max() == v - 1
+    # every vertex on the ellipsoid (scaled, so that subnormal semi-axes are checked too)
+    assert (np.abs(vertices) <= np.array([a, b, c]) * (1 + 4 * EPS)).all()
+    if min(a, b, c) > 1e-290:
+        r = (vertices[:, 0] / a) ** 2 + (vertices[:, 1] / b) ** 2 + (vertices[:, 2] / c) ** 2
+        np.testing.assert_allclose(r, 1.0, rtol=1e-13)
+    # a closed surface: every undirected edge is shared by two cells
+    edges: dict[tuple[int, int], int] = {}
+    for cell in quads.tolist():
+        for k in range(4):
+            p, r_ = cell[k], cell[(k + 1) % 4]
+            if p != r_:
+                key = (min(p, r_), max(p, r_))
+                edges[key] = edges.get(key, 0) + 1
+    assert set(edges.values()) == {2}
+    assert v - len(edges) + n * m == 2
+
+
+def check_box_vertices(kwargs: dict[str, Any], v: Any, caught: list[warnings.WarningMessage]) -> None:
+    half = np.array([float(kwargs.get(k, d)) for k, d in zip("abc", dz.BOX_SIZE)]) / 2
+    assert_finite_array(v, (8, 3))
+    assert (np.abs(v) == half).all()
+    assert len({tuple(np.sign(r)) for r in v}) == 8
+
+
+# -- scenes -----------------------------------------------------------------------------------------
+
+NAME_RE = r"[A-Za-z0-9][A-Za-z0-9_.-]{0,11}"
+
+
+@st.composite
+def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, small: bool = True) -> dict[str, Any]:
+    """The fields of a scene the package accepts (a small run, to keep tests fast)."""
+    inertia = draw(inertias())
+    omega0 = scaled(draw(directions(3)), draw(st.sampled_from([0, 0, 0, -1000, -60, 60, 300])))
+    # the fastest frequency, so that a scene stays a few turns long (scenes run with the
+    # default max_steps: an adaptive run of a stiff body would take minutes)
+    rate = min(rate_bound(inertia, omega0) * euler_rate_factor(inertia), LARGEST)
+    turns = draw(log_uniform(1e-3, 20.0))
+    t_end = turns / rate if rate > 0 else draw(valid_positive(1e-3, 1e3))
+    if not (math.isfinite(t_end) and t_end > 0):
+        t_end = 1.0
+    frames = draw(st.integers(2, 12 if small else 30))
+    steps = draw(st.integers(1, 60))
+    dt = t_end / ((frames - 1) * steps)
+    if not (math.isfinite(dt) and dt > 0):
+        dt = t_end
+    method = draw(st.sampled_from(dz.METHODS))
+    chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(FIGURES), unique=True, max_size=3)))
+    phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
+    fields: dict[str, Any] = dict(
+        name=draw(st.from_regex(NAME_RE, fullmatch=True)),
+        title=draw(st.text(min_size=1, max_size=20).filter(lambda s: s.strip())),
+        inertia=tuple(inertia.tolist()),
+        omega0=tuple(omega0.tolist()),
+        t_end=t_end,
+        frames=frames,
+        q0=tuple(draw(quaternions()).tolist()),
+        dt=dt,
+        method=method,
+        box=draw(st.one_of(st.none(), real_arrays((3,), st.floats(0.1, 30)).map(lambda a: tuple(a.tolist())))),
+        signal_point=tuple(draw(real_arrays((3,), st.floats(-20, 20))).tolist()),
+        flips=draw(st.booleans()),
+        draw=dz.scene.Draw(
+            box=draw(st.booleans()), ellipsoid=draw(st.booleans()), signal_point=draw(st.booleans()),
+            path=draw(st.booleans()), body_axes=draw(st.booleans()), momentum=draw(st.booleans()),
+            figures=chosen, animation=False, phases=tuple(sorted(p * t_end for p in phases))),
+        ellipsoid=dz.scene.EllipsoidStyle(draw(st.sampled_from(CONVENTIONS)),
+                                          (draw(st.integers(3, 8 if small else 40)),
+                                           draw(st.integers(2, 6 if small else 30)))),
+        about=draw(st.text(max_size=10)),
+    )
+    if fields["draw"].box and fields["box"] is None:
+        fields["box"] = (1.0, 2.0, 3.0)
+    return fields
+
+
+def quiet_scene(fields: dict[str, Any]) -> dz.Scene:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return dz.Scene(**fields)
+
+
+def scene_hostile() -> dict[str, st.SearchStrategy[Any]]:
+    vec3 = hostile_vector3()
+    return {
+        "name": st.one_of(st.sampled_from(["", "a b", "../x", "-x", "x/y", ".x", "é"]),
+                          JUNK.filter(lambda v: not isinstance(v, str))),
+        "title": st.one_of(st.sampled_from(["", "   "]), JUNK.filter(lambda v: not isinstance(v, str))),
+        "inertia": hostile_vector3(positive=True, moments=True),
+        "omega0": vec3,
+        "t_end": hostile_real(positive=True),
+        "frames": hostile_int(2, huge=False),
+        "q0": hostile_quaternion(),
+        "dt": hostile_real(positive=True),
+        "method": hostile_name(dz.METHODS),
+        "box": hostile_vector3(positive=True).filter(lambda v: v is not None),
+        "signal_point": vec3.filter(lambda v: v is not None),
+        "flips": st.one_of(st.sampled_from(["yes", 1, 0.0, None])),
+        "about": st.one_of(st.integers(), st.just(None), st.just(["x"])),
+    }
+
+
+SCENE_ALIASES = {
+    "inertia": ("body.inertia",), "omega0": ("start.omega",), "q0": ("start.q",),
+    "t_end": ("run.t_end",), "frames": ("run.frames",), "dt": ("run.dt",),
+    "method": ("run.method",), "box": ("body.box",), "signal_point": ("body.signal_point",),
+    "flips": ("ask.flips",),
+}
+
+
+SCENE_WORDS = tuple(f.name for f in __import__("dataclasses").fields(dz.Scene)) + tuple(
+    k for keys in SCENE_ALIASES.values() for k in keys)
+"""What a message about a scene's run may name: its fields and their keys in a file."""
+
+
+def check_scene(kwargs: dict[str, Any], scene: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(scene, dz.Scene)
+    for name in ("inertia", "omega0", "q0", "signal_point"):
+        value = getattr(scene, name)
+        assert isinstance(value, tuple) and all(isinstance(x, float) and math.isfinite(x) for x in value)
+        np.testing.assert_array_equal(value, np.asarray(kwargs[name], dtype=float))
+    assert isinstance(scene.frames, int) and scene.t_end == float(kwargs["t_end"])
+    # a scene survives its own TOML
+    back = dz.Scene.from_toml(scene.to_toml(), scene.name)
+    assert back == scene
+
+
+def toml_texts() -> st.SearchStrategy[str]:
+    """TOML text of valid scenes."""
+    return scene_fields().map(quiet_scene).map(lambda s: s.to_toml())
+
+
+def hostile_toml() -> st.SearchStrategy[str]:
+    """TOML (or not) that no scene has: a valid scene with one key spoilt, or garbage."""
+    import tomli_w
+
+    def spoil(scene: dz.Scene, table: str, key: str, value: Any) -> str:
+        data = scene.to_dict()
+        if table:
+            data[table][key] = value
+        else:
+            data[key] = value
+        return tomli_w.dumps(data)
+
+    spoilt = st.tuples(
+        scene_fields().map(quiet_scene),
+        st.sampled_from([
+            ("run", "t_end", -1.0), ("run", "t_end", math.nan), ("run", "t_end", math.inf),
+            ("run", "frames", 1), ("run", "frames", 2.5), ("run", "frames", "10"),
+            ("run", "dt", 0.0), ("run", "method", "rk5"), ("start", "omega", [1.0, 2.0]),
+            ("start", "omega", [math.nan, 0.0, 1.0]), ("start", "q", [0.0, 0.0, 0.0, 0.0]),
+            ("body", "inertia", [1.0, -1.0, 1.0]), ("body", "inertia", [1e-200, 1.0, 1e200]),
+            ("body", "signal_point", "up"), ("ask", "flips", "yes"), ("draw", "figures", ["pie"]),
+            ("draw", "phases", [-1.0]), ("ellipsoid", "mesh", [2, 2]), ("ellipsoid", "mesh", [10**6, 3]),
+            ("ellipsoid", "convention", "round"), ("draw", "box", 1), ("", "title", ""),
+            ("", "extra", 1), ("run", "speed", 3.0), ("", "run", 3),
+        ])).map(lambda args: spoil(args[0], *args[1]))
+    garbage = st.one_of(st.text(max_size=40), st.sampled_from([
+        "title = ", "[run\nt_end = 1", "title = 'x'\n[run]\nt_end = 1e999999", "= = =", "\x00",
+        "title = 'x'", "title = 'x'\n[start]\nomega=[0,0,1]\n[run]\nt_end=1\nframes=2\n[[draw]]",
+    ]))
+    return st.one_of(spoilt, garbage)
+
+
+_TMP = Path(tempfile.mkdtemp(prefix="dzhanibekov-hostile-"))
+
+
+def _file(content: str | bytes, suffix: str = ".toml") -> Path:
+    fd, name = tempfile.mkstemp(suffix=suffix, dir=_TMP)
+    with open(fd, "wb") as f:
+        f.write(content.encode("utf-8", "surrogatepass") if isinstance(content, str) else content)
+    return Path(name)
+
+
+def scene_paths() -> st.SearchStrategy[Any]:
+    return st.one_of(
+        st.sampled_from(sorted(dz.SCENES)),
+        toml_texts().map(_file).flatmap(lambda p: st.sampled_from([p, str(p)])),
+    )
+
+
+def hostile_paths() -> st.SearchStrategy[Any]:
+    return st.one_of(
+        hostile_toml().map(_file),
+        st.binary(max_size=30).map(_file),
+        st.just(b"\xff\xfe\x00title = 'x'").map(_file),
+        st.sampled_from(["no-such-scene", str(_TMP / "missing.toml"), str(_TMP), "", "a\x00b",
+                         "fig3a ", "FIG3A"]),
+        st.sampled_from([None, 3, 2.5, ["fig3a"], b"fig3a", Ellipsis]),
+    )
+
+
+def check_loaded(kwargs: dict[str, Any], scene: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(scene, dz.Scene)
+    assert dz.Scene.from_toml(scene.to_toml(), scene.name) == scene
+
+
+def check_plan(kwargs: dict[str, Any], plan: Any, caught: list[warnings.WarningMessage]) -> None:
+    from dzhanibekov.plan import POINT_SETS
+    scene = kwargs["scene"]
+    assert isinstance(plan, dz.Plan) and plan.scene is scene
+    assert plan.keep_frames == (bool(scene.draw.figures) or scene.draw.animation)
+    rotated = plan.rotated
+    assert len(rotated) == len(set(rotated)) and set(rotated) <= set(POINT_SETS)
+    assert ("ellipsoid" in plan.meshes) == ("ellipsoid" in rotated)
+
+
+def check_result(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
+    plan = kwargs["plan"]
+    scene = plan.scene
+    assert isinstance(result, dz.SceneResult)
+    assert (result.trajectory is not None) == plan.keep_frames
+    if result.trajectory is not None:
+        assert np.isfinite(result.trajectory.omega).all() and np.isfinite(result.trajectory.q).all()
+    assert all(isinstance(d, float) and math.isfinite(d) for d in result.drift)
+    for name, world in result.world.items():
+        assert np.isfinite(world.points).all(), name
+        assert world.points.shape[0] == len(world.frames)
+    if result.mesh is not None:
+        assert np.isfinite(result.mesh[0]).all()
+    if "signal" in result.world:
+        r = np.linalg.norm(scene.signal_point)
+        np.testing.assert_allclose(np.linalg.norm(result.world["signal"].points, axis=-1), r,
+                                   rtol=1e-12, atol=1e-300)
+
+
+# -- figures ---------------------------------------------------------------------------------------
+
+def figure_args(figure: str) -> st.SearchStrategy[dict[str, Any]]:
+    needs = {"phases": {}, "path": {"path": True}}.get(figure, {})
+
+    def build(fields: dict[str, Any]) -> dz.Scene:
+        d = fields["draw"]
+        fields["draw"] = dz.scene.Draw(**{**d.__dict__, **needs})
+        return quiet_scene(fields)
+
+    return scene_fields(figures=(figure,)).map(build).map(lambda s: {"scene": s})
+
+
+def check_figure(kwargs: dict[str, Any], fig: Any, caught: list[warnings.WarningMessage]) -> None:
+    from matplotlib.figure import Figure
+    assert isinstance(fig, Figure)
+    fig.canvas.draw()  # the drawing itself must not fail or warn
+    for ax in fig.axes:  # NaN are gaps left on purpose (exact zeros on a log scale); inf is not
+        for line in ax.lines:
+            data = np.asarray(line.get_xydata(), dtype=float)
+            assert not np.isinf(data).any(), line.get_label()
+
+
+def hostile_scene_objects() -> st.SearchStrategy[Any]:
+    return st.one_of(JUNK, st.just(np.zeros(3)), st.just(dz.Body((1.0, 2.0, 3.0))), st.just("fig3a"))
+
+
+@st.composite
+def polhode_args(draw: st.DrawFn) -> dict[str, Any]:
+    inertia = draw(inertias())
+    energy = draw(st.one_of(st.just(0.0), valid_positive(1e-300, 1e300)))
+    kwargs: dict[str, Any] = {"inertia": draw(layouts(inertia)), "energy": energy}
+    if draw(st.booleans()):
+        kwargs["levels"] = draw(valid_int(1, 5))
+    if draw(st.booleans()):
+        kwargs["points"] = draw(valid_int(2, 50))
+    return kwargs
+
+
+def check_polhodes(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
+    family, separatrix = result
+    inertia = np.asarray(kwargs["inertia"], dtype=float)
+    energy = float(kwargs["energy"])
+    top = float(inertia.max())
+    for curve in family + separatrix:
+        assert np.isfinite(curve).all()
+        size = float(np.abs(curve).max())
+        with np.errstate(all="ignore"):
+            expected = 2 * (energy / top) / size / size if size > 0 else 0.0
+        if energy > 0 and size > 0 and 1e-250 < expected < 1e250:
+            # on the energy ellipsoid ω·Iω = 2E, in units of the largest moment and rate
+            two_e = np.sum(inertia / top * (curve / size) ** 2, axis=1)
+            np.testing.assert_allclose(two_e, expected, rtol=1e-9)
+
+
+# -- the table -----------------------------------------------------------------------------------------
+
+def _simulate_entry(method: str) -> Entry:
+    return Entry(
+        call=dz.simulate,
+        valid=run_args(method),
+        hostile=run_hostile(dz.METHODS),
+        check=check_run,
+        covers=(dz.simulate, dz.Trajectory, dz.Drift, dz.METHODS),
+        warns=(dz.StepSizeWarning, dz.InertiaWarning),
+        min_success=0.2,
+    )
+
+
+ENTRIES: dict[str, Entry] = {
+    "Body": Entry(
+        call=dz.Body,
+        valid=inertias().flatmap(layouts).map(lambda v: {"inertia": v}),
+        hostile={"inertia": hostile_vector3(positive=True, moments=True)},
+        check=check_body,
+        covers=(dz.Body, dz.InertiaWarning),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "Body.box": Entry(
+        call=dz.Body.box,
+        valid=box_args(),
+        hostile={k: hostile_real(positive=True) for k in ("a", "b", "c", "mass")},
+        check=check_box,
+        covers=(dz.Body,),
+        aliases={"a": ("a, b, c",), "b": ("a, b, c",), "c": ("a, b, c",)},
+        min_success=0.3,  # edges 1e-100 to 1e100 apart make moments beyond the 1e150 ratio
+    ),
+    **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
+    "summarize": Entry(
+        call=dz.summarize,
+        valid=st.sampled_from(dz.METHODS).flatmap(lambda m: run_args(m, flips=False)),
+        hostile=run_hostile(dz.METHODS, flips=False),
+        check=check_summary,
+        covers=(dz.summarize, dz.Summary),
+        warns=(dz.StepSizeWarning, dz.InertiaWarning),
+        min_success=0.2,
+    ),
+    "rotate": Entry(
+        call=dz.rotate,
+        valid=rotate_args(),
+        hostile={"q": hostile_quaternion(), "points": hostile_array((None, 3), real_arrays((2, 3), st.floats(-1, 1)),
+                                                                    extra=[st.just(np.full((2, 3), 1e308))]),
+                 "out": hostile_out},
+        check=check_rotate,
+        covers=(dz.rotate,),
+        min_success=0.9,
+    ),
+    "flip_period": Entry(
+        call=dz.flip_period,
+        valid=st.tuples(inertias(), directions(3), st.sampled_from([0, 0, -1000, -60, 60, 500]))
+        .flatmap(lambda a: st.fixed_dictionaries({"body": bodies(a[0]), "omega0": layouts(scaled(a[1], a[2]))})),
+        hostile={"body": hostile_vector3(positive=True, moments=True), "omega0": hostile_vector3()},
+        check=check_flip_period,
+        covers=(dz.flip_period,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.5,
+    ),
+    "ellipsoid_semi_axes": Entry(
+        call=dz.ellipsoid_semi_axes,
+        valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
+            {"body": bodies(i)}, optional={"convention": st.sampled_from(CONVENTIONS)})),
+        hostile={"body": hostile_vector3(positive=True, moments=True), "convention": hostile_name(CONVENTIONS)},
+        check=check_semi_axes,
+        covers=(dz.ellipsoid_semi_axes,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "ellipsoid_mesh": Entry(
+        call=dz.ellipsoid_mesh,
+        valid=mesh_args(),
+        hostile={"semi_axes": hostile_vector3(positive=True), "n_around": hostile_int(3),
+                 "n_along": hostile_int(2)},
+        check=check_mesh,
+        covers=(dz.ellipsoid_mesh,),
+        min_success=0.9,
+    ),
+    "box_vertices": Entry(
+        call=dz.box_vertices,
+        valid=st.fixed_dictionaries({}, optional={k: valid_positive(1e-300, 1e300) for k in "abc"}),
+        hostile={k: hostile_real(positive=True) for k in "abc"},
+        check=check_box_vertices,
+        covers=(dz.box_vertices, dz.BOX_SIZE),
+        min_success=0.9,
+    ),
+    "scenario": Entry(
+        call=dz.scenario,
+        valid=st.sampled_from(sorted(dz.SCENES)).map(lambda n: {"name": n}),
+        hostile={"name": hostile_name(tuple(dz.SCENES))},
+        check=lambda kw, s, c: check_loaded(kw, s, c),
+        covers=(dz.scenario, dz.SCENARIOS, dz.SCENES, dz.PAPER_SCENES, dz.PAPER_INERTIA),
+        min_success=1.0,
+    ),
+    "Scene": Entry(
+        call=dz.Scene,
+        valid=scene_fields(),
+        hostile=scene_hostile(),
+        check=check_scene,
+        covers=(dz.Scene, dz.SceneError),
+        warns=(dz.InertiaWarning,),
+        aliases=SCENE_ALIASES,
+        min_success=0.9,
+    ),
+    "Scene.from_toml": Entry(
+        call=dz.Scene.from_toml,
+        valid=toml_texts().flatmap(lambda t: st.fixed_dictionaries(
+            {"text": st.just(t), "name": st.from_regex(NAME_RE, fullmatch=True)})),
+        hostile={"text": hostile_toml(), "name": scene_hostile()["name"]},
+        check=check_loaded,
+        covers=(dz.Scene,),
+        aliases={"text": ("TOML", "title", "about", "body", "start", "run", "ask", "draw",
+                          "ellipsoid")},
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "load_scene": Entry(
+        call=dz.load_scene,
+        valid=scene_paths().map(lambda p: {"path": p}),
+        hostile={"path": hostile_paths()},
+        check=check_loaded,
+        covers=(dz.load_scene,),
+        named_by_value=("path",),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "make_plan": Entry(
+        call=dz.make_plan,
+        valid=scene_fields().map(quiet_scene).map(lambda s: {"scene": s}),
+        hostile={"scene": hostile_scene_objects()},
+        check=check_plan,
+        covers=(dz.make_plan, dz.Plan),
+        min_success=1.0,
+    ),
+    "execute": Entry(
+        call=dz.execute,
+        valid=scene_fields().map(quiet_scene).map(lambda s: {"plan": dz.make_plan(s)}),
+        hostile={"plan": st.one_of(hostile_scene_objects(), st.just(dz.SCENES["fig3a"]))},
+        check=check_result,
+        covers=(dz.execute, dz.SceneResult),
+        aliases={"plan": SCENE_WORDS},
+        warns=(dz.StepSizeWarning, dz.InertiaWarning),
+        min_success=0.3,
+    ),
+    "plotting.polhodes": Entry(
+        call=plotting.polhodes,
+        valid=polhode_args(),
+        hostile={"inertia": hostile_vector3(positive=True, moments=True), "energy": hostile_real(positive=False),
+                 "levels": hostile_int(0), "points": hostile_int(2)},
+        check=check_polhodes,
+        min_success=0.9,
+    ),
+    **{
+        f"plotting.{name}": Entry(
+            call=plotting.FIGURE_FUNCTIONS[name],
+            valid=figure_args(name),
+            hostile={"scene": hostile_scene_objects()},
+            check=check_figure,
+            examples=12,
+            aliases={"scene": SCENE_WORDS},
+            warns=(dz.StepSizeWarning, dz.InertiaWarning),
+            min_success=0.3,
+        )
+        for name in plotting.FIGURE_FUNCTIONS
+    },
+}
+
+NOT_CALLED = {
+    "__version__": "a string",
+    "StepSizeWarning": "a warning class, raised by simulate (allowed in its entries)",
+    "MAX_PREDICTED_DRIFT": "a constant, used by the simulate checks",
+    "SIGNAL_POINT": "a constant array",
+    "box_edges": "takes no arguments: test_hostile calls it once",
+    "Scenario": "another name of Scene",
+}

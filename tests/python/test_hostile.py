@@ -1,0 +1,162 @@
+"""Hostile input to every public callable (the table in `public_api.py`).
+
+Each callable gets 300 draws (fewer for the figures, which draw): a third with valid but
+extreme arguments, a third with one argument hostile, a third with several. The only outcomes
+allowed:
+
+- with a hostile argument: TypeError or ValueError whose message names one of the hostile
+  arguments;
+- with valid arguments: a result that passes the entry's check (shapes, finiteness, the
+  physics it promises), or a ValueError naming an argument (a run longer than `max_steps`,
+  a step beyond the method's stability limit);
+- never another exception, a Rust panic (PanicException derives from BaseException, which
+  `except Exception` misses), a warning other than the package's own, or NaN in a result.
+
+Derandomized: every run draws the same examples. Set DZ_HOSTILE_REPORT=path to write the
+outcome counts of each callable as JSON.
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import os
+import re
+import warnings
+from collections import Counter
+from typing import Any
+
+import pytest
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import strategies as st
+from public_api import ENTRIES, NOT_CALLED, Entry
+
+import dzhanibekov as dz
+
+OUTCOMES: dict[str, Counter[str]] = {}
+
+PHASES = [Phase.explicit, Phase.reuse, Phase.generate] + (
+    [] if os.environ.get("DZ_HOSTILE_NO_SHRINK") else [Phase.shrink])
+"""Set DZ_HOSTILE_NO_SHRINK=1 to report failures unshrunk (faster when iterating)."""
+
+SOAK = int(os.environ.get("DZ_HOSTILE_SOAK", "0"))
+"""DZ_HOSTILE_SOAK=N: N random (not derandomized) examples per callable instead of the
+table's, for a long search off CI."""
+
+
+def parameters(entry: Entry) -> set[str]:
+    try:
+        return set(inspect.signature(entry.call).parameters)
+    except (TypeError, ValueError):
+        return set(entry.hostile)
+
+
+def names_one_of(message: str, names: set[str] | tuple[str, ...], aliases: dict[str, tuple[str, ...]]) -> bool:
+    """Whether `message` names one of `names` (or an alias) as a word."""
+    for name in names:
+        for alias in (name, *aliases.get(name, ())):
+            if re.search(rf"(?<![A-Za-z0-9_]){re.escape(alias)}(?![A-Za-z0-9_])", message):
+                return True
+    return False
+
+
+@st.composite
+def calls(draw: st.DrawFn, name: str) -> tuple[dict[str, Any], tuple[str, ...]]:
+    """Valid keyword arguments of entry `name` with none, one or several replaced by hostile
+    values."""
+    entry = ENTRIES[name]
+    kwargs = dict(draw(entry.valid))
+    names = sorted(entry.hostile)
+    mode = draw(st.sampled_from(["valid", "one", "several"])) if names else "valid"
+    bad: list[str] = []
+    if mode == "one":
+        bad = [draw(st.sampled_from(names))]
+    elif mode == "several":
+        bad = draw(st.lists(st.sampled_from(names), min_size=1, max_size=len(names), unique=True))
+    for name in bad:
+        kwargs[name] = draw(entry.hostile[name])
+    return kwargs, tuple(bad)
+
+
+def call(entry: Entry, kwargs: dict[str, Any]) -> tuple[str, Any, list[warnings.WarningMessage]]:
+    """Calls `entry` and sorts the outcome: ("ok", result) or ("error", exception). Any other
+    exception fails here, a Rust panic by name."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            return "ok", entry.call(**kwargs), caught
+        except (ValueError, TypeError) as exc:
+            return "error", exc, caught
+        except Exception as exc:
+            pytest.fail(f"{type(exc).__name__} (not ValueError/TypeError): {exc}\nkwargs={kwargs!r}")
+        except BaseException as exc:
+            if type(exc).__name__ == "PanicException":
+                pytest.fail(f"a Rust panic reached Python: {exc}\nkwargs={kwargs!r}")
+            raise
+
+
+@pytest.mark.parametrize("name", sorted(ENTRIES))
+def test_hostile_input(name: str) -> None:
+    entry = ENTRIES[name]
+    counts: Counter[str] = Counter()
+    accepted = parameters(entry)
+    aliases = dict(entry.aliases)
+
+    @settings(max_examples=SOAK or entry.examples, derandomize=not SOAK, database=None,
+              deadline=None, suppress_health_check=list(HealthCheck), phases=PHASES)
+    @given(calls(name))
+    def run(case: tuple[dict[str, Any], tuple[str, ...]]) -> None:
+        kwargs, bad = case
+        outcome, value, caught = call(entry, kwargs)
+        stray = [w for w in caught if not issubclass(w.category, entry.warns)]
+        assert not stray, f"unexpected warnings {[str(w.message) for w in stray]}\nkwargs={kwargs!r}"
+        counts["calls"] += 1
+        counts["hostile" if bad else "valid"] += 1
+        if bad:
+            assert outcome == "error", f"hostile {bad} accepted, returned {value!r}\nkwargs={kwargs!r}"
+            quoted = any(str(kwargs[n]) in str(value) for n in bad
+                         if n in entry.named_by_value and isinstance(kwargs[n], (str, os.PathLike))
+                         and str(kwargs[n]))
+            assert quoted or names_one_of(str(value), bad, aliases), \
+                f"{type(value).__name__} does not name any of {bad}: {value}\nkwargs={kwargs!r}"
+            counts[type(value).__name__] += 1
+        elif outcome == "error":
+            assert isinstance(value, ValueError), f"valid arguments, {type(value).__name__}: {value}\nkwargs={kwargs!r}"
+            assert names_one_of(str(value), accepted, aliases), \
+                f"valid arguments refused without naming one: {value}\nkwargs={kwargs!r}"
+            counts["valid refused"] += 1
+        else:
+            with warnings.catch_warnings():  # the check may call the package again
+                for category in entry.warns:
+                    warnings.simplefilter("ignore", category)
+                entry.check(kwargs, value, caught)
+            counts["valid returned"] += 1
+
+    run()
+    OUTCOMES[name] = counts
+    valid = counts["valid"]
+    assert valid == 0 or counts["valid returned"] >= entry.min_success * valid, counts
+    if path := os.environ.get("DZ_HOSTILE_REPORT"):
+        try:
+            with open(path, encoding="utf-8") as f:
+                report = json.load(f)
+        except (OSError, ValueError):
+            report = {}
+        report[name] = dict(counts)
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(report, f, indent=1, sort_keys=True)
+
+
+def test_every_public_name_is_in_the_table() -> None:
+    """A public name added to `dz.__all__` must get an entry (or a reason not to)."""
+    covered = {id(obj) for entry in ENTRIES.values() for obj in (entry.call, *entry.covers)}
+    covered |= {id(getattr(entry.call, "__self__", None)) for entry in ENTRIES.values()}
+    missing = [n for n in dz.__all__ if n not in NOT_CALLED and id(getattr(dz, n)) not in covered]
+    assert not missing, f"public names without a hostile-input entry in public_api.py: {missing}"
+
+
+def test_box_edges_takes_nothing_and_gives_the_twelve_edges() -> None:
+    edges = dz.box_edges()
+    assert edges.shape == (12, 2) and edges.min() == 0 and edges.max() == 7
+    with pytest.raises(TypeError):
+        dz.box_edges(1)  # type: ignore[call-arg]

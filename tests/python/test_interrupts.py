@@ -1,0 +1,35 @@
+"""Ctrl-C: a long call stops with KeyboardInterrupt within a fraction of a second, and the
+interpreter stays usable. Each call runs in a process of its own (`interrupt_child.py`) that
+sends itself SIGINT half a second in; the latencies themselves are measured by
+`benches/python/bench_interrupts.py`."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+CHILD = Path(__file__).with_name("interrupt_child.py")
+CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
+         "summarize-exact", "rotate"]
+
+
+def interrupted(call: str) -> dict:
+    done = subprocess.run([sys.executable, str(CHILD), call, "0.5"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("call", CALLS)
+def test_ctrl_c_stops_a_long_call_at_once(call):
+    # every call would run for tens of seconds (10⁹ steps, a gigabyte of points); stopping
+    # within 2 s of the signal, from inside the call, can only be the interrupt at work
+    report = interrupted(call)
+    assert report["interrupted"] and report["inside"], report
+    if call != "rotate":  # a gigabyte's rotation may be over in 0.5 s on a fast machine
+        assert report["completed_before_signal"] == 0, report
+    assert report["latency"] < 2.0 and report["latency_second"] < 2.0, report
+    # afterwards the same short run gives the same bits, and Ctrl-C works a second time
+    assert report["usable"], report

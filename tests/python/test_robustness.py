@@ -1,0 +1,266 @@
+"""Regression tests for what the hostile-input search (test_hostile.py) found: each failed
+before its fix, with an OverflowError, an AttributeError, a silent NaN or inf, a hang, or an
+error that did not name the argument."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import warnings
+from fractions import Fraction
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import numpy as np  # noqa: E402
+import pytest  # noqa: E402
+from scipy.spatial.transform import Rotation  # noqa: E402
+
+import dzhanibekov as dz  # noqa: E402
+from dzhanibekov import plotting  # noqa: E402
+from dzhanibekov.scene import Draw  # noqa: E402
+
+BODY = dz.Body(dz.PAPER_INERTIA)
+W = (0.01, 0.01, 1.0)
+
+
+# -- numbers beyond float64 and integers beyond the core's ---------------------------------------
+
+@pytest.mark.parametrize("value", [10**400, -(10**400), Fraction(10**400, 3)])
+def test_numbers_beyond_float64_are_a_value_error_naming_the_argument(value):
+    with pytest.raises(ValueError, match=r"`t_end` must be positive and finite in float64"):
+        dz.simulate(BODY, W, t_end=value)
+    with pytest.raises(ValueError, match=r"`a` must be positive and finite in float64"):
+        dz.Body.box(value, 1.0, 1.0)
+
+
+def test_integers_beyond_64_bits_are_a_value_error_naming_the_argument():
+    with pytest.raises(ValueError, match=r"`max_steps` must be at most 9223372036854775807"):
+        dz.simulate(BODY, W, t_end=1.0, frames=3, max_steps=2**64)
+    with pytest.raises(ValueError, match=r"`frames` must be at most"):
+        dz.summarize(BODY, W, frames=2**64)
+    with pytest.raises(ValueError, match=r"`n_around` must be at most"):
+        dz.ellipsoid_mesh((1.0, 1.0, 1.0), 2**64, 3)
+    # the largest allowed is a clear "too large", not an overflow
+    with pytest.raises(ValueError, match=r"max_steps|steps"):
+        dz.simulate(BODY, W, t_end=1e300, frames=3, dt=1e-300, max_steps=2**63 - 1)
+
+
+def test_flips_must_be_a_bool():
+    with pytest.raises(TypeError, match="`flips` must be True or False"):
+        dz.simulate(BODY, W, t_end=1.0, flips="yes")
+    with pytest.raises(TypeError, match="`flips`"):
+        dz.simulate(BODY, W, t_end=1.0, flips=np.array([True, False]))
+
+
+def test_a_body_that_is_not_one_is_named_as_the_body():
+    with pytest.raises(TypeError, match=r"`body` must be a Body or its principal moments"):
+        dz.simulate("paper", W)
+    with pytest.raises(ValueError, match=r"`body` must be a Body .*`inertia` must be finite"):
+        dz.flip_period((1.0, np.nan, 2.0), W)
+
+
+# -- boxes ------------------------------------------------------------------------------------------
+
+def test_a_box_whose_moments_overflow_names_its_edges():
+    with pytest.raises(ValueError, match=r"`a, b, c` and `mass` must give principal moments"):
+        dz.Body.box(1e200, 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"`a, b, c` and `mass`"):
+        dz.Body.box(1e-200, 1e-200, 1.0)  # Iz = m (a² + b²) / 12 underflows
+
+
+@pytest.mark.parametrize("edges, mass", [((1e-170, 2e-170, 3e-170), 1e40),
+                                         ((1e160, 2e160, 3e160), 1e-20)])
+def test_boxes_whose_squares_over_or_underflow_still_get_their_moments(edges, mass):
+    # before, a² underflowed to 0 (or overflowed) although the moments fit in float64
+    a, b, c = (Fraction(x) for x in edges)
+    m = Fraction(mass)
+    exact = [m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12]
+    got = dz.Body.box(*edges, mass=mass).inertia
+    for g, e in zip(got, exact):
+        assert abs(Fraction(g) - e) <= Fraction(1e-15) * e
+
+
+def test_box_vertices_refuse_edges_that_are_not_lengths():
+    for bad in (np.nan, 0.0, -1.0, math.inf):
+        with pytest.raises(ValueError, match="`a` must be positive and finite"):
+            dz.box_vertices(bad)
+    with pytest.raises(TypeError, match="`c` must be a real number"):
+        dz.box_vertices(1.0, 2.0, "3")
+
+
+# -- the ellipsoid and the polhodes -----------------------------------------------------------------
+
+@pytest.mark.parametrize("inertia", [(1e300, 1e300, 1e299), (1e-300, 1e-300, 1.5e-300),
+                                     (1.0, 1e100, 1e100)])
+def test_poinsot_semi_axes_of_extreme_moments_are_finite_and_right(inertia):
+    axes = dz.ellipsoid_semi_axes(inertia, "poinsot")
+    i = np.array(inertia)
+    assert np.isfinite(axes).all() and (axes > 0).all()
+    # ∝ 1/√I, with the volume of the gyration ellipsoid (√I): checked on ratios
+    np.testing.assert_allclose(axes * np.sqrt(i / i.max()), axes[0] * np.sqrt(i[0] / i.max()),
+                               rtol=1e-13)
+    gyration = dz.ellipsoid_semi_axes(inertia)
+    np.testing.assert_allclose(np.prod(axes / gyration.max()), np.prod(gyration / gyration.max()),
+                               rtol=1e-12)
+
+
+def test_the_convention_is_checked_before_the_body():
+    with pytest.raises(ValueError, match="`convention` must be one of"):
+        dz.ellipsoid_semi_axes(BODY, np.array(["gyration"]))
+
+
+def test_polhodes_refuse_bad_input_and_scale_to_any_body():
+    with pytest.raises(ValueError, match="`energy` must be non-negative"):
+        plotting.polhodes((1.0, 2.0, 3.0), -1.0)
+    with pytest.raises(ValueError, match="`inertia`"):
+        plotting.polhodes((1.0, np.nan, 3.0), 1.0)
+    with pytest.raises(ValueError, match="`points` must be at least 2"):
+        plotting.polhodes((1.0, 2.0, 3.0), 1.0, points=1)
+    with pytest.raises(ValueError, match="`energy`.*beyond float64"):
+        plotting.polhodes((5e-324, 1e-323, 1.5e-323), 1e300)  # rates of 1e311
+    for scale in (1e-300, 1.0, 1e300):
+        inertia = np.array([1.0, 2.0, 3.0]) * scale
+        family, separatrix = plotting.polhodes(inertia, 0.5 * scale * 1e-6)
+        assert len(family) == 16 and len(separatrix) == 2
+        for curve in family + separatrix:  # on ω·Iω = 2E: 1e-6 in units of the moments
+            np.testing.assert_allclose(np.sum(inertia / scale * curve**2, axis=1), 1e-6,
+                                       rtol=1e-9)
+
+
+# -- rotation ----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("size", [1e-306, 1e-200, 1e-160, 1e160, 1e200, 1e300])
+def test_quaternions_of_any_finite_size_rotate(size):
+    # |q|² under- or overflows for all of these; before, they were refused as "not finite"
+    q = np.array([0.3, -0.1, 0.7, 0.2])
+    points = np.array([[1.0, 2.0, 3.0], [-4.0, 0.5, 1e300]])
+    expected = Rotation.from_quat(q[[1, 2, 3, 0]]).apply(points)
+    got = dz.rotate(q * size, points)
+    assert (np.abs(got - expected) <= 1e-14 * np.abs(points).max(axis=1)[:, None]).all()
+
+
+def test_points_that_would_overflow_are_refused_and_the_largest_allowed_are_not():
+    q = np.array([0.9, 0.3, -0.2, 0.1])
+    with pytest.raises(ValueError, match="`points` must have coordinates of magnitude at most"):
+        dz.rotate(q, [1e308, 1e308, 1e308])
+    edge = dz.simulate.__globals__["MAX_COORDINATE"]
+    out = dz.rotate(q, [edge, -edge, edge])
+    assert np.isfinite(out).all()
+    np.testing.assert_allclose(np.linalg.norm(out / edge), math.sqrt(3), rtol=1e-15)
+
+
+# -- scenes and plans --------------------------------------------------------------------------------
+
+def test_plans_and_results_take_only_their_own_kind():
+    with pytest.raises(TypeError, match="`scene` must be a Scene, got int"):
+        dz.make_plan(3)
+    with pytest.raises(TypeError, match="`plan` must be a Plan"):
+        dz.execute(dz.SCENES["fig3a"])
+    with pytest.raises(TypeError, match="`scene` must be a Scene or a SceneResult"):
+        plotting.path_figure(np.zeros(3))
+    with pytest.raises(ValueError, match="`name` must name a shipped scene"):
+        dz.scenario(-7)
+
+
+def test_scene_files_that_are_not_text_or_not_paths_are_named(tmp_path):
+    with pytest.raises(TypeError, match="`path` must be a scene file"):
+        dz.load_scene(None)
+    with pytest.raises(dz.SceneError, match="`path` is empty"):
+        dz.load_scene("  ")
+    with pytest.raises(dz.SceneError, match="a\x00b: cannot be read"):
+        dz.load_scene("a\x00b")
+    binary = tmp_path / "binary.toml"
+    binary.write_bytes(b"\xff\xfe title = 'x'")
+    with pytest.raises(dz.SceneError, match=r"binary.toml: cannot be read \(not UTF-8 text"):
+        dz.load_scene(binary)
+    with pytest.raises(TypeError, match="`text` must be a str"):
+        dz.Scene.from_toml(b"title = 'x'", "x")
+    with pytest.raises(TypeError, match="`data` must be a mapping"):
+        dz.Scene.from_dict([("title", "x")], "x")
+
+
+# -- the exact solution --------------------------------------------------------------------------
+
+def test_an_exact_phase_beyond_float64_is_an_error_not_nan():
+    # t_end · |ω| = 1e310 radians: the elliptic argument overflows; it used to give NaN frames
+    with pytest.raises(ValueError, match=r"exact solution needs its phase .* float64"):
+        dz.simulate(BODY, (1e300, 1e299, 1e300), t_end=1e10, frames=3, method="exact")
+
+
+def test_an_exact_motion_a_hair_from_the_separatrix_ends():
+    # m1 underflowed to 0 off the separatrix: K = ∞ and the quadrature looped for ever
+    code = ("import warnings, dzhanibekov as dz; warnings.simplefilter('ignore');"
+            "b = dz.Body((1.0, 1e100, 1.0754702073318891));"
+            "w = [2.361424947942503e146, -2.6696505570924898e147, -2.6696505570924898e147];"
+            "t = dz.simulate(b, w, t_end=3.7458085940996626e-198, frames=8, method='exact');"
+            "import numpy as np; assert np.isfinite(t.omega).all() and np.isfinite(t.q).all()")
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
+
+
+# -- rates of any size -----------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("method", dz.METHODS)
+@pytest.mark.parametrize("k", [-1000, -600, 600, 900])
+def test_a_run_at_any_rate_is_the_run_at_unit_rate_scaled(method, k):
+    # (ω, t) → (2^k ω, t / 2^k) leaves the motion unchanged; the runs integrate in the
+    # motion's own units, so the results are the same bits, scaled. Before, rates of 1e-300
+    # stood still (their products underflowed) and rates of 1e200 diverged.
+    omega = np.array([0.01, 0.3, 1.0])
+    dt = None if method in ("dopri5", "dop853") else 0.01
+    unit = dz.simulate(BODY, omega, t_end=20.0, frames=11, dt=dt, method=method)
+    scale = 2.0**k
+    scaled = dz.simulate(BODY, omega * scale, t_end=20.0 / scale, frames=11,
+                         dt=None if dt is None else dt / scale, method=method)
+    np.testing.assert_array_equal(scaled.q, unit.q)
+    np.testing.assert_array_equal(scaled.omega / scale, unit.omega)
+    np.testing.assert_array_equal(scaled.flip_times * scale, unit.flip_times)
+    assert tuple(scaled.drift) == tuple(unit.drift) and scaled.n_steps == unit.n_steps
+
+
+def test_a_span_beyond_float64_in_the_motions_units_is_named():
+    with pytest.warns(dz.StepSizeWarning), \
+            pytest.raises(ValueError, match=r"t_end · max\|omega0\|"):
+        dz.simulate(BODY, (1e300, 1e299, 1e300), t_end=1e10, frames=3, dt=1e-5,
+                    max_steps=2**63 - 1)
+    with pytest.raises(ValueError, match=r"t_end · Ω"):
+        dz.simulate(BODY, (1e300, 1e299, 1e300), t_end=1e10, frames=3, dt=None)
+
+
+# -- the step guard for moments no body has ------------------------------------------------------------
+
+def test_the_step_guard_knows_that_impossible_moments_precess_faster():
+    # (1, 1, 1000) breaks the triangle inequality: its rates turn 999 times faster than the
+    # bound Ω of |ω|, so a step of Ω·dt = 0.01 is far beyond RK4's stability for them
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", dz.InertiaWarning)
+        rod = dz.Body((1.0, 1.0, 1000.0))
+    with pytest.warns(dz.StepSizeWarning, match="stability limit"):
+        try:
+            dz.simulate(rod, (1.0, 0.0, 0.1), t_end=1.0, frames=2, dt=1e-3)
+        except ValueError as err:
+            assert "diverged" in str(err)
+    # a real body keeps the bound Ω, and no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        dz.simulate((1.0, 1.0, 1.9), (1.0, 0.0, 0.1), t_end=1.0, frames=2, dt=1e-4)
+
+
+# -- figures of scenes at rest or far from the origin --------------------------------------------------
+
+def test_figures_of_a_body_at_rest_draw_without_warnings():
+    scene = dz.Scene(name="rest", title="at rest", inertia=(1.0, 2.0, 3.0),
+                     omega0=(0.0, 0.0, 0.0), t_end=1.0, frames=3, signal_point=(0.0, 0.0, 0.0),
+                     draw=Draw(path=True, momentum=True,
+                               figures=("path", "omega", "invariants", "polhode", "phases")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for name, figure in plotting.FIGURE_FUNCTIONS.items():
+            figure(scene).canvas.draw()
+
+
+def test_phases_need_at_least_one_column():
+    with pytest.raises(ValueError, match="`columns` must be at least 1"):
+        plotting.phases_figure(dz.SCENES["example"], columns=0)
