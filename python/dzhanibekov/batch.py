@@ -16,6 +16,7 @@ same.
 from __future__ import annotations
 
 import math
+import re
 import warnings
 from dataclasses import dataclass
 from typing import Any, NamedTuple
@@ -152,7 +153,7 @@ def batch_rows(
             f"got {inertia.shape[:-1]}, {omega.shape[:-1]} and {q.shape[:-1]}"
         ) from None
     m = math.prod(shape)
-    rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, -1))
+    rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, a.shape[-1]))
             for a in (inertia, omega, q)]
     _check_moments(rows[0], shape, stacklevel=stacklevel + 1)
     zero = ~(rows[2] != 0).any(axis=1)
@@ -168,6 +169,17 @@ def _array(name: str, value: Any, width: int, max_batch_ndim: int | None) -> np.
     most = 8 if max_batch_ndim is None else max_batch_ndim
     shape = f"({width},) or (M, {width})" if most == 1 else f"(..., {width})"
     return as_array(name, value, shape, last=width, ndim=tuple(range(1, most + 2)))
+
+
+def row_error(exc: ValueError, offset: int, shape: tuple[int, ...]) -> ValueError:
+    """The core's error about row ``r`` of a block starting at row `offset` of starts of
+    `shape`, naming the row among all the starts (and its index, for several axes)."""
+    match = re.match(r"row (\d+): (.*)", str(exc), flags=re.S)
+    if match is None:
+        return exc
+    flat = offset + int(match.group(1))
+    where = f"row {flat}" if len(shape) <= 1 else f"row {flat} ({_index(flat, shape)})"
+    return ValueError(f"{where}: {match.group(2)}")
 
 
 def _index(flat: int, shape: tuple[int, ...]) -> str:

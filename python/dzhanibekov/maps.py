@@ -25,6 +25,7 @@ from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
 from matplotlib.figure import Figure
 
+from .plotting import _figure_of
 from .sweep import Sweep
 
 __all__ = [
@@ -157,8 +158,7 @@ def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool =
     if ax is None:
         fig = Figure(figsize=(6.4, 5.0), layout="constrained")
         ax = fig.add_subplot()
-    fig = ax.get_figure()
-    assert isinstance(fig, Figure)
+    fig = _figure_of(ax)
     ax.set_facecolor("#d9d9d9")  # runs without a value (no flips) show grey
     mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(values).T, shading="nearest", norm=norm,
                          cmap=cmap)

@@ -24,7 +24,14 @@ from tqdm import tqdm
 
 from . import _core
 from ._checks import as_array, as_int
-from .batch import BatchDrift, batch_rows, checked_run, checked_threads, plan_batch_step
+from .batch import (
+    BatchDrift,
+    batch_rows,
+    checked_run,
+    checked_threads,
+    plan_batch_step,
+    row_error,
+)
 from .simulate import DEFAULT_MAX_STEPS
 
 __all__ = ["Sweep", "sweep", "grid", "DEFAULT_BLOCK"]
@@ -102,7 +109,8 @@ class Sweep:
     @property
     def tilt_degrees(self) -> np.ndarray:
         """`tilt` in degrees."""
-        return np.degrees(self.tilt)
+        degrees: np.ndarray = np.degrees(self.tilt)
+        return degrees
 
     def __repr__(self) -> str:
         return (
@@ -164,7 +172,7 @@ def grid(*axes: Any) -> np.ndarray:
     k = 0
     for j, (v, a) in enumerate(zip(values, axes)):
         if np.ndim(a) == 1:
-            index = [np.newaxis] * len(shape)
+            index: list[Any] = [np.newaxis] * len(shape)
             index[k] = slice(None)
             out[..., j] = v[tuple(index)]
             k += 1
@@ -250,7 +258,7 @@ def sweep(
     >>> import dzhanibekov as dz
     >>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid([0.01, 0.1], 0.01, 1.0), t_end=100.0)
     >>> s.shape, s.flips
-    ((2,), array([2, 3]))
+    ((2,), array([2, 5]))
     >>> bool(abs(s.period[1] - s.exact_period[1]) < 1e-6 * s.exact_period[1])
     True
     """
@@ -264,8 +272,8 @@ def sweep(
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=3)
     m = len(omega)
-    run = dict(t_end=t_end, frames=frames, dt=step, method=method, max_steps=max_steps,
-               rtol=rtol_, atol=atol_, threads=threads)
+    run: dict[str, Any] = dict(t_end=t_end, frames=frames, dt=step, method=method,
+                               max_steps=max_steps, rtol=rtol_, atol=atol_, threads=threads)
     blocks = [(inertia[a:a + block], omega[a:a + block], q[a:a + block])
               for a in range(0, m, block)]
     bar = tqdm(total=m, desc="sweep", unit="run", leave=False,
@@ -274,11 +282,15 @@ def sweep(
     with bar:
         if submit is None:
             parts = []
-            for rows in blocks:
-                parts.append(run_block(*rows, **run))
+            for k, rows in enumerate(blocks):
+                try:
+                    parts.append(run_block(*rows, **run))
+                except ValueError as exc:
+                    raise row_error(exc, k * block, shape) from None
                 bar.update(len(rows[0]))
         else:
-            parts = submit(blocks, run, lambda n: bar.update(n))
+            parts = submit(blocks, run, lambda n: bar.update(n), lambda exc, k: row_error(
+                exc, k * block, shape))
     columns = _concatenate(parts, m)
     return Sweep(
         inertia=inertia.reshape(shape + (3,)),
@@ -302,7 +314,8 @@ def run_block(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, *, t_end: f
               frames: int, dt: float, method: str, max_steps: int, rtol: float, atol: float,
               threads: int | None) -> dict[str, np.ndarray]:
     """One block of a sweep, in the core: flat columns of per-run values (also what a Dask
-    task runs, on a worker)."""
+    task runs, on a worker, with arrays as its deserialiser left them)."""
+    inertia, omega, q = (np.require(a, np.float64, ["C", "A"]) for a in (inertia, omega, q))
     out = _core.sweep(inertia, omega, q, t_end, frames, dt, method, max_steps, rtol, atol,
                       threads)
     drift = out.pop("drift")
@@ -321,33 +334,43 @@ def _concatenate(parts: list[dict[str, np.ndarray]], m: int) -> dict[str, np.nda
 
 
 Runner = Callable[[list[tuple[np.ndarray, np.ndarray, np.ndarray]], dict[str, Any],
-                   Callable[[int], Any]], list[dict[str, np.ndarray]]]
+                   Callable[[int], Any], Callable[[ValueError, int], ValueError]],
+                  list[dict[str, np.ndarray]]]
 
 
 def _dask_runner(client: Any) -> Runner:
     """Maps blocks on a Dask cluster, one task each, and gathers them in order."""
     try:
-        from distributed import Client, as_completed
+        import distributed
     except ImportError:
         raise ImportError(
             "`client` needs dask.distributed: pip install dzhanibekov[dask]"
         ) from None
-    if not isinstance(client, Client):
+    if not isinstance(client, distributed.Client):
         raise TypeError(
             f"`client` must be a dask.distributed.Client, got {type(client).__name__}"
         )
+    cluster: Any = client  # distributed is untyped
 
     def submit(blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray]], run: dict[str, Any],
-               advance: Callable[[int], Any]) -> list[dict[str, np.ndarray]]:
+               advance: Callable[[int], Any],
+               renamed: Callable[[ValueError, int], ValueError]) -> list[dict[str, np.ndarray]]:
         columns = [[rows[k] for rows in blocks] for k in range(3)]
-        futures = client.map(run_block, *columns, pure=False, **run)
+        futures = cluster.map(run_block, *columns, pure=False, **run)
+        index = {f.key: k for k, f in enumerate(futures)}
         try:
-            sizes = {f.key: len(rows[0]) for f, rows in zip(futures, blocks)}
-            for done in as_completed(futures):
-                advance(sizes[done.key])
-            parts: list[dict[str, np.ndarray]] = client.gather(futures)
+            completed: Any = distributed.as_completed
+            for done in completed(futures):
+                k = index[done.key]
+                if done.status == "error":
+                    exc = done.exception()
+                    if isinstance(exc, ValueError):
+                        raise renamed(exc, k) from None
+                    raise exc
+                advance(len(blocks[k][0]))
+            parts: list[dict[str, np.ndarray]] = cluster.gather(futures)
         except BaseException:
-            client.cancel(futures)
+            cluster.cancel(futures)
             raise
         return parts
 
