@@ -277,6 +277,7 @@ pub(crate) fn run_group(
         (1..=LANES).contains(&real),
         "a group holds 1 to {LANES} runs"
     );
+    stop.check()?;
     // Spare lanes repeat the last run; their results are dropped.
     let start = |l: usize| &starts[l.min(real - 1)];
     let systems: [FreeRigidBody; LANES] =

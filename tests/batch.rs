@@ -85,7 +85,7 @@ fn assert_rows_are_single_runs(
 fn rk4_rows_equal_single_runs_on_every_instruction_set_and_thread_count() {
     // 37 rows: two full groups of 16 and a part group of 5; runs long enough to flip
     let starts = mixed_starts(2 * LANES + 5);
-    let grid = FrameGrid::try_new(60.0, 31, 2e-3, u64::MAX).unwrap();
+    let grid = FrameGrid::try_new(60.0, 31, 5e-3, u64::MAX).unwrap();
     let flipped = |b: &BatchOutput| b.flip_offsets[starts.len()];
     for isa in Isa::available() {
         for threads in [1, 2] {
@@ -207,7 +207,7 @@ proptest! {
 #[test]
 fn sweep_rows_are_summaries_of_single_runs() {
     let starts = mixed_starts(2 * LANES + 3);
-    let grid = FrameGrid::try_new(80.0, 9, 2e-3, u64::MAX).unwrap();
+    let grid = FrameGrid::try_new(60.0, 9, 5e-3, u64::MAX).unwrap();
     let keep = Keep {
         frames: false,
         flips: true,
@@ -246,7 +246,7 @@ fn sweep_periods_match_the_exact_flip_period_on_a_grid() {
             starts.push(Start::try_new(PAPER, [u, v, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap());
         }
     }
-    let grid = FrameGrid::try_new(400.0, 2, 1e-3, u64::MAX).unwrap();
+    let grid = FrameGrid::try_new(400.0, 2, 4e-3, u64::MAX).unwrap();
     let runs = sweep(
         &starts,
         &grid,
@@ -282,7 +282,7 @@ fn stable_axes_report_no_flips_and_small_tilts() {
         // a symmetric top has no intermediate axis
         Start::try_new([1.0, 1.0, 2.0], [0.3, 0.1, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap(),
     ];
-    let grid = FrameGrid::try_new(300.0, 2, 1e-3, u64::MAX).unwrap();
+    let grid = FrameGrid::try_new(300.0, 2, 4e-3, u64::MAX).unwrap();
     let runs = sweep(
         &starts,
         &grid,
