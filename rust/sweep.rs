@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use crate::batch::{run_group, FlipTally, Options, Start, Stop, Watch, LANES};
 use crate::dynamics::{state_from, FreeRigidBody};
 use crate::error::{Error, Result};
-use crate::exact::{flip_period, ExactMotion};
+use crate::exact::{flip_period, flip_period_of_rates, ExactMotion};
 use crate::integrators::Stats;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::run::{normalized, run_method, FrameGrid, Method, CHECK_EVERY};
@@ -116,8 +116,7 @@ fn rk4_group(
             Ok(RunSummary {
                 flips: run.flips,
                 tilt: run.tilt,
-                exact_period: flip_period(&start.body, start.omega0)
-                    .map_err(|e| e.in_row(first_row + l))?,
+                exact_period: exact_period(start).map_err(|e| e.in_row(first_row + l))?,
                 drift: run.drift,
                 stats: Stats {
                     nfev: 4 * n_steps,
@@ -128,6 +127,14 @@ fn rk4_group(
             })
         })
         .collect()
+}
+
+/// The exact flip period of a start, from its rates alone where that decides it.
+fn exact_period(start: &Start) -> Result<f64> {
+    match flip_period_of_rates(&start.body, start.omega0) {
+        Some(period) => Ok(period),
+        None => flip_period(&start.body, start.omega0),
+    }
 }
 
 /// One run of another method, watched as [`crate::run::simulate`] watches it, plus the tilt.
@@ -143,7 +150,7 @@ fn single(
     let mut drift = DriftMonitor::new(body, &omega);
     let mut tilt = TiltMonitor::new(body, &omega);
     let mut flips = FlipTally::default();
-    let exact_period = flip_period(body, start.omega0)?;
+    let exact_period = exact_period(start)?;
     let (stats, dt) = if method == Method::Exact {
         let motion = ExactMotion::try_new(body, start.omega0, q0)?;
         for i in 0..grid.frames() {
