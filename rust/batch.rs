@@ -64,7 +64,8 @@ impl Start {
     pub fn rows(inertia: &[f64], omega0: &[f64], q0: &[f64]) -> Result<Vec<Start>> {
         let m = omega0.len() / 3;
         let shape_ok = |len: usize, width: usize| len == width || len == width * m;
-        if omega0.len() % 3 != 0 || !shape_ok(inertia.len(), 3) || !shape_ok(q0.len(), 4) {
+        if !omega0.len().is_multiple_of(3) || !shape_ok(inertia.len(), 3) || !shape_ok(q0.len(), 4)
+        {
             return Err(Error::InvalidArgument {
                 name: "inertia, omega0, q0",
                 allowed: "must have shapes (M, 3) or (3,), (M, 3), and (M, 4) or (4,)",

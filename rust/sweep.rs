@@ -154,7 +154,7 @@ fn single(
     let (stats, dt) = if method == Method::Exact {
         let motion = ExactMotion::try_new(body, start.omega0, q0)?;
         for i in 0..grid.frames() {
-            if i as u64 % CHECK_EVERY == 0 && cancel.load(Ordering::Relaxed) {
+            if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
                 return Err(Error::Interrupted);
             }
             let t = grid.time(i);
