@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 import re
 import warnings
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -80,7 +81,10 @@ class Batch:
     t: np.ndarray
     omega: np.ndarray
     q: np.ndarray
-    flip_times: tuple[np.ndarray, ...] | None
+    _flip_times: np.ndarray | None = field(repr=False)
+    """Every run's flip times, one after the other; run i's are
+    ``_flip_times[_flip_offsets[i]:_flip_offsets[i + 1]]``."""
+    _flip_offsets: np.ndarray | None = field(repr=False)
     inertia: np.ndarray
     method: str
     dt: np.ndarray
@@ -92,6 +96,15 @@ class Batch:
     def __len__(self) -> int:
         return len(self.omega)
 
+    @cached_property
+    def flip_times(self) -> tuple[np.ndarray, ...] | None:
+        """Each run's flip times (see :func:`~dzhanibekov.simulate`), a tuple of M arrays
+        (views); None if flips were not asked for."""
+        if self._flip_times is None or self._flip_offsets is None:
+            return None
+        bounds = self._flip_offsets.tolist()
+        return tuple(self._flip_times[a:b] for a, b in zip(bounds[:-1], bounds[1:]))
+
     def __getitem__(self, i: int) -> Trajectory:
         """Run `i` as a :class:`Trajectory` (views of the batch's arrays)."""
         if not isinstance(i, (int, np.integer)) or isinstance(i, bool):
@@ -101,7 +114,7 @@ class Batch:
             t=self.t,
             omega=self.omega[i],
             q=self.q[i],
-            flip_times=None if self.flip_times is None else self.flip_times[i],
+            flip_times=self._run_flip_times(i),
             body=_body(self.inertia[i]),
             method=self.method,
             dt=float(self.dt[i]),
@@ -111,12 +124,18 @@ class Batch:
             n_rejected=int(self.n_rejected[i]),
         )
 
+    def _run_flip_times(self, i: int) -> np.ndarray | None:
+        if self._flip_times is None or self._flip_offsets is None:
+            return None
+        return self._flip_times[int(self._flip_offsets[i]):int(self._flip_offsets[i + 1])]
+
     @property
     def flips(self) -> np.ndarray | None:
         """How many times each run flipped, shape (M,); None if flips were not asked for."""
-        if self.flip_times is None:
+        if self._flip_offsets is None:
             return None
-        return np.array([len(f) for f in self.flip_times], dtype=np.int64)
+        counts: np.ndarray = np.diff(self._flip_offsets)
+        return counts
 
     def __repr__(self) -> str:
         return (
@@ -152,16 +171,18 @@ def batch_rows(
             "the leading (batch) axes of `body`, `omega0` and `q0` must match or be absent, "
             f"got {inertia.shape[:-1]}, {omega.shape[:-1]} and {q.shape[:-1]}"
         ) from None
+    # checked before broadcasting: a shared body or attitude once
+    _check_moments(inertia.reshape(-1, 3), inertia.shape[:-1], stacklevel=stacklevel + 1)
+    flat_q = q.reshape(-1, 4)
+    zero = (flat_q[:, 0] == 0) & (flat_q[:, 1] == 0) & (flat_q[:, 2] == 0) & (flat_q[:, 3] == 0)
+    if zero.any():
+        raise ValueError(
+            "`q0` must hold non-zero quaternions (Q, U, V, W), got (0, 0, 0, 0)"
+            f"{_at(int(np.argmax(zero)), q.shape[:-1])}"
+        )
     m = math.prod(shape)
     rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, a.shape[-1]))
             for a in (inertia, omega, q)]
-    _check_moments(rows[0], shape, stacklevel=stacklevel + 1)
-    zero = ~(rows[2] != 0).any(axis=1)
-    if zero.any():
-        raise ValueError(
-            f"`q0` must hold non-zero quaternions (Q, U, V, W), got (0, 0, 0, 0) at "
-            f"{_index(int(np.argmax(zero)), shape)}"
-        )
     return rows[0], rows[1], rows[2], shape
 
 
@@ -187,33 +208,41 @@ def _index(flat: int, shape: tuple[int, ...]) -> str:
     return f"row {flat}" if len(shape) <= 1 else f"index {tuple(int(i) for i in index)}"
 
 
+def _at(flat: int, shape: tuple[int, ...]) -> str:
+    """Where in an input of leading `shape` row `flat` is, for a message ("" if shared)."""
+    return f" at {_index(flat, shape)}" if shape else ""
+
+
 def _check_moments(inertia: np.ndarray, shape: tuple[int, ...], *, stacklevel: int) -> None:
-    """As `Body` checks one body, for every row; one warning for all unphysical rows."""
-    bad = ~(inertia > 0).all(axis=1)
+    """As `Body` checks one body, for every row (of `shape`); one warning for all the
+    unphysical ones. Column by column: reductions over a last axis of 3 are slow."""
+    a, b, c = inertia.T
+    bad = ~((a > 0) & (b > 0) & (c > 0))
     if bad.any():
         i = int(np.argmax(bad))
         raise ValueError(
-            f"`body` must hold positive, finite principal moments, got {inertia[i].tolist()} "
-            f"at {_index(i, shape)}"
+            f"`body` must hold positive, finite principal moments, got {inertia[i].tolist()}"
+            f"{_at(i, shape)}"
         )
+    largest = np.maximum(np.maximum(a, b), c)
     with np.errstate(over="ignore"):
-        ratio = inertia.max(axis=1) / inertia.min(axis=1)
+        ratio = largest / np.minimum(np.minimum(a, b), c)
     bad = ~(ratio <= 1e150)
     if bad.any():
         i = int(np.argmax(bad))
         raise ValueError(
             "`body` must have a ratio of largest to smallest moment of at most 1e150, got "
-            f"{inertia[i].tolist()} at {_index(i, shape)}"
+            f"{inertia[i].tolist()}{_at(i, shape)}"
         )
-    total = inertia.sum(axis=1)
+    total = a + b + c
     slack = 1e-12 * total
-    unphysical = (2 * inertia.max(axis=1) > total + slack).nonzero()[0]
+    unphysical = (2 * largest > total + slack).nonzero()[0]
     if len(unphysical):
         i = int(unphysical[0])
         warnings.warn(
             f"{len(unphysical)} of {len(inertia)} bodies break the triangle inequality (each "
             "moment of a real body is at most the sum of the other two), the first "
-            f"{inertia[i].tolist()} at {_index(i, shape)}; no mass distribution has them",
+            f"{inertia[i].tolist()}{_at(i, shape)}; no mass distribution has them",
             InertiaWarning,
             stacklevel=stacklevel,
         )
@@ -295,7 +324,8 @@ def simulate_batch(
         t=t_end * (np.arange(frames) / (frames - 1)),
         omega=out["omega"],
         q=out["q"],
-        flip_times=tuple(times[a:b] for a, b in zip(offsets[:-1], offsets[1:])) if flips else None,
+        _flip_times=times if flips else None,
+        _flip_offsets=offsets if flips else None,
         inertia=inertia,
         method=method,
         dt=out["dt"],
