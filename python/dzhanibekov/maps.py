@@ -8,10 +8,11 @@ is the separatrix, where the start lies on the motion that divides the wobbles a
 stable axis from those about the other: ``L² = 2E I_mid``, i.e.
 ``Σ_k I_k (I_k − I_mid) ω_k² = 0``, computed from the formula on a fine grid.
 
->>> import dzhanibekov as dz
+>>> import numpy as np, dzhanibekov as dz
+>>> from dzhanibekov.maps import stability_map
 >>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid(np.linspace(0, 1, 5), np.linspace(0, 1, 5), 1.0),
-...              t_end=50.0, dt=1e-2)                                     # doctest: +SKIP
->>> fig = dz.maps.stability_map(s, quantity="tilt", save="map.png")       # doctest: +SKIP
+...              t_end=50.0, dt=1e-2)
+>>> fig = stability_map(s, quantity="tilt", save="map.png")               # doctest: +SKIP
 """
 
 from __future__ import annotations

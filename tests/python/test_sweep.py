@@ -165,3 +165,14 @@ def test_memory_grows_with_runs_not_frames():
     grown_mb, steps = float(out[0]), int(out[1])
     assert steps == 20_000
     assert grown_mb < 30, f"the sweep grew the process by {grown_mb:.0f} MB"
+
+
+def test_the_default_path_imports_no_dask():
+    script = textwrap.dedent("""
+        import sys, dzhanibekov as dz
+        dz.sweep(dz.PAPER_INERTIA, [[0.0, 0.1, 1.0]], t_end=1.0)
+        print(sorted(m for m in sys.modules if m.split(".")[0] in ("dask", "distributed")))
+    """)
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         check=True).stdout
+    assert out.strip() == "[]"
