@@ -1,4 +1,4 @@
-"""Regenerates the README's pictures in docs/ from `dzhanibekov paper`.
+"""Regenerates the README's pictures in docs/ from `dzhanibekov paper` and `dzhanibekov map`.
 
     python docs/make_figures.py
 
@@ -21,6 +21,7 @@ KEEP = {
     "example-invariants.png": "fig2-invariants.png",
     "stable.png": "stable-paths.png",
 }
+MAPS = {"map-rates.png": "stability-map.png"}
 
 
 def run() -> None:
@@ -28,7 +29,8 @@ def run() -> None:
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "figures"
         assert main(["paper", "--out", str(out), "--no-progress"]) == 0
-        for source, target in KEEP.items():
+        assert main(["map", "--out", str(out), "--kind", "rates", "--no-progress"]) == 0
+        for source, target in {**KEEP, **MAPS}.items():
             with Image.open(out / source) as image:
                 small = image.convert("RGB").quantize(colors=256, dither=Image.Dither.NONE)
                 small.save(docs / target, optimize=True)

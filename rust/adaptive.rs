@@ -261,7 +261,7 @@ where
         (t, x, f) = (t1, x1, *step.f1());
         h *= factor;
         stats.n_steps += 1;
-        if stats.n_steps % CHECK_EVERY == 0 {
+        if stats.n_steps.is_multiple_of(CHECK_EVERY) {
             check(&x, t, cancel)?;
         }
     }

@@ -9,6 +9,11 @@ use crate::error::{Error, Result};
 /// Zeroed memory from the allocator costs nothing up front for large sizes (fresh pages are
 /// zero), unlike `try_reserve` followed by `resize`, which writes every element.
 pub fn zeroed(len: usize, what: &'static str) -> Result<Vec<f64>> {
+    zeroed_for(len, what, "ask for fewer frames or points")
+}
+
+/// As [`zeroed`], with `hint` saying what to ask for instead if it cannot be had.
+pub fn zeroed_for(len: usize, what: &'static str, hint: &'static str) -> Result<Vec<f64>> {
     if len == 0 {
         return Ok(Vec::new());
     }
@@ -16,7 +21,7 @@ pub fn zeroed(len: usize, what: &'static str) -> Result<Vec<f64>> {
         what,
         needed: format!("{len} float64 values ({:.3e} bytes)", len as f64 * 8.0),
         limit: "the memory this process can allocate".into(),
-        hint: "ask for fewer frames or points",
+        hint,
     };
     let layout = Layout::array::<f64>(len).map_err(|_| too_large())?;
     // SAFETY: the layout has non-zero size; a null return is handled; the memory is

@@ -63,18 +63,27 @@ impl FreeRigidBody {
 impl OdeSystem<7> for FreeRigidBody {
     #[inline(always)]
     fn increment(&self, _t: f64, x: &State, s: f64) -> State {
-        let [u, v, w, q0, q1, q2, q3] = *x;
-        let half = 0.5 * s;
-        [
-            (s * self.euler.x) * (v * w),
-            (s * self.euler.y) * (u * w),
-            (s * self.euler.z) * (u * v),
-            -half * (q1 * u + q2 * v + q3 * w),
-            half * (q0 * u + q2 * w - q3 * v),
-            half * (q0 * v + q3 * u - q1 * w),
-            half * (q0 * w + q1 * v - q2 * u),
-        ]
+        scaled_increment([self.euler.x, self.euler.y, self.euler.z], x, s)
     }
+}
+
+/// `s · f(x)` of eq. 1 for the Euler coefficients `euler` (see
+/// [`FreeRigidBody::euler_coefficients`]). The one definition of the right-hand side: the
+/// single run and the SIMD lanes of a batch ([`crate::lanes`]) both call it, so that a batch
+/// row performs the same floating-point operations in the same order as a single run.
+#[inline(always)]
+pub fn scaled_increment(euler: [f64; 3], x: &State, s: f64) -> State {
+    let [u, v, w, q0, q1, q2, q3] = *x;
+    let half = 0.5 * s;
+    [
+        (s * euler[0]) * (v * w),
+        (s * euler[1]) * (u * w),
+        (s * euler[2]) * (u * v),
+        -half * (q1 * u + q2 * v + q3 * w),
+        half * (q0 * u + q2 * w - q3 * v),
+        half * (q0 * v + q3 * u - q1 * w),
+        half * (q0 * w + q1 * v - q2 * u),
+    ]
 }
 
 /// The quantities the exact free motion keeps, evaluated at one state.

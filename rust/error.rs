@@ -24,11 +24,25 @@ pub enum Error {
     /// The caller asked the run to stop (Ctrl-C in Python).
     #[error("interrupted")]
     Interrupted,
+    /// What went wrong with one run of a batch, and which.
+    #[error("row {row}: {error}")]
+    Row { row: usize, error: Box<Error> },
 }
 
 pub type Result<T> = std::result::Result<T, Error>;
 
 impl Error {
+    /// This error, as that of run `row` of a batch.
+    pub(crate) fn in_row(self, row: usize) -> Self {
+        match self {
+            Error::Interrupted | Error::Row { .. } => self,
+            error => Error::Row {
+                row,
+                error: Box::new(error),
+            },
+        }
+    }
+
     pub(crate) fn invalid(
         name: &'static str,
         allowed: &'static str,

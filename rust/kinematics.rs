@@ -71,7 +71,7 @@ const POINT_BLOCK: usize = 2048;
 /// # Errors
 /// Names the first bad row.
 pub fn check_quaternions(q: &[f64]) -> Result<()> {
-    if q.len() % 4 != 0 {
+    if !q.len().is_multiple_of(4) {
         return Err(Error::invalid("q", "must have shape (N, 4)", q.len()));
     }
     for (row, c) in q.chunks_exact(4).enumerate() {
@@ -111,7 +111,7 @@ pub fn rotate_points_until(
     cancel: &AtomicBool,
 ) -> Result<()> {
     check_quaternions(q)?;
-    if points.len() % 3 != 0 {
+    if !points.len().is_multiple_of(3) {
         return Err(Error::invalid(
             "points",
             "must have shape (P, 3)",

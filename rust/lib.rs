@@ -18,6 +18,7 @@
 //! bindings and nothing else.
 
 pub mod adaptive;
+pub mod batch;
 pub mod body;
 pub mod buffer;
 pub mod dynamics;
@@ -26,11 +27,14 @@ pub mod error;
 pub mod exact;
 pub mod integrators;
 pub mod kinematics;
+pub mod lanes;
 pub mod mesh;
 pub mod observe;
 pub mod run;
 pub mod scale;
 pub mod step_size;
+pub mod sweep;
+pub mod tilt;
 
 #[cfg(feature = "python")]
 mod python;

@@ -348,16 +348,39 @@ impl FlipDetector {
     }
 }
 
+/// # The lanes' view
+///
+/// What the SIMD lanes of a batch ([`crate::lanes`]) mirror to tell, for many runs at once,
+/// whether [`Observer::step`] would change anything; only then is it called.
+impl FlipDetector {
+    /// The intermediate axis, its moment (scaled as in `side_of`) and the threshold of
+    /// `side_of`; `None` for a symmetric top, which never flips.
+    pub(crate) fn watch(&self) -> Option<(usize, f64, f64)> {
+        self.axis.map(|k| (k, self.inertia_mid, self.threshold))
+    }
+
+    /// The side the intermediate axis was last seen nearest `L` on (−1, 0 before any, +1),
+    /// and whether a crossing awaits that axis's arrival on a side.
+    pub(crate) fn progress(&self) -> (f64, bool) {
+        (f64::from(self.side), self.candidate.is_some())
+    }
+
+    /// Moves the flip times found so far out of the detector (for runs that count them).
+    pub(crate) fn take_flip_times(&mut self) -> Vec<f64> {
+        std::mem::take(&mut self.flip_times)
+    }
+}
+
 /// Whether the rate changes sign from `r0` to `r1` (reaching zero counts).
 #[inline(always)]
-fn crosses(r0: f64, r1: f64) -> bool {
+pub(crate) fn crosses(r0: f64, r1: f64) -> bool {
     (r0 > 0.0 && r1 <= 0.0) || (r0 < 0.0 && r1 >= 0.0)
 }
 
 /// `x[k]` for `k < 3`, by selection rather than indexing, so that the state can stay in
 /// registers across the step loop.
 #[inline(always)]
-fn component(x: &State, k: usize) -> f64 {
+pub(crate) fn component(x: &State, k: usize) -> f64 {
     match k {
         0 => x[0],
         1 => x[1],

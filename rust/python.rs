@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use numpy::ndarray::{Array1, Array2};
+use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyReadwriteArray3, PyUntypedArrayMethods,
@@ -17,15 +17,20 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::adaptive::Adaptive;
+use crate::batch::{simulate_batch as core_simulate_batch, Options as BatchOptions, Start};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
 use crate::elliptic::Jacobi;
 use crate::error::Error;
 use crate::exact;
+use crate::integrators::Stats;
 use crate::kinematics::rotate_points_until;
+use crate::lanes::Isa;
 use crate::mesh::ellipsoid;
+use crate::observe::Drift;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
 use crate::step_size::plan;
+use crate::sweep::{sweep as core_sweep, RunSummary};
 
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
@@ -148,17 +153,7 @@ fn simulate<'py>(
     rtol: f64,
     atol: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = adaptive_method(method, rtol, atol, Some(dt))?;
-    let grid = match method {
-        // The exact solution takes no steps: `dt` and `max_steps` do not apply.
-        Method::Exact => FrameGrid::try_frames(t_end, frames)?,
-        _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
-        _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
-    };
-    let method = method.with_adaptive(match method {
-        Method::Dopri5(a) | Method::Dop853(a) => a.with_max_steps(max_steps),
-        _ => Adaptive::default(),
-    });
+    let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
@@ -193,6 +188,30 @@ fn simulate<'py>(
     result.set_item("n_rejected", out.stats.n_rejected)?;
     result.set_item("dt", out.dt)?;
     Ok(result)
+}
+
+/// The method of a run and its frame grid.
+fn method_and_grid(
+    method: &str,
+    t_end: f64,
+    frames: usize,
+    dt: f64,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<(Method, FrameGrid)> {
+    let method = adaptive_method(method, rtol, atol, Some(dt))?;
+    let grid = match method {
+        // The exact solution takes no steps: `dt` and `max_steps` do not apply.
+        Method::Exact => FrameGrid::try_frames(t_end, frames)?,
+        _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
+        _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
+    };
+    let method = method.with_adaptive(match method {
+        Method::Dopri5(a) | Method::Dop853(a) => a.with_max_steps(max_steps),
+        _ => Adaptive::default(),
+    });
+    Ok((method, grid))
 }
 
 /// The method named `name`, with tolerances `rtol`, `atol` and first step `dt` if adaptive.
@@ -418,6 +437,210 @@ fn check_parameter(m: f64, m1: f64) -> PyResult<()> {
     Ok(())
 }
 
+/// A C-contiguous array's values, or a `ValueError` naming it.
+fn values<'a>(name: &str, array: &'a PyReadonlyArray2<'_, f64>) -> PyResult<&'a [f64]> {
+    array
+        .as_slice()
+        .map_err(|_| PyValueError::new_err(format!("`{name}` must be C-contiguous")))
+}
+
+/// The starts of a batch from rows of moments, rates and attitudes (one row of moments or
+/// attitudes is shared by all).
+fn starts(
+    inertia: &PyReadonlyArray2<'_, f64>,
+    omega0: &PyReadonlyArray2<'_, f64>,
+    q0: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<Vec<Start>> {
+    let (inertia, omega0, q0) = (
+        values("inertia", inertia)?,
+        values("omega0", omega0)?,
+        values("q0", q0)?,
+    );
+    Ok(Start::rows(inertia, omega0, q0)?)
+}
+
+fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOptions> {
+    Ok(BatchOptions {
+        threads,
+        isa: isa.map(str::parse::<Isa>).transpose()?,
+    })
+}
+
+/// Whether `runs` runs over `grid` are long enough to watch for Ctrl-C on a helper thread.
+fn long_batch(runs: usize, grid: &FrameGrid, method: Method) -> bool {
+    let work = (runs as u64).saturating_mul(grid.n_steps().max(grid.frames() as u64));
+    method.is_adaptive() || work > LONG_RUN_STEPS
+}
+
+/// Per-row values as a NumPy array.
+fn column<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
+    PyArray1::from_vec(py, v)
+}
+
+fn drift_columns<'py>(py: Python<'py>, drift: &[Drift]) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item(
+        "energy",
+        column(py, drift.iter().map(|d| d.energy).collect()),
+    )?;
+    d.set_item(
+        "momentum",
+        column(py, drift.iter().map(|d| d.momentum).collect()),
+    )?;
+    let world = drift.iter().map(|d| d.momentum_world).collect();
+    d.set_item("momentum_world", column(py, world))?;
+    d.set_item(
+        "q_norm",
+        column(py, drift.iter().map(|d| d.q_norm).collect()),
+    )?;
+    Ok(d)
+}
+
+fn stats_columns(result: &Bound<'_, PyDict>, stats: &[Stats], dt: Vec<f64>) -> PyResult<()> {
+    let py = result.py();
+    let count = |f: fn(&Stats) -> u64| -> Vec<i64> { stats.iter().map(|s| f(s) as i64).collect() };
+    result.set_item("nfev", column(py, count(|s| s.nfev)))?;
+    result.set_item("n_steps", column(py, count(|s| s.n_steps)))?;
+    result.set_item("n_rejected", column(py, count(|s| s.n_rejected)))?;
+    result.set_item("dt", column(py, dt))?;
+    Ok(())
+}
+
+/// Many runs over one frame grid: rows of `inertia` (or one), `omega0`, `q0` (or one).
+#[pyfunction]
+#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = 1e-9, atol = 1e-12, threads = None, isa = None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_batch<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    q0: PyReadonlyArray2<'py, f64>,
+    t_end: f64,
+    frames: usize,
+    dt: f64,
+    method: &str,
+    max_steps: u64,
+    keep_frames: bool,
+    keep_flips: bool,
+    rtol: f64,
+    atol: f64,
+    threads: Option<usize>,
+    isa: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let options = batch_options(threads, isa)?;
+    let starts = starts(&inertia, &omega0, &q0)?;
+    let keep = Keep {
+        frames: keep_frames,
+        flips: keep_flips,
+    };
+    let long = long_batch(starts.len(), &grid, method);
+    let out = detach(py, long, |cancel| {
+        core_simulate_batch(&starts, &grid, method, keep, &options, cancel)
+    })?;
+    let m = starts.len();
+    let result = PyDict::new(py);
+    if keep_frames {
+        let omega = Array3::from_shape_vec((m, frames, 3), out.omega).map_err(internal)?;
+        let q = Array3::from_shape_vec((m, frames, 4), out.q).map_err(internal)?;
+        result.set_item("omega", omega.into_pyarray(py))?;
+        result.set_item("q", q.into_pyarray(py))?;
+    }
+    let offsets = out.flip_offsets.iter().map(|&o| o as i64).collect();
+    result.set_item("flip_offsets", column(py, offsets))?;
+    result.set_item("flip_times", column(py, out.flip_times))?;
+    result.set_item("drift", drift_columns(py, &out.drift)?)?;
+    stats_columns(&result, &out.stats, out.dt)?;
+    Ok(result)
+}
+
+/// Many runs summarised, no frames kept (see `crate::sweep`).
+#[pyfunction]
+#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, threads = None, isa = None))]
+#[allow(clippy::too_many_arguments)]
+fn sweep<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    q0: PyReadonlyArray2<'py, f64>,
+    t_end: f64,
+    frames: usize,
+    dt: f64,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+    threads: Option<usize>,
+    isa: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let options = batch_options(threads, isa)?;
+    let starts = starts(&inertia, &omega0, &q0)?;
+    let long = long_batch(starts.len(), &grid, method);
+    let runs = detach(py, long, |cancel| {
+        core_sweep(&starts, &grid, method, &options, cancel)
+    })?;
+    let result = PyDict::new(py);
+    let of = |f: fn(&RunSummary) -> f64| -> Vec<f64> { runs.iter().map(f).collect() };
+    let flips: Vec<i64> = runs.iter().map(|r| r.flips.count as i64).collect();
+    result.set_item("flips", column(py, flips))?;
+    result.set_item("first_flip", column(py, of(|r| r.flips.first)))?;
+    result.set_item("period", column(py, of(|r| r.flips.mean_period())))?;
+    result.set_item("exact_period", column(py, of(|r| r.exact_period)))?;
+    result.set_item("tilt", column(py, of(|r| r.tilt)))?;
+    let drift: Vec<Drift> = runs.iter().map(|r| r.drift).collect();
+    result.set_item("drift", drift_columns(py, &drift)?)?;
+    let stats: Vec<Stats> = runs.iter().map(|r| r.stats).collect();
+    stats_columns(&result, &stats, of(|r| r.dt))?;
+    Ok(result)
+}
+
+/// `step_plan` for each row of a batch: arrays of the planned step, the step taken, the rate
+/// bound and RK4's predicted drift.
+#[pyfunction]
+#[pyo3(signature = (inertia, omega0, t_end, frames, dt, method, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn step_plan_batch<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let method = adaptive_method(method, rtol, atol, None)?;
+    let identity = [1.0, 0.0, 0.0, 0.0];
+    let starts = Start::rows(
+        values("inertia", &inertia)?,
+        values("omega0", &omega0)?,
+        &identity,
+    )?;
+    let plans = starts
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            plan(&s.body, s.omega0, t_end, frames, method, dt, rtol).map_err(|e| e.in_row(i))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    let result = PyDict::new(py);
+    let of =
+        |f: fn(&crate::step_size::StepPlan) -> f64| -> Vec<f64> { plans.iter().map(f).collect() };
+    result.set_item("dt", column(py, of(|p| p.dt)))?;
+    result.set_item("step", column(py, of(|p| p.step)))?;
+    result.set_item("rate_bound", column(py, of(|p| p.rate_bound)))?;
+    result.set_item("predicted_drift", column(py, of(|p| p.predicted_drift)))?;
+    Ok(result)
+}
+
+/// The SIMD instruction sets this CPU offers for the batch kernel, narrowest first.
+#[pyfunction]
+fn instruction_sets() -> Vec<&'static str> {
+    Isa::available().into_iter().map(Isa::name).collect()
+}
+
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
@@ -429,6 +652,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ellipj, m)?)?;
     m.add_function(wrap_pyfunction!(ellipk, m)?)?;
     m.add_function(wrap_pyfunction!(step_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(step_plan_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(instruction_sets, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

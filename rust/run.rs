@@ -20,8 +20,12 @@ use crate::integrators::{
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
 use crate::scale::RateScale;
 
+/// What to do about a run that diverged.
+pub(crate) const DIVERGED_HINT: &str =
+    "the step is far beyond the method's stability limit; take a smaller dt";
+
 /// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
-const CHECK_EVERY: u64 = 1 << 14;
+pub(crate) const CHECK_EVERY: u64 = 1 << 14;
 
 /// The frame times of a run and the substeps between them.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -211,7 +215,7 @@ fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
     if !x.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,
-            hint: "the step is far beyond the method's stability limit; take a smaller dt",
+            hint: DIVERGED_HINT,
         });
     }
     Ok(())
@@ -472,7 +476,7 @@ fn simulate_exact(
 ) -> Result<RunOutput> {
     let motion = ExactMotion::try_new(body, omega0, q0)?;
     for i in 0..grid.frames() {
-        if i as u64 % CHECK_EVERY == 0 && cancel.load(Ordering::Relaxed) {
+        if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
             return Err(Error::Interrupted);
         }
         let t = grid.time(i);
@@ -503,7 +507,8 @@ fn simulate_exact(
     })
 }
 
-fn run_method<O: Observer>(
+/// Runs `method` over `grid` from `x0`, showing frames (and steps, if asked) to `obs`.
+pub(crate) fn run_method<O: Observer>(
     method: Method,
     sys: &FreeRigidBody,
     x0: State,

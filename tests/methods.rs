@@ -264,7 +264,7 @@ fn adaptive_counters_add_up_and_the_frames_are_exact() {
     // one evaluation to start, twelve per attempt, three more for each interpolated step
     let dense = s.nfev - 1 - 12 * (s.n_steps + s.n_rejected);
     assert!(
-        s.n_steps > 5 && dense % 3 == 0 && dense <= 3 * s.n_steps,
+        s.n_steps > 5 && dense.is_multiple_of(3) && dense <= 3 * s.n_steps,
         "{s:?}"
     );
     // the last frame is the last step's end, the others interpolated: all on the solution

@@ -10,6 +10,7 @@ point arrays without trigonometry; this package is the thin Python side.
 
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
+from .batch import Batch, BatchDrift
 from .body import Body, InertiaWarning
 from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
 from .flips import flip_period
@@ -19,6 +20,7 @@ from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
 from .scene import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .simulate import METHODS, rotate, simulate
 from .summary import Summary, summarize
+from .sweep import Sweep, grid, sweep
 from .trajectory import Drift, Trajectory
 
 __all__ = [
@@ -54,4 +56,9 @@ __all__ = [
     "SceneResult",
     "ellipsoid_mesh",
     "ellipsoid_semi_axes",
+    "Batch",
+    "BatchDrift",
+    "sweep",
+    "Sweep",
+    "grid",
 ]

@@ -12,10 +12,14 @@ __all__ = [
     "ellipk",
     "ellipsoid_mesh",
     "flip_period",
+    "instruction_sets",
     "invariants",
     "rotate",
     "simulate",
+    "simulate_batch",
     "step_plan",
+    "step_plan_batch",
+    "sweep",
 ]
 __version__: str
 
@@ -74,3 +78,44 @@ def ellipj(
     u: npt.NDArray[np.float64], m: float, m1: float
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def ellipk(m: float, m1: float) -> float: ...
+def simulate_batch(
+    inertia: npt.NDArray[np.float64],
+    omega0: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    t_end: float,
+    frames: int,
+    dt: float,
+    method: str,
+    max_steps: int,
+    keep_frames: bool,
+    keep_flips: bool,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+    threads: int | None = None,
+    isa: str | None = None,
+) -> dict[str, Any]: ...
+def sweep(
+    inertia: npt.NDArray[np.float64],
+    omega0: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    t_end: float,
+    frames: int,
+    dt: float,
+    method: str,
+    max_steps: int,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+    threads: int | None = None,
+    isa: str | None = None,
+) -> dict[str, Any]: ...
+def step_plan_batch(
+    inertia: npt.NDArray[np.float64],
+    omega0: npt.NDArray[np.float64],
+    t_end: float,
+    frames: int,
+    dt: float | None,
+    method: str,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+) -> dict[str, npt.NDArray[np.float64]]: ...
+def instruction_sets() -> list[str]: ...

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Mapping
 from typing import Any
 
 from . import _core
@@ -77,6 +78,16 @@ def plan_step(
 ) -> tuple[float, float, float]:
     """Resolves ``dt`` (None: from `rtol`) and the tolerances, and warns on a step that
     RK4 would silently dissipate. Returns ``(dt, rtol, atol)`` for the core."""
+    dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
+    plan = _core.step_plan(body, omega0, t_end, frames, dt_, method, rtol_, atol_)
+    warn_step(plan, method, dt is not None, rtol_, stacklevel=stacklevel + 1)
+    return plan["dt"], rtol_, atol_
+
+
+def check_tolerances(
+    method: str, dt: Any, rtol: Any, atol: Any
+) -> tuple[float | None, float, float]:
+    """``(dt, rtol, atol)`` checked against each other and `method`, defaults filled in."""
     adaptive = method in ADAPTIVE_METHODS
     if not adaptive:
         if atol is not None:
@@ -89,10 +100,17 @@ def plan_step(
     rtol_ = _tolerance("rtol", rtol, DEFAULT_RTOL)
     atol_ = _tolerance("atol", atol, DEFAULT_ATOL)
     dt_ = None if dt is None else as_float("dt", dt, positive=True)
-    plan = _core.step_plan(body, omega0, t_end, frames, dt_, method, rtol_, atol_)
+    return dt_, rtol_, atol_
+
+
+def warn_step(plan: Mapping[str, float], method: str, dt_given: bool, rtol: float, *,
+              stacklevel: int, where: str = "") -> None:
+    """Warns with `StepSizeWarning` when `plan` (of `_core.step_plan`) predicts that RK4
+    dissipates the run; `where` names the run (a batch's worst row). `stacklevel` counts
+    from this function."""
     drift = plan["predicted_drift"]
     # a step chosen for an accuracy answers to that accuracy
-    tolerance = MAX_PREDICTED_DRIFT if dt is not None else max(rtol_, MAX_PREDICTED_DRIFT)
+    tolerance = MAX_PREDICTED_DRIFT if dt_given else max(rtol, MAX_PREDICTED_DRIFT)
     if method in GUARDED_METHODS and drift > tolerance:
         h_rate = plan["step"] * plan["rate_bound"]
         if h_rate >= _WOBBLE_LIMIT:
@@ -103,13 +121,12 @@ def plan_step(
         else:
             why = (
                 f"RK4 would lose a fraction {drift:.2g} of |q| over this run, more than "
-                f"{'MAX_PREDICTED_DRIFT' if dt is not None else 'rtol'} = {tolerance:g}"
+                f"{'MAX_PREDICTED_DRIFT' if dt_given else 'rtol'} = {tolerance:g}"
             )
         warnings.warn(
-            f"step {plan['step']:.4g} (dt·Ω = {h_rate:.3g}, Ω = {plan['rate_bound']:.4g} the "
-            f"bound of |ω|) is too large for {method!r}: {why}. Take a smaller dt, dt=None "
+            f"{where}step {plan['step']:.4g} (dt·Ω = {h_rate:.3g}, Ω = {plan['rate_bound']:.4g} "
+            f"the bound of |ω|) is too large for {method!r}: {why}. Take a smaller dt, dt=None "
             "to pick the step for an accuracy, or method='splitting'.",
             StepSizeWarning,
             stacklevel=stacklevel,
         )
-    return plan["dt"], rtol_, atol_

@@ -4,6 +4,8 @@
   stable counter-examples; prints each run's flip times and drift.
 - ``dzhanibekov run SCENE.toml --out DIR``: what one scene draws (a file or a shipped name).
 - ``dzhanibekov scenes``: the shipped scenes; ``--show NAME`` prints one, to start your own.
+- ``dzhanibekov map --out DIR``: stability maps (flip period and tilt over a grid of starts,
+  with the separatrix) and their sweeps' numbers.
 
 Output is all or nothing: files are drawn beside DIR and moved in when all are done.
 """
@@ -16,6 +18,8 @@ import time
 from collections.abc import Sequence
 from importlib import resources
 from pathlib import Path
+
+import numpy as np
 
 from .plan import SceneResult
 from .scene import SCENES, SceneError, load_scene
@@ -65,6 +69,25 @@ def _run(args: argparse.Namespace) -> int:
         result = compute(scene)
         files = render_scene(result, tmp, progress=_progress(args))
     _table([result], time.perf_counter() - start)
+    print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
+    return 0
+
+
+def _map(args: argparse.Namespace) -> int:
+    from .maps import MAPS, render_maps
+    from .render import output_folder
+
+    kinds = MAPS if args.kind == "both" else (args.kind,)
+    start = time.perf_counter()
+    with output_folder(args.out) as tmp:
+        files, results = render_maps(tmp, kinds, size=args.size, t_end=args.t_end, dt=args.dt,
+                                     progress=_progress(args))
+    print(f"{'map':<10} {'runs':>7} {'flipped':>8} {'turned over':>12} {'steps per run':>14}")
+    for kind, r in zip(kinds, results):
+        turned = int((r.tilt > np.pi / 2).sum())
+        print(f"{kind:<10} {len(r):>7} {int((r.flips > 0).sum()):>8} {turned:>12}"
+              f" {int(r.n_steps.flat[0]):>14}")
+    print(f"rendered in {time.perf_counter() - start:.1f} s")
     print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
     return 0
 
@@ -120,6 +143,27 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("--dt", type=float, default=None, help="override the scene's step")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(run=_run)
+
+    stability = commands.add_parser(
+        "map",
+        help="render stability maps: flip period and tilt over a grid of starts",
+        description="Sweep a grid of starts and draw, into DIR, the measured flip period "
+        "and the largest tilt of the spin axis over it, with the separatrix: map-rates.png "
+        "(the paper's body, ω0 = (u0, v0, 1)) and map-inertia.png (bodies (1, iy, iz), "
+        "ω0 = (0.2, 0.2, 1)), each with a .npz of the per-run numbers.",
+    )
+    stability.add_argument("--out", required=True, type=Path, metavar="DIR",
+                           help="folder to write into (created; files of the same name "
+                           "replaced)")
+    stability.add_argument("--kind", choices=["rates", "inertia", "both"], default="both",
+                           help="which map (default both)")
+    stability.add_argument("--size", type=int, default=81,
+                           help="starts per axis of the grid (default 81)")
+    stability.add_argument("--t-end", type=float, default=200.0, dest="t_end",
+                           help="length of each run (default 200)")
+    stability.add_argument("--dt", type=float, default=1e-2, help="RK4 step (default 0.01)")
+    stability.add_argument("--no-progress", action="store_true", help="no progress bar")
+    stability.set_defaults(run=_map)
 
     scenes = commands.add_parser(
         "scenes",

@@ -185,7 +185,9 @@ class Scene:
             q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt, method=self.method
         )
         kwargs.update(overrides)
-        return simulate(self.body, self.omega0, **kwargs)
+        traj = simulate(self.body, self.omega0, **kwargs)
+        assert isinstance(traj, Trajectory), "a scene is one run"
+        return traj
 
     def summarize(self, **overrides: Any) -> Summary:
         """Simulates the scene keeping no frames (:func:`summarize`): flip times only."""

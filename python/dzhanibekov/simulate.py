@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
-from typing import Any
+from collections.abc import Sequence
+from typing import Any, overload
 
 import numpy as np
 
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import plan_step
+from .batch import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .trajectory import Drift, Trajectory
 
@@ -25,6 +27,42 @@ DEFAULT_MAX_STEPS = 10**10
 """Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""
 
 
+@overload
+def simulate(
+    body: Body | Sequence[float],
+    omega0: Sequence[float],
+    q0: Sequence[float] = ...,
+    t_end: float = ...,
+    frames: int = ...,
+    dt: float | None = ...,
+    method: str = ...,
+    *,
+    rtol: float | None = ...,
+    atol: float | None = ...,
+    flips: bool = ...,
+    max_steps: int = ...,
+    threads: int | None = ...,
+) -> Trajectory: ...
+
+
+@overload
+def simulate(
+    body: Any,
+    omega0: Any,
+    q0: Any = ...,
+    t_end: float = ...,
+    frames: int = ...,
+    dt: float | None = ...,
+    method: str = ...,
+    *,
+    rtol: float | None = ...,
+    atol: float | None = ...,
+    flips: bool = ...,
+    max_steps: int = ...,
+    threads: int | None = ...,
+) -> Trajectory | Batch: ...
+
+
 def simulate(
     body: Body | Any,
     omega0: Any,
@@ -38,20 +76,30 @@ def simulate(
     atol: float | None = None,
     flips: bool = True,
     max_steps: int = DEFAULT_MAX_STEPS,
-) -> Trajectory:
+    threads: int | None = None,
+) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
     Euler's equations for the body-frame angular velocity and the body-frame quaternion law
     ``q' = ½ q ⊗ (0, ω)`` are integrated in the Rust core without the GIL; only the frames
     are stored, so a run of 10⁸ steps with 201 frames holds 201 frames.
 
+    With a leading batch axis, NumPy style — `omega0` of shape (M, 3), `q0` of shape (M, 4),
+    or moments of shape (M, 3) for one body per run; inputs without it are shared by every
+    run — it simulates M runs over one frame grid on all cores and returns a
+    :class:`~dzhanibekov.batch.Batch` (``t`` (frames,), ``omega`` (M, frames, 3), ``q``
+    (M, frames, 4), flip times and drift per run). RK4 runs several at once in SIMD lanes;
+    every run equals its single run bit for bit (``batch[i]``), whatever the number of
+    threads. For one number per run (flips, tilt, drift) and no frames, use
+    :func:`~dzhanibekov.sweep`.
+
     Parameters
     ----------
-    body : Body or array_like, shape (3,)
-        The body, or its principal moments ``(Ix, Iy, Iz)``.
-    omega0 : array_like, shape (3,)
+    body : Body or array_like, shape (3,) or (M, 3)
+        The body, or its principal moments ``(Ix, Iy, Iz)``; one row per run of a batch.
+    omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite.
-    q0 : array_like, shape (4,)
+    q0 : array_like, shape (4,) or (M, 4)
         Initial attitude, scalar first ``(Q, U, V, W)``; normalised here, must be non-zero.
     t_end : float
         End time, positive.
@@ -91,10 +139,14 @@ def simulate(
         run; ``flips=False`` skips it and leaves ``flip_times`` as None.
     max_steps : int
         Refuse runs needing more steps than this (default 10¹⁰).
+    threads : int, optional
+        A batch's threads (default: all cores). A single run uses one.
 
     Returns
     -------
-    Trajectory
+    Trajectory or Batch
+        A `Batch` when an input has a batch axis. With ``dt=None`` every run of a batch
+        takes the smallest of the steps its runs would pick alone.
 
     Warns
     -----
@@ -109,7 +161,8 @@ def simulate(
         An argument of the wrong kind (say, a string for `t_end` or a float for `frames`).
     ValueError
         An argument out of range, a run of more than `max_steps` steps, frames that would
-        not fit in memory, or a state that stopped being finite (`dt` far too large).
+        not fit in memory (say, of a batch: ask `sweep` for summaries instead), or a state
+        that stopped being finite (`dt` far too large); for a batch, naming the run.
     KeyboardInterrupt
         On Ctrl-C; the run stops within a fraction of a second.
 
@@ -127,7 +180,14 @@ def simulate(
     >>> traj = simulate(Body(inertia=(52.0833, 27.0833, 41.6666)), (0.01, 0.01, 1.0))
     >>> traj.omega.shape, traj.q.shape, traj.t[-1]
     ((201, 3), (201, 4), 100.0)
+    >>> batch = simulate((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0.0, 1.0, 0.01)])
+    >>> batch.omega.shape, batch.flips
+    ((2, 201, 3), array([2, 0]))
     """
+    if is_batch(body, omega0, q0):
+        return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
+                              flips=flips, max_steps=max_steps, threads=threads)
+    checked_threads(threads)
     body, omega0, q0, t_end, frames, max_steps = _checked(
         body, omega0, q0, t_end, frames, method, max_steps
     )

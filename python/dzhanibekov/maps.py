@@ -1,0 +1,286 @@
+"""Stability maps: what a sweep measured over a grid of two parameters, with the separatrix.
+
+A map is drawn from a :class:`~dzhanibekov.Sweep` of shape ``(n_x, n_y)`` whose starts vary
+one parameter along each axis (as :func:`~dzhanibekov.grid` makes them): initial rates
+``u0, v0, w0`` or inertia ratios ``iy = Iy/Ix, iz = Iz/Ix``. The colour is the measured flip
+period, the largest tilt of the spin axis, the flip count or the exact period; the red line
+is the separatrix, where the start lies on the motion that divides the wobbles about one
+stable axis from those about the other: ``L² = 2E I_mid``, i.e.
+``Σ_k I_k (I_k − I_mid) ω_k² = 0``, computed from the formula on a fine grid.
+
+>>> import numpy as np, dzhanibekov as dz
+>>> from dzhanibekov.maps import stability_map
+>>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid(np.linspace(0, 1, 5), np.linspace(0, 1, 5), 1.0),
+...              t_end=50.0, dt=1e-2)
+>>> fig = stability_map(s, quantity="tilt", save="map.png")               # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
+from matplotlib.figure import Figure
+
+from .plotting import _figure_of
+from .sweep import Sweep
+
+__all__ = [
+    "stability_map", "separatrix_gap", "map_sweep", "map_figure", "render_maps", "QUANTITIES",
+    "PARAMETERS", "MAPS",
+]
+
+PARAMETERS: dict[str, tuple[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]] = {
+    "u0": ("u₀ (initial rate about x)", lambda inertia, omega: omega[..., 0]),
+    "v0": ("v₀ (initial rate about y)", lambda inertia, omega: omega[..., 1]),
+    "w0": ("w₀ (initial rate about z)", lambda inertia, omega: omega[..., 2]),
+    "iy": ("iy = Iy / Ix", lambda inertia, omega: inertia[..., 1] / inertia[..., 0]),
+    "iz": ("iz = Iz / Ix", lambda inertia, omega: inertia[..., 2] / inertia[..., 0]),
+}
+"""The parameters a map's axes can show: a label and how to read it off the starts."""
+
+QUANTITIES = ("period", "tilt", "flips", "exact_period")
+"""What a map can colour by."""
+
+
+def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
+    """``L² − 2E I_mid = Σ_k I_k (I_k − I_mid) ω_k²``, relative to ``L²``: zero on the
+    separatrix, positive for motions about the axis of the largest moment, negative about
+    the smallest.
+
+    Parameters
+    ----------
+    inertia, omega : ndarray, shape (..., 3)
+        Principal moments and body rates (broadcast together).
+
+    Returns
+    -------
+    ndarray, shape (...)
+    """
+    inertia, omega = np.broadcast_arrays(np.asarray(inertia, float), np.asarray(omega, float))
+    mid = np.median(inertia, axis=-1, keepdims=True)
+    l2 = np.sum((inertia * omega) ** 2, axis=-1)
+    gap = np.sum(inertia * (inertia - mid) * omega**2, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(l2 > 0, gap / l2, 0.0)
+
+
+def _axes_of(result: Sweep) -> tuple[str, str]:
+    """The parameter that varies along each axis of a 2-D sweep (and not along the other)."""
+    if len(result.shape) != 2 or min(result.shape) < 2:
+        raise ValueError(
+            f"a stability map needs a sweep over a 2-D grid of at least 2 × 2 starts (see "
+            f"`dz.grid`), got shape {result.shape}"
+        )
+    names = []
+    for axis in (0, 1):
+        for name, (_, read) in PARAMETERS.items():
+            values = read(result.inertia, result.omega0)
+            varies = np.ptp(values, axis=axis).max() > 0
+            constant_across = np.ptp(values, axis=1 - axis).max() == 0
+            if varies and constant_across and name not in names:
+                names.append(name)
+                break
+        else:
+            raise ValueError(
+                f"the sweep's axis {axis} varies none of {', '.join(PARAMETERS)} alone; "
+                "build the starts with `dz.grid`"
+            )
+    return names[0], names[1]
+
+
+def _values(result: Sweep, quantity: str) -> tuple[np.ndarray, str, Normalize, str]:
+    if quantity == "tilt":
+        return (result.tilt_degrees, "largest tilt of the spin axis (°)",
+                TwoSlopeNorm(vcenter=90.0, vmin=0.0, vmax=180.0), "coolwarm")
+    if quantity == "flips":
+        flips = result.flips.astype(float)
+        return flips, "flips", Normalize(0, max(1.0, float(flips.max()))), "viridis"
+    if quantity in ("period", "exact_period"):
+        values = np.where(np.isfinite(getattr(result, quantity)), getattr(result, quantity),
+                          np.nan)
+        finite = values[np.isfinite(values)]
+        norm: Normalize = (LogNorm(float(finite.min()), float(finite.max()))
+                           if finite.size and finite.min() > 0 and finite.max() > finite.min()
+                           else Normalize())
+        label = "flip period (measured)" if quantity == "period" else "flip period (exact)"
+        return values, label, norm, "viridis"
+    raise ValueError(f"`quantity` must be one of {QUANTITIES}, got {quantity!r}")
+
+
+def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool = True,
+                  ax: Axes | None = None, save: str | Path | None = None) -> Figure:
+    """The stability map of a sweep over a 2-D grid: a quantity per start, and the separatrix.
+
+    Parameters
+    ----------
+    result : Sweep
+        A sweep of shape ``(n_x, n_y)``, ``n_x, n_y ≥ 2``, whose starts vary one of ``u0,
+        v0, w0, iy, iz`` along each axis (see :func:`~dzhanibekov.grid`).
+    quantity : {"period", "tilt", "flips", "exact_period"}
+        The colour: the measured flip period (log scale; blank where a run flipped fewer
+        than twice), the largest tilt of the spin axis (degrees, white at 90°), the flip
+        count, or the exact period (blank where the motion never flips).
+    separatrix : bool
+        Draw the separatrix (red), from the formula on a grid 4 times finer than the
+        sweep's, with the other parameters as in the sweep.
+    ax : Axes, optional
+        Draw into this axes instead of a new figure.
+    save : str or Path, optional
+        Where to save the figure (format from the suffix).
+
+    Returns
+    -------
+    Figure
+        One mesh of colours (with a colour bar) and, if asked, the separatrix as a contour
+        labelled ``separatrix``.
+
+    Raises
+    ------
+    TypeError
+        `result` not a Sweep.
+    ValueError
+        A sweep that is not over a 2-D grid of one parameter per axis, or an unknown
+        `quantity`.
+    """
+    if not isinstance(result, Sweep):
+        raise TypeError(f"`result` must be a Sweep, got {type(result).__name__}")
+    if quantity not in QUANTITIES:
+        raise ValueError(f"`quantity` must be one of {QUANTITIES}, got {quantity!r}")
+    x_name, y_name = _axes_of(result)
+    (x_label, read_x), (y_label, read_y) = PARAMETERS[x_name], PARAMETERS[y_name]
+    x = read_x(result.inertia, result.omega0)[:, 0]
+    y = read_y(result.inertia, result.omega0)[0, :]
+    values, label, norm, cmap = _values(result, quantity)
+    if ax is None:
+        fig = Figure(figsize=(6.4, 5.0), layout="constrained")
+        ax = fig.add_subplot()
+    fig = _figure_of(ax)
+    ax.set_facecolor("#d9d9d9")  # runs without a value (no flips) show grey
+    mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(values).T, shading="nearest", norm=norm,
+                         cmap=cmap)
+    fig.colorbar(mesh, ax=ax, label=label)
+    if separatrix:
+        _draw_separatrix(ax, result, (x_name, x), (y_name, y))
+    ax.set_xlabel(x_label)
+    ax.set_ylabel(y_label)
+    ax.set_title(_title(result, (x_name, y_name)), fontsize=9)
+    if save is not None:
+        fig.savefig(save, dpi=100)
+    return fig
+
+
+def _draw_separatrix(ax: Axes, result: Sweep, x: tuple[str, np.ndarray],
+                     y: tuple[str, np.ndarray]) -> None:
+    fine_x = np.linspace(x[1].min(), x[1].max(), 4 * len(x[1]))
+    fine_y = np.linspace(y[1].min(), y[1].max(), 4 * len(y[1]))
+    gx, gy = np.meshgrid(fine_x, fine_y, indexing="ij")
+    inertia = np.broadcast_to(result.inertia[0, 0], gx.shape + (3,)).copy()
+    omega = np.broadcast_to(result.omega0[0, 0], gx.shape + (3,)).copy()
+    for name, grid in ((x[0], gx), (y[0], gy)):
+        if name in ("u0", "v0", "w0"):
+            omega[..., "uvw".index(name[0])] = grid
+        else:
+            inertia[..., "xyz".index(name[1])] = grid * inertia[..., 0]
+    gap = separatrix_gap(inertia, omega)
+    if np.nanmin(gap) < 0 < np.nanmax(gap):
+        lines = ax.contour(gx, gy, gap, levels=[0.0], colors="#c0392b", linewidths=1.4)
+        lines.set_label("separatrix")
+        ax.legend(handles=[_line("separatrix")], loc="upper right", fontsize=8)
+
+
+def _line(label: str) -> Any:
+    from matplotlib.lines import Line2D
+
+    return Line2D([], [], color="#c0392b", lw=1.4, label=label)
+
+
+def _title(result: Sweep, names: tuple[str, str]) -> str:
+    fixed = []
+    inertia, omega = result.inertia[0, 0], result.omega0[0, 0]
+    if not {"iy", "iz"} & set(names):
+        fixed.append("I = (" + ", ".join(f"{i:.4g}" for i in inertia) + ")")
+    else:
+        fixed.append(f"Ix = {inertia[0]:.4g}")
+    rates = [f"{c}₀ = {w:.3g}" for c, w in zip("uvw", omega) if f"{c}0" not in names]
+    fixed += rates
+    return (f"Stability map: {', '.join(fixed)}; {result.method}, t_end = {result.t_end:g}, "
+            f"{len(result)} runs")
+
+
+MAPS = ("rates", "inertia")
+"""The maps `render_maps` draws: over initial rates, and over inertia ratios."""
+
+
+def map_sweep(kind: str, *, size: int = 81, t_end: float = 200.0, dt: float = 1e-2,
+              progress: bool | None = None) -> Sweep:
+    """The sweep behind a shipped map.
+
+    ``"rates"``: the paper's body (z intermediate) from ``ω0 = (u0, v0, 1)``, ``u0, v0`` in
+    ``[0, 1.5]``: near the origin the spin is about the intermediate axis and flips; the
+    separatrix is the line ``Ix (Ix − Iz) u0² = Iy (Iz − Iy) v0²``. ``"inertia"``: bodies
+    ``(1, iy, iz)``, ``iy, iz`` in ``[0.5, 1.5]`` (all physical: each moment at most the sum of
+    the others), from ``ω0 = (0.2, 0.2, 1)``: z is intermediate between the lines ``iz = 1``
+    and ``iz = iy``, y and x in the other wedges, and each has its own separatrix.
+
+    Parameters
+    ----------
+    kind : {"rates", "inertia"}
+    size : int
+        Starts per axis (at least 2).
+    t_end, dt : float
+        Each run's length and step.
+    progress : bool, optional
+        As for :func:`~dzhanibekov.sweep`.
+    """
+    from ._checks import as_int
+    from .scenarios import PAPER_INERTIA
+    from .sweep import grid, sweep
+
+    size = as_int("size", size, minimum=2)
+    if kind == "rates":
+        rates = np.linspace(0.0, 1.5, size)
+        return sweep(PAPER_INERTIA, grid(rates, rates, 1.0), t_end=t_end, dt=dt, frames=2,
+                     progress=progress)
+    if kind == "inertia":
+        ratios = np.linspace(0.5, 1.5, size)
+        return sweep(grid(1.0, ratios, ratios), (0.2, 0.2, 1.0), t_end=t_end, dt=dt, frames=2,
+                     progress=progress)
+    raise ValueError(f"`kind` must be one of {MAPS}, got {kind!r}")
+
+
+def map_figure(result: Sweep, *, save: str | Path | None = None) -> Figure:
+    """A sweep's map twice, side by side: the measured flip period and the largest tilt."""
+    fig = Figure(figsize=(12.0, 4.8), layout="constrained")
+    for k, quantity in enumerate(("period", "tilt")):
+        stability_map(result, quantity=quantity, ax=fig.add_subplot(1, 2, k + 1))
+    if save is not None:
+        fig.savefig(save, dpi=100)
+    return fig
+
+
+def render_maps(folder: str | Path, kinds: tuple[str, ...] = MAPS, *, size: int = 81,
+                t_end: float = 200.0, dt: float = 1e-2,
+                progress: bool | None = None) -> tuple[list[Path], list[Sweep]]:
+    """Writes ``map-KIND.png`` (:func:`map_figure`) and ``map-KIND.npz`` (the sweep's
+    per-run arrays) for each kind into `folder`. Returns the files and the sweeps."""
+    folder = Path(folder)
+    files: list[Path] = []
+    results = []
+    for kind in kinds:
+        result = map_sweep(kind, size=size, t_end=t_end, dt=dt, progress=progress)
+        path = folder / f"map-{kind}.png"
+        map_figure(result, save=path)
+        data = folder / f"map-{kind}.npz"
+        np.savez_compressed(
+            data, inertia=result.inertia, omega0=result.omega0, flips=result.flips,
+            first_flip=result.first_flip, period=result.period,
+            exact_period=result.exact_period, tilt=result.tilt,
+            drift_energy=result.drift.energy, t_end=result.t_end, dt=result.dt)
+        files += [path, data]
+        results.append(result)
+    return files, results

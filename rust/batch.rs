@@ -1,0 +1,608 @@
+//! Many runs at once on all cores: a batch of starts (bodies, rates, attitudes) over one
+//! frame grid.
+//!
+//! RK4 runs in groups of [`LANES`] runs in SIMD lanes ([`crate::lanes`]), the groups spread
+//! over the cores by rayon. Every other method runs as single runs, one per row, spread over
+//! the cores the same way. Either way a row performs exactly the floating-point operations of
+//! the single run of its inputs ([`crate::run::simulate`]), so it equals that run bit for
+//! bit, and no result depends on the number of threads or on how rows fall into groups.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::body::RigidBody;
+use crate::buffer::zeroed_for;
+use crate::dynamics::{state_from, FreeRigidBody, State};
+use crate::error::{Error, Result};
+use crate::integrators::Stats;
+use crate::lanes::{advance, Isa, Lanes, Span};
+use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
+use crate::run::{normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT};
+use crate::tilt::TiltMonitor;
+
+/// Runs integrated together in one group of SIMD lanes: two AVX-512 vectors, four AVX2 ones.
+pub const LANES: usize = 16;
+
+/// What to say when a batch's frames would not fit.
+const FRAMES_HINT: &str = "ask for fewer runs or frames, or use `sweep` (or `summarize`) for \
+                           per-run summaries, which keep no frames";
+
+/// The start of one run of a batch: its body, body rates and attitude.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Start {
+    pub body: RigidBody,
+    pub omega0: [f64; 3],
+    /// As given (a single run normalises it; so does the batch, in the same way).
+    pub q0: [f64; 4],
+}
+
+impl Start {
+    /// A run's start, checked as [`simulate`] checks it.
+    ///
+    /// # Errors
+    /// Bad moments, non-finite rates, a zero or non-finite quaternion.
+    pub fn try_new(inertia: [f64; 3], omega0: [f64; 3], q0: [f64; 4]) -> Result<Self> {
+        let body = RigidBody::try_new(inertia)?;
+        if !omega0.iter().all(|w| w.is_finite()) {
+            return Err(Error::invalid(
+                "omega0",
+                "must be three finite body rates",
+                omega0,
+            ));
+        }
+        normalized(q0)?;
+        Ok(Self { body, omega0, q0 })
+    }
+
+    /// The starts of rows of `inertia` (one row, or one per start), `omega0` and `q0` (one
+    /// row, or one per start), flat and row-major; errors name the row.
+    ///
+    /// # Errors
+    /// As [`Start::try_new`], and lengths that are not whole rows of the same count.
+    pub fn rows(inertia: &[f64], omega0: &[f64], q0: &[f64]) -> Result<Vec<Start>> {
+        let m = omega0.len() / 3;
+        let shape_ok = |len: usize, width: usize| len == width || len == width * m;
+        if !omega0.len().is_multiple_of(3) || !shape_ok(inertia.len(), 3) || !shape_ok(q0.len(), 4)
+        {
+            return Err(Error::InvalidArgument {
+                name: "inertia, omega0, q0",
+                allowed: "must have shapes (M, 3) or (3,), (M, 3), and (M, 4) or (4,)",
+                got: format!(
+                    "{} / 3, {} / 3 and {} / 4 rows",
+                    inertia.len(),
+                    omega0.len(),
+                    q0.len()
+                ),
+            });
+        }
+        let row = |v: &[f64], w: usize, i: usize| if v.len() == w { 0 } else { i * w };
+        (0..m)
+            .map(|i| {
+                let (a, b, c) = (row(inertia, 3, i), 3 * i, row(q0, 4, i));
+                Start::try_new(
+                    [inertia[a], inertia[a + 1], inertia[a + 2]],
+                    [omega0[b], omega0[b + 1], omega0[b + 2]],
+                    [q0[c], q0[c + 1], q0[c + 2], q0[c + 3]],
+                )
+                .map_err(|e| e.in_row(i))
+            })
+            .collect()
+    }
+
+    fn omega(&self) -> Vector3<f64> {
+        Vector3::from(self.omega0)
+    }
+}
+
+/// How a batch runs: on how many threads, with which instruction set.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Options {
+    /// Threads to run on; `None` for rayon's global pool (all cores).
+    pub threads: Option<usize>,
+    /// The SIMD instruction set of the RK4 lanes; `None` for the widest this CPU has.
+    pub isa: Option<Isa>,
+}
+
+impl Options {
+    /// Runs `work` on the threads asked for.
+    ///
+    /// # Errors
+    /// `threads` zero, or a pool that cannot be built; the errors of `work`.
+    pub(crate) fn install<T: Send>(&self, work: impl FnOnce() -> Result<T> + Send) -> Result<T> {
+        let Some(n) = self.threads else {
+            return work();
+        };
+        if n == 0 {
+            return Err(Error::invalid("threads", "must be at least 1", n));
+        }
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Error::invalid("threads", "must give a thread pool", e.to_string()))?;
+        pool.install(work)
+    }
+
+    /// The instruction set to run.
+    ///
+    /// # Errors
+    /// One this CPU does not have.
+    pub(crate) fn isa(&self) -> Result<Isa> {
+        match self.isa {
+            None => Ok(Isa::detect()),
+            Some(isa) if isa.is_supported() => Ok(isa),
+            Some(isa) => Err(Error::invalid(
+                "isa",
+                "must be an instruction set this CPU has",
+                isa.name(),
+            )),
+        }
+    }
+}
+
+/// The user's cancel flag, and the batch's own, set when a run fails so that the others stop.
+pub(crate) struct Stop<'a> {
+    pub(crate) cancel: &'a AtomicBool,
+    abort: AtomicBool,
+}
+
+impl<'a> Stop<'a> {
+    pub(crate) fn new(cancel: &'a AtomicBool) -> Self {
+        Self {
+            cancel,
+            abort: AtomicBool::new(false),
+        }
+    }
+
+    /// [`Error::Interrupted`] once the user or a failed run asked to stop.
+    pub(crate) fn check(&self) -> Result<()> {
+        if self.cancel.load(Ordering::Relaxed) || self.abort.load(Ordering::Relaxed) {
+            return Err(Error::Interrupted);
+        }
+        Ok(())
+    }
+
+    /// `result`, and on a failure tells the other runs to stop.
+    pub(crate) fn watch<T>(&self, result: Result<T>) -> Result<T> {
+        if result.is_err() {
+            self.abort.store(true, Ordering::Relaxed);
+        }
+        result
+    }
+
+    /// The results of every part of a batch, in order; or the first real error (a row's),
+    /// rather than the interruptions it caused.
+    pub(crate) fn gather<T>(&self, parts: Vec<Result<T>>) -> Result<Vec<T>> {
+        if parts.iter().any(Result::is_err) {
+            let mut errors = parts.into_iter().filter_map(Result::err);
+            let first = errors.next().unwrap_or(Error::Interrupted);
+            return Err(match first {
+                Error::Interrupted => errors
+                    .find(|e| !matches!(e, Error::Interrupted))
+                    .unwrap_or(Error::Interrupted),
+                e => e,
+            });
+        }
+        Ok(parts.into_iter().filter_map(Result::ok).collect())
+    }
+}
+
+/// What a group of lanes watches and keeps.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Watch {
+    /// Locate the flips.
+    pub flips: bool,
+    /// Track the tilt of the spin axis.
+    pub tilt: bool,
+    /// Keep only the count, first and last of the flip times (see [`FlipTally`]).
+    pub count_only: bool,
+}
+
+/// The flips of a run, counted: how many, the first and the last.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FlipTally {
+    pub count: u64,
+    /// The first flip time; NaN if none.
+    pub first: f64,
+    /// The last flip time; NaN if none.
+    pub last: f64,
+}
+
+impl Default for FlipTally {
+    fn default() -> Self {
+        Self {
+            count: 0,
+            first: f64::NAN,
+            last: f64::NAN,
+        }
+    }
+}
+
+impl FlipTally {
+    /// Counts the flips at `times` (in order, after those counted so far).
+    pub fn absorb(&mut self, times: &[f64]) {
+        if let (Some(&first), Some(&last)) = (times.first(), times.last()) {
+            if self.count == 0 {
+                self.first = first;
+            }
+            self.last = last;
+            self.count += times.len() as u64;
+        }
+    }
+
+    /// The measured flip period: the mean time between consecutive flips,
+    /// `(last − first) / (count − 1)`; NaN with fewer than two flips.
+    pub fn mean_period(&self) -> f64 {
+        if self.count < 2 {
+            return f64::NAN;
+        }
+        (self.last - self.first) / (self.count - 1) as f64
+    }
+}
+
+/// Where a group's frames go: ω and q of its rows, each row's `(frames, 3)` and `(frames, 4)`
+/// in turn; `None` when no frames are kept.
+pub(crate) type Frames<'a> = Option<(&'a mut [f64], &'a mut [f64])>;
+
+/// What one run of a group of lanes leaves.
+#[derive(Debug, Clone)]
+pub(crate) struct LaneRun {
+    /// Every flip time, unless only counted.
+    pub flip_times: Vec<f64>,
+    pub flips: FlipTally,
+    pub drift: Drift,
+    /// The largest tilt of the spin axis (radians), if watched.
+    pub tilt: f64,
+}
+
+/// Integrates `starts` (at most [`LANES`]; rows `first_row..` of the batch) by RK4 in SIMD
+/// lanes over `grid`, as [`crate::run::integrate`] integrates each: the same steps, the same
+/// observers shown the same frames and, when they would change, the same steps. Writes the
+/// frames into `frames` (ω then q, each row's `(frames, 3)` and `(frames, 4)` in turn) if
+/// given.
+///
+/// # Errors
+/// [`Error::Interrupted`] soon after `stop` is set; a row's [`Error::Diverged`].
+pub(crate) fn run_group(
+    isa: Isa,
+    starts: &[Start],
+    first_row: usize,
+    grid: &FrameGrid,
+    watch: Watch,
+    mut frames: Frames,
+    stop: &Stop,
+) -> Result<Vec<LaneRun>> {
+    let real = starts.len();
+    assert!(
+        (1..=LANES).contains(&real),
+        "a group holds 1 to {LANES} runs"
+    );
+    stop.check()?;
+    // Spare lanes repeat the last run; their results are dropped.
+    let start = |l: usize| &starts[l.min(real - 1)];
+    let systems: [FreeRigidBody; LANES] =
+        std::array::from_fn(|l| FreeRigidBody::new(start(l).body));
+    let mut x0 = [[0.0; 7]; LANES];
+    for (l, x) in x0.iter_mut().enumerate() {
+        *x = state_from(start(l).omega0, normalized(start(l).q0)?);
+    }
+    let euler = systems.map(|s| s.euler_coefficients().into());
+    let mut lanes = Lanes::<LANES>::new(&euler, &x0);
+    let mut drift: Vec<DriftMonitor> = starts
+        .iter()
+        .map(|s| DriftMonitor::new(&s.body, &s.omega()))
+        .collect();
+    let mut detectors: Vec<FlipDetector> = match watch.flips {
+        true => (0..LANES)
+            .map(|l| {
+                FlipDetector::new(
+                    &start(l).body,
+                    &systems[l].euler_coefficients(),
+                    &start(l).omega(),
+                )
+            })
+            .collect(),
+        false => Vec::new(),
+    };
+    let mut tilts: Vec<TiltMonitor> = match watch.tilt {
+        true => (0..LANES)
+            .map(|l| TiltMonitor::new(&start(l).body, &start(l).omega()))
+            .collect(),
+        false => Vec::new(),
+    };
+    let mut tallies = vec![FlipTally::default(); real];
+    let n_frames = grid.frames();
+    let record = |i: usize, l: usize, x: &State, frames: &mut Frames| {
+        if let Some((omega, q)) = frames {
+            let (a, b) = (3 * (l * n_frames + i), 4 * (l * n_frames + i));
+            omega[a..a + 3].copy_from_slice(&x[..3]);
+            q[b..b + 4].copy_from_slice(&x[3..]);
+        }
+    };
+    for l in 0..LANES {
+        let x = &x0[l];
+        if l < real {
+            drift[l].frame(0, 0.0, x);
+            record(0, l, x, &mut frames);
+        }
+        if let Some(d) = detectors.get_mut(l) {
+            d.frame(0, 0.0, x);
+            lanes.watch_flips(l, d);
+        }
+        if let Some(t) = tilts.get_mut(l) {
+            t.frame(0, 0.0, x);
+            lanes.watch_tilt(l, t);
+        }
+    }
+    let n = grid.substeps();
+    for i in 1..n_frames {
+        let (ta, tb) = (grid.time(i - 1), grid.time(i));
+        let h = (tb - ta) / n as f64;
+        let mut done = 0;
+        while done < n {
+            let to = done + (n - done).min(CHECK_EVERY);
+            let span = Span {
+                ta,
+                tb,
+                h,
+                n,
+                from: done,
+                to,
+            };
+            advance(
+                isa,
+                &mut lanes,
+                &mut detectors,
+                span,
+                watch.flips,
+                watch.tilt,
+            );
+            done = to;
+            stop.check()?;
+            for l in 0..real {
+                if !lanes.is_finite(l) {
+                    let t = ta + done as f64 * h;
+                    return Err(Error::Diverged {
+                        t,
+                        hint: DIVERGED_HINT,
+                    }
+                    .in_row(first_row + l));
+                }
+            }
+            if watch.count_only {
+                for (tally, d) in tallies.iter_mut().zip(&mut detectors) {
+                    tally.absorb(&d.take_flip_times());
+                }
+            }
+        }
+        for (l, monitor) in drift.iter_mut().enumerate() {
+            let x = lanes.state(l);
+            monitor.frame(i, tb, &x);
+            record(i, l, &x, &mut frames);
+        }
+    }
+    Ok((0..real)
+        .map(|l| {
+            let flip_times = detectors
+                .get_mut(l)
+                .map(|d| d.take_flip_times())
+                .unwrap_or_default();
+            let mut flips = tallies[l];
+            flips.absorb(&flip_times);
+            let tilt = match tilts.get_mut(l) {
+                Some(t) => {
+                    t.set_lowest(lanes.tilt_lowest(l));
+                    t.tilt()
+                }
+                None => f64::NAN,
+            };
+            LaneRun {
+                flip_times,
+                flips,
+                drift: drift[l].drift,
+                tilt,
+            }
+        })
+        .collect())
+}
+
+/// A batch's output: only what [`Keep`] asked for is filled.
+#[derive(Debug, Clone, Default)]
+pub struct BatchOutput {
+    /// `(M, frames, 3)` body rates, row-major; empty unless frames were kept.
+    pub omega: Vec<f64>,
+    /// `(M, frames, 4)` quaternions, scalar first; empty unless frames were kept.
+    pub q: Vec<f64>,
+    /// Row `i`'s flip times are `flip_times[flip_offsets[i]..flip_offsets[i + 1]]`.
+    pub flip_offsets: Vec<usize>,
+    pub flip_times: Vec<f64>,
+    pub drift: Vec<Drift>,
+    pub stats: Vec<Stats>,
+    /// The step taken by each row; for an adaptive method, its mean accepted step.
+    pub dt: Vec<f64>,
+}
+
+/// One row's part of a [`BatchOutput`], before it is put in place.
+struct RowOutput {
+    flip_times: Vec<f64>,
+    drift: Drift,
+    stats: Stats,
+    dt: f64,
+}
+
+/// Simulates every start over `grid`, each as [`simulate`] would alone, on all cores.
+///
+/// RK4 runs in SIMD lanes (see [`run_group`]); other methods as single runs, one per row.
+/// Either way row `i` equals `simulate` of `starts[i]` bit for bit, whatever `options`.
+///
+/// # Errors
+/// [`Error::TooLarge`] if the frames cannot be allocated; a row's error, naming the row
+/// ([`Error::Row`]); [`Error::Interrupted`] soon after `cancel` is set.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use dzhanibekov::batch::{simulate_batch, Options, Start};
+/// use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
+/// let grid = FrameGrid::try_new(10.0, 11, 1e-2, u64::MAX).unwrap();
+/// let keep = Keep { frames: true, flips: true };
+/// let starts = [
+///     Start::try_new([52.0833, 27.0833, 41.6666], [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap(),
+///     Start::try_new([1.0, 2.0, 3.0], [0.3, -0.2, 0.1], [0.5, 0.5, 0.5, 0.5]).unwrap(),
+/// ];
+/// let cancel = AtomicBool::new(false);
+/// let batch = simulate_batch(&starts, &grid, Method::Rk4, keep, &Options::default(), &cancel).unwrap();
+/// let one = simulate(&starts[1].body, starts[1].omega0, starts[1].q0, &grid, Method::Rk4, keep, &cancel).unwrap();
+/// assert_eq!(batch.q[11 * 4..], one.q[..]);
+/// ```
+pub fn simulate_batch(
+    starts: &[Start],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    options: &Options,
+    cancel: &AtomicBool,
+) -> Result<BatchOutput> {
+    let m = starts.len();
+    let isa = options.isa()?;
+    let (mut omega, mut q) = match keep.frames {
+        true => {
+            let values = |width: usize| m.checked_mul(grid.frames())?.checked_mul(width);
+            let too_large = || Error::TooLarge {
+                what: "the batch's frames",
+                needed: format!("{m} runs × {} frames × 7 float64 values", grid.frames()),
+                limit: "the memory this process can address".into(),
+                hint: FRAMES_HINT,
+            };
+            (
+                zeroed_for(
+                    values(3).ok_or_else(too_large)?,
+                    "the batch's frames",
+                    FRAMES_HINT,
+                )?,
+                zeroed_for(
+                    values(4).ok_or_else(too_large)?,
+                    "the batch's frames",
+                    FRAMES_HINT,
+                )?,
+            )
+        }
+        false => (Vec::new(), Vec::new()),
+    };
+    let stop = Stop::new(cancel);
+    let rows: Vec<RowOutput> = options.install(|| {
+        let parts = if method == Method::Rk4 {
+            rk4_rows(isa, starts, grid, keep, &mut omega, &mut q, &stop)
+        } else {
+            single_rows(starts, grid, method, keep, &mut omega, &mut q, &stop)
+        };
+        stop.gather(parts)
+            .map(|p| p.into_iter().flatten().collect())
+    })?;
+    let mut out = BatchOutput {
+        omega,
+        q,
+        flip_offsets: Vec::with_capacity(m + 1),
+        ..BatchOutput::default()
+    };
+    out.flip_offsets.push(0);
+    for row in rows {
+        out.flip_times.extend_from_slice(&row.flip_times);
+        out.flip_offsets.push(out.flip_times.len());
+        out.drift.push(row.drift);
+        out.stats.push(row.stats);
+        out.dt.push(row.dt);
+    }
+    Ok(out)
+}
+
+/// The frames of each group of `group` rows, or nothing for each if none are kept.
+fn frame_chunks<'a>(
+    omega: &'a mut [f64],
+    q: &'a mut [f64],
+    rows: usize,
+    group: usize,
+    frames: usize,
+) -> Vec<Frames<'a>> {
+    let groups = rows.div_ceil(group);
+    if omega.is_empty() {
+        return (0..groups).map(|_| None).collect();
+    }
+    omega
+        .chunks_mut(group * frames * 3)
+        .zip(q.chunks_mut(group * frames * 4))
+        .map(Some)
+        .collect()
+}
+
+fn rk4_rows(
+    isa: Isa,
+    starts: &[Start],
+    grid: &FrameGrid,
+    keep: Keep,
+    omega: &mut [f64],
+    q: &mut [f64],
+    stop: &Stop,
+) -> Vec<Result<Vec<RowOutput>>> {
+    let watch = Watch {
+        flips: keep.flips,
+        tilt: false,
+        count_only: false,
+    };
+    let n_steps = grid.n_steps();
+    let chunks = frame_chunks(omega, q, starts.len(), LANES, grid.frames());
+    starts
+        .par_chunks(LANES)
+        .zip(chunks)
+        .enumerate()
+        .map(|(g, (group, frames))| {
+            let runs = stop.watch(run_group(isa, group, g * LANES, grid, watch, frames, stop))?;
+            Ok(runs
+                .into_iter()
+                .map(|run| RowOutput {
+                    flip_times: run.flip_times,
+                    drift: run.drift,
+                    stats: Stats {
+                        nfev: 4 * n_steps,
+                        n_steps,
+                        n_rejected: 0,
+                    },
+                    dt: grid.step_size(),
+                })
+                .collect())
+        })
+        .collect()
+}
+
+fn single_rows(
+    starts: &[Start],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    omega: &mut [f64],
+    q: &mut [f64],
+    stop: &Stop,
+) -> Vec<Result<Vec<RowOutput>>> {
+    let chunks = frame_chunks(omega, q, starts.len(), 1, grid.frames());
+    starts
+        .par_iter()
+        .zip(chunks)
+        .enumerate()
+        .map(|(i, (s, frames))| {
+            stop.check()?;
+            let run = simulate(&s.body, s.omega0, s.q0, grid, method, keep, stop.cancel);
+            let run = stop.watch(run.map_err(|e| e.in_row(i)))?;
+            if let Some((omega, q)) = frames {
+                omega.copy_from_slice(&run.omega);
+                q.copy_from_slice(&run.q);
+            }
+            Ok(vec![RowOutput {
+                flip_times: run.flip_times,
+                drift: run.drift,
+                stats: run.stats,
+                dt: run.dt,
+            }])
+        })
+        .collect()
+}

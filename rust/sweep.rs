@@ -1,0 +1,225 @@
+//! Sweeps: many runs that each keep a few numbers — the flips counted, the largest tilt of
+//! the spin axis, the invariants' drift, the exact flip period — and no frames, so that a
+//! sweep's memory grows with its runs, never with their frames or steps.
+//!
+//! RK4 runs in SIMD lanes as a batch does ([`crate::batch`]); other methods as single runs
+//! on all cores. A row's numbers equal those of the single run of its inputs bit for bit
+//! (its flips those of [`crate::run::simulate`], its tilt that of a [`TiltMonitor`] shown
+//! every step), whatever the number of threads and however the rows are cut into blocks.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use nalgebra::Vector3;
+use rayon::prelude::*;
+
+use crate::batch::{run_group, FlipTally, Options, Start, Stop, Watch, LANES};
+use crate::dynamics::{state_from, FreeRigidBody};
+use crate::error::{Error, Result};
+use crate::exact::{flip_period, flip_period_of_rates, ExactMotion};
+use crate::integrators::Stats;
+use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
+use crate::run::{normalized, run_method, FrameGrid, Method, CHECK_EVERY};
+use crate::tilt::TiltMonitor;
+
+/// What one run of a sweep measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RunSummary {
+    /// The flips: how many, the first and the last (see [`crate::observe::FlipDetector`]).
+    pub flips: FlipTally,
+    /// The largest tilt of the spin axis, radians in `[0, π]` (see [`crate::tilt`]).
+    pub tilt: f64,
+    /// The exact flip period `2K(m)/λ` of the start ([`flip_period`]); `inf` for a motion
+    /// that never flips.
+    pub exact_period: f64,
+    /// The invariants' largest drift over the frames.
+    pub drift: Drift,
+    pub stats: Stats,
+    /// The step taken; for an adaptive method the mean accepted step, 0 for `exact`.
+    pub dt: f64,
+}
+
+/// Runs every start over `grid` and summarises each run, on all cores.
+///
+/// The frames of `grid` only set the substeps (and where the drift is measured); none are
+/// kept. With `method = Exact` the tilt is measured at the frames, the only states it
+/// evaluates.
+///
+/// # Errors
+/// A row's error, naming the row ([`Error::Row`]); [`Error::Interrupted`] soon after
+/// `cancel` is set.
+///
+/// # Example
+/// ```
+/// use std::sync::atomic::AtomicBool;
+/// use dzhanibekov::batch::{Options, Start};
+/// use dzhanibekov::run::{FrameGrid, Method};
+/// use dzhanibekov::sweep::sweep;
+/// let grid = FrameGrid::try_new(100.0, 2, 1e-3, u64::MAX).unwrap();
+/// let paper = [52.0833, 27.0833, 41.6666];
+/// let starts = [Start::try_new(paper, [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap()];
+/// let runs = sweep(&starts, &grid, Method::Rk4, &Options::default(), &AtomicBool::new(false)).unwrap();
+/// assert_eq!(runs[0].flips.count, 2);
+/// assert!((runs[0].flips.last - runs[0].flips.first - runs[0].exact_period).abs() < 1e-3);
+/// assert!(runs[0].tilt > 3.0); // the spin axis turned over
+/// ```
+pub fn sweep(
+    starts: &[Start],
+    grid: &FrameGrid,
+    method: Method,
+    options: &Options,
+    cancel: &AtomicBool,
+) -> Result<Vec<RunSummary>> {
+    let isa = options.isa()?;
+    let stop = Stop::new(cancel);
+    options.install(|| {
+        let parts: Vec<Result<Vec<RunSummary>>> = if method == Method::Rk4 {
+            starts
+                .par_chunks(LANES)
+                .enumerate()
+                .map(|(g, group)| stop.watch(rk4_group(isa, group, g * LANES, grid, &stop)))
+                .collect()
+        } else {
+            starts
+                .par_iter()
+                .enumerate()
+                .map(|(i, start)| {
+                    stop.check()?;
+                    let run = single(start, grid, method, cancel).map_err(|e| e.in_row(i));
+                    stop.watch(run.map(|r| vec![r]))
+                })
+                .collect()
+        };
+        stop.gather(parts)
+            .map(|p| p.into_iter().flatten().collect())
+    })
+}
+
+fn rk4_group(
+    isa: crate::lanes::Isa,
+    group: &[Start],
+    first_row: usize,
+    grid: &FrameGrid,
+    stop: &Stop,
+) -> Result<Vec<RunSummary>> {
+    let watch = Watch {
+        flips: true,
+        tilt: true,
+        count_only: true,
+    };
+    let runs = run_group(isa, group, first_row, grid, watch, None, stop)?;
+    let n_steps = grid.n_steps();
+    group
+        .iter()
+        .zip(runs)
+        .enumerate()
+        .map(|(l, (start, run))| {
+            Ok(RunSummary {
+                flips: run.flips,
+                tilt: run.tilt,
+                exact_period: exact_period(start).map_err(|e| e.in_row(first_row + l))?,
+                drift: run.drift,
+                stats: Stats {
+                    nfev: 4 * n_steps,
+                    n_steps,
+                    n_rejected: 0,
+                },
+                dt: grid.step_size(),
+            })
+        })
+        .collect()
+}
+
+/// The exact flip period of a start, from its rates alone where that decides it.
+fn exact_period(start: &Start) -> Result<f64> {
+    match flip_period_of_rates(&start.body, start.omega0) {
+        Some(period) => Ok(period),
+        None => flip_period(&start.body, start.omega0),
+    }
+}
+
+/// One run of another method, watched as [`crate::run::simulate`] watches it, plus the tilt.
+fn single(
+    start: &Start,
+    grid: &FrameGrid,
+    method: Method,
+    cancel: &AtomicBool,
+) -> Result<RunSummary> {
+    let body = &start.body;
+    let omega = Vector3::from(start.omega0);
+    let q0 = normalized(start.q0)?;
+    let mut drift = DriftMonitor::new(body, &omega);
+    let mut tilt = TiltMonitor::new(body, &omega);
+    let mut flips = FlipTally::default();
+    let exact_period = exact_period(start)?;
+    let (stats, dt) = if method == Method::Exact {
+        let motion = ExactMotion::try_new(body, start.omega0, q0)?;
+        for i in 0..grid.frames() {
+            if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
+                return Err(Error::Interrupted);
+            }
+            let t = grid.time(i);
+            (&mut drift, &mut tilt).frame(i, t, &motion.state_at(t));
+        }
+        flips.absorb(&motion.flip_times(grid.t_end())?);
+        (Stats::default(), 0.0)
+    } else {
+        let sys = FreeRigidBody::new(*body);
+        let mut detector = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
+        let x0 = state_from(start.omega0, q0);
+        let mut obs = (&mut drift, (&mut detector, &mut tilt));
+        let stats = run_method(method, &sys, x0, grid, &mut obs, cancel)?;
+        flips.absorb(&detector.take_flip_times());
+        let dt = match method.is_adaptive() {
+            true => grid.t_end() / stats.n_steps.max(1) as f64,
+            false => grid.step_size(),
+        };
+        (stats, dt)
+    };
+    Ok(RunSummary {
+        flips,
+        tilt: tilt.tilt(),
+        exact_period,
+        drift: drift.drift,
+        stats,
+        dt,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrators::Rk4;
+    use crate::run::integrate;
+
+    #[test]
+    fn tilt_in_lanes_is_that_of_a_monitor_shown_every_step() {
+        let bodies = [
+            [52.0833, 27.0833, 41.6666],
+            [1.0, 2.0, 3.0],
+            [3.0, 1.0, 2.5],
+        ];
+        let starts: Vec<Start> = (0..21)
+            .map(|i| {
+                let f = i as f64;
+                let omega = [0.4 * (1.1 * f).sin(), 0.6 * (0.5 * f).cos(), 1.0 - 0.03 * f];
+                Start::try_new(bodies[i % 3], omega, [1.0, 0.1 * f, 0.0, -0.2]).unwrap()
+            })
+            .collect();
+        let grid = FrameGrid::try_new(50.0, 3, 5e-3, u64::MAX).unwrap();
+        let cancel = AtomicBool::new(false);
+        let runs = sweep(&starts, &grid, Method::Rk4, &Options::default(), &cancel).unwrap();
+        let mut turned = 0;
+        for (s, run) in starts.iter().zip(&runs) {
+            let sys = FreeRigidBody::new(s.body);
+            let mut tilt = TiltMonitor::new(&s.body, &Vector3::from(s.omega0));
+            let x0 = state_from(s.omega0, normalized(s.q0).unwrap());
+            integrate(&Rk4, &sys, x0, &grid, &mut tilt, &cancel).unwrap();
+            assert_eq!(run.tilt.to_bits(), tilt.tilt().to_bits(), "{s:?}");
+            turned += usize::from(run.tilt > std::f64::consts::FRAC_PI_2);
+        }
+        assert!(
+            (3..18).contains(&turned),
+            "both kinds should be seen, {turned} turned over"
+        );
+    }
+}

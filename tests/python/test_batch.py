@@ -1,0 +1,162 @@
+"""`simulate` with a leading batch axis: every row equals the single run of its inputs, bit
+for bit (mixed bodies, random inputs, 1 and 2 threads); inputs broadcast NumPy style; bad
+input and batches too large for memory are refused before anything runs."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import dzhanibekov as dz
+
+
+def random_rows(rng, m):
+    """Mixed bodies (physical ones), rates of every size and direction, random attitudes."""
+    a, b = rng.uniform(0.5, 2.0, (2, m))
+    inertia = np.stack([a, b, rng.uniform(np.abs(a - b) + 0.05, a + b)], axis=1)
+    omega = rng.normal(size=(m, 3)) * rng.choice([0.05, 0.5, 2.0], size=(m, 1))
+    q = rng.normal(size=(m, 4))
+    return inertia, omega, q
+
+
+def assert_same_run(row, one):
+    for name in ("t", "omega", "q"):
+        assert np.array_equal(getattr(row, name), getattr(one, name)), name
+    if one.flip_times is None:
+        assert row.flip_times is None
+    else:
+        assert np.array_equal(row.flip_times, one.flip_times)
+    assert row.drift == one.drift
+    assert (row.dt, row.n_steps, row.nfev, row.n_rejected) == (
+        one.dt, one.n_steps, one.nfev, one.n_rejected)
+    assert row.body == one.body
+
+
+@pytest.mark.parametrize("method", ["rk4", "splitting", "dopri5", "exact"])
+def test_rows_equal_single_runs_bit_for_bit(rng, method):
+    inertia, omega, q = random_rows(rng, 37)  # two groups of 16 lanes and a part group
+    kwargs = dict(t_end=30.0, frames=31, method=method, dt=1e-2)  # dopri5: the first step
+    batch = dz.simulate(inertia, omega, q, **kwargs)
+    assert isinstance(batch, dz.Batch) and len(batch) == 37
+    assert batch.omega.shape == (37, 31, 3) and batch.q.shape == (37, 31, 4)
+    for i in range(37):
+        assert_same_run(batch[i], dz.simulate(inertia[i], omega[i], q[i], **kwargs))
+    if method == "rk4":
+        assert batch.flips.sum() > 5, "the rows should flip"
+
+
+def test_one_thread_and_two_give_the_same_bits(rng):
+    inertia, omega, q = random_rows(rng, 50)
+    one = dz.simulate(inertia, omega, q, t_end=20.0, frames=5, dt=1e-2, threads=1)
+    two = dz.simulate(inertia, omega, q, t_end=20.0, frames=5, dt=1e-2, threads=2)
+    assert np.array_equal(one.omega, two.omega) and np.array_equal(one.q, two.q)
+    assert all(np.array_equal(a, b) for a, b in zip(one.flip_times, two.flip_times))
+    for a, b in zip(one.drift, two.drift):
+        assert np.array_equal(a, b)
+
+
+def test_inputs_without_a_batch_axis_are_shared(paper_body):
+    omega = np.array([[0.01, 0.01, 1.0], [0.1, 0.0, 1.0], [1.0, 0.1, 0.1]])
+    q0 = (0.5, 0.5, 0.5, 0.5)
+    batch = dz.simulate(paper_body, omega, q0, t_end=50.0)
+    assert np.array_equal(batch.inertia, np.tile(dz.PAPER_INERTIA, (3, 1)))
+    for i in range(3):
+        assert_same_run(batch[i], dz.simulate(paper_body, omega[i], q0, t_end=50.0))
+    # one body per row, one rate for all
+    bodies = np.array([dz.PAPER_INERTIA, [1.0, 2.0, 2.5]])
+    batch = dz.simulate(bodies, (0.01, 0.01, 1.0), t_end=50.0)
+    assert len(batch) == 2
+    assert_same_run(batch[1], dz.simulate((1.0, 2.0, 2.5), (0.01, 0.01, 1.0), t_end=50.0))
+
+
+def test_a_batch_of_one_is_a_batch_and_one_dimensional_input_is_a_single_run(paper_body):
+    single = dz.simulate(paper_body, (0.01, 0.01, 1.0))
+    assert isinstance(single, dz.Trajectory)
+    batch = dz.simulate(paper_body, [(0.01, 0.01, 1.0)])
+    assert isinstance(batch, dz.Batch) and batch.omega.shape == (1, 201, 3)
+    assert_same_run(batch[0], single)
+    assert_same_run(batch[-1], single)
+    with pytest.raises(IndexError):
+        batch[1]
+    with pytest.raises(TypeError, match="run number"):
+        batch[0:1]
+
+
+def test_empty_batch(paper_body):
+    batch = dz.simulate(paper_body, np.empty((0, 3)), t_end=1.0, frames=3)
+    assert len(batch) == 0 and batch.omega.shape == (0, 3, 3) and batch.flip_times == ()
+
+
+def test_flips_can_be_left_out(paper_body):
+    batch = dz.simulate(paper_body, [(0.01, 0.01, 1.0)] * 3, flips=False)
+    assert batch.flip_times is None and batch.flips is None
+    assert np.array_equal(batch.q[0], dz.simulate(paper_body, (0.01, 0.01, 1.0)).q)
+
+
+def test_dt_none_takes_the_smallest_step_of_the_rows(paper_body):
+    omega = np.array([[0.01, 0.01, 1.0], [0.0, 3.0, 0.1]])  # the second is faster
+    batch = dz.simulate(paper_body, omega, t_end=20.0, dt=None)
+    alone = [dz.simulate(paper_body, w, t_end=20.0, dt=None) for w in omega]
+    assert np.all(batch.dt == min(a.dt for a in alone))
+    assert np.all(batch.n_steps == max(a.n_steps for a in alone))
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        (dict(omega0=np.zeros((3, 3)), q0=np.ones((2, 4))), ValueError, "leading"),
+        (dict(omega0=np.zeros((2, 2, 3))), ValueError, r"`omega0` must have shape \(3,\) or"),
+        (dict(omega0=[[0, 0, 1], [0, np.nan, 1]]), ValueError, "`omega0` must be finite"),
+        (dict(omega0=[[0, 0, 1], [0, 1, 1]], q0=[[1, 0, 0, 0], [0, 0, 0, 0]]), ValueError,
+         "row 1"),
+        (dict(body=[[1, 2, 3], [1, -2, 3]], omega0=[0, 0, 1]), ValueError, "row 1"),
+        (dict(body=[[1, 2, 3], [1, 1e200, 1e-200]], omega0=[0, 0, 1]), ValueError, "1e150"),
+        (dict(omega0=[["a", "b", "c"]]), TypeError, "`omega0` must hold real numbers"),
+        (dict(omega0=[[0, 0, 1]], threads=0), ValueError, "`threads` must be at least 1"),
+        (dict(omega0=[[0, 0, 1]], threads=1.5), TypeError, "`threads` must be an integer"),
+        (dict(omega0=[[0, 0, 1]], frames=1), ValueError, "`frames` must be at least 2"),
+        (dict(omega0=[[0, 0, 1]], method="rk5"), ValueError, "`method` must be one of"),
+        (dict(omega0=[[0, 0, 1]], dt=-1.0), ValueError, "`dt` must be positive"),
+    ],
+)
+def test_bad_batches_are_refused_naming_the_argument(kwargs, error, match):
+    kwargs = {"body": dz.PAPER_INERTIA, **kwargs}
+    with pytest.raises(error, match=match):
+        dz.simulate(**kwargs)
+
+
+def test_threads_are_checked_for_a_single_run_too(paper_body):
+    with pytest.raises(ValueError, match="`threads`"):
+        dz.simulate(paper_body, (0, 0, 1), threads=0)
+
+
+def test_a_batch_too_large_for_memory_is_refused_before_it_runs(paper_body):
+    omega = np.zeros((100_000, 3))
+    with pytest.raises(ValueError, match="sweep") as info:
+        dz.simulate(paper_body, omega, t_end=1.0, frames=10**7, dt=1.0)
+    assert "100000 runs × 10000000 frames" in str(info.value)
+
+
+def test_one_warning_for_all_unphysical_bodies():
+    bodies = np.array([[1.0, 2.0, 2.5], [1.0, 1.0, 5.0], [1.0, 1.0, 6.0]])
+    with pytest.warns(dz.InertiaWarning, match="2 of 3 bodies") as caught:
+        dz.simulate(bodies, (0.1, 0.1, 1.0), t_end=1.0)
+    assert len(caught) == 1 and caught[0].filename == __file__
+
+
+def test_step_warning_names_the_worst_row(paper_body):
+    omega = np.array([[0.01, 0.01, 1.0], [0.0, 0.0, 1.0], [0.0, 40.0, 0.0]])
+    with pytest.warns(dz.StepSizeWarning, match="row 2: step") as caught:
+        dz.simulate(paper_body, omega, t_end=1000.0, dt=0.05, frames=2)
+    assert caught[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        dz.simulate(paper_body, omega[:2], t_end=100.0, frames=2)
+
+
+def test_a_diverging_row_is_named(paper_body):
+    omega = np.array([[0.01, 0.01, 1.0], [0.0, 1e3, 1e3]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", dz.StepSizeWarning)
+        with pytest.raises(ValueError, match="row 1: the run diverged"):
+            dz.simulate(paper_body, omega, t_end=100.0, dt=0.5, frames=2)
