@@ -20,6 +20,7 @@ use crate::integrators::Stats;
 use crate::lanes::{advance, Isa, Lanes, Span};
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::run::{normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT};
+use crate::scale::RateScale;
 use crate::tilt::TiltMonitor;
 
 /// Runs integrated together in one group of SIMD lanes: two AVX-512 vectors, four AVX2 ones.
@@ -382,6 +383,20 @@ pub(crate) fn run_group(
             record(i, l, &x, &mut frames);
         }
     }
+    // as a single run: invariants that overflow mean the run diverged (see `run::simulate`)
+    for (l, monitor) in drift.iter().enumerate() {
+        let d = monitor.drift;
+        if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Err(Error::Diverged {
+                t: grid.t_end(),
+                hint: DIVERGED_HINT,
+            }
+            .in_row(first_row + l));
+        }
+    }
     Ok((0..real)
         .map(|l| {
             let flip_times = detectors
@@ -557,6 +572,9 @@ fn rk4_rows(
         .zip(chunks)
         .enumerate()
         .map(|(g, (group, frames))| {
+            if group.iter().any(needs_scaling) {
+                return single_group(group, g * LANES, grid, keep, frames, stop);
+            }
             let runs = stop.watch(run_group(isa, group, g * LANES, grid, watch, frames, stop))?;
             Ok(runs
                 .into_iter()
@@ -573,6 +591,50 @@ fn rk4_rows(
                 .collect())
         })
         .collect()
+}
+
+/// Whether a start's rates are so far from 1 that its run is integrated in its own units
+/// (see [`crate::scale`]): such rows run alone, as [`simulate`] runs them, since the lanes of a
+/// group share one step.
+pub(crate) fn needs_scaling(start: &Start) -> bool {
+    !RateScale::of(start.omega0).is_identity()
+}
+
+/// The rows of a group, rows `first_row..` of the batch, run one by one by [`simulate`].
+fn single_group(
+    group: &[Start],
+    first_row: usize,
+    grid: &FrameGrid,
+    keep: Keep,
+    mut frames: Frames,
+    stop: &Stop,
+) -> Result<Vec<RowOutput>> {
+    let n_frames = grid.frames();
+    let mut rows = Vec::with_capacity(group.len());
+    for (l, s) in group.iter().enumerate() {
+        stop.check()?;
+        let run = simulate(
+            &s.body,
+            s.omega0,
+            s.q0,
+            grid,
+            Method::Rk4,
+            keep,
+            stop.cancel,
+        );
+        let run = stop.watch(run.map_err(|e| e.in_row(first_row + l)))?;
+        if let Some((omega, q)) = &mut frames {
+            omega[3 * l * n_frames..3 * (l + 1) * n_frames].copy_from_slice(&run.omega);
+            q[4 * l * n_frames..4 * (l + 1) * n_frames].copy_from_slice(&run.q);
+        }
+        rows.push(RowOutput {
+            flip_times: run.flip_times,
+            drift: run.drift,
+            stats: run.stats,
+            dt: run.dt,
+        });
+    }
+    Ok(rows)
 }
 
 fn single_rows(

@@ -354,7 +354,7 @@ pub fn simulate(
         ));
     }
     let scale = RateScale::of(omega0);
-    if !scale.is_identity() && !matches!(method, Method::Exact) {
+    if !scale.is_identity() {
         normalized(q0)?; // refused before anything else, as unscaled; normalised once, inside
         return simulate_scaled(body, omega0, q0, grid, method, keep, cancel, scale);
     }
@@ -382,6 +382,18 @@ pub fn simulate(
         )
     };
     let (drift, frames) = obs;
+    // Past the stability limit a short run can end finite but so large that its invariants
+    // overflow: that run diverged, whatever the cheap checks inside the loop saw.
+    let d = drift.drift;
+    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        return Err(Error::Diverged {
+            t: grid.t_end(),
+            hint: DIVERGED_HINT,
+        });
+    }
     let frames = frames.unwrap_or_default();
     Ok(RunOutput {
         omega: frames.omega,
@@ -397,18 +409,17 @@ pub fn simulate(
     })
 }
 
-/// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
-#[allow(clippy::too_many_arguments)]
-fn simulate_scaled(
-    body: &RigidBody,
-    omega0: [f64; 3],
-    q0: [f64; 4],
+/// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::scale`]):
+/// times (the span, an adaptive method's first step) multiplied by `2^e`.
+///
+/// # Errors
+/// A span `t_end · max|ω₀|` that float64 cannot hold.
+pub(crate) fn to_unit(
     grid: &FrameGrid,
     method: Method,
-    keep: Keep,
-    cancel: &AtomicBool,
+    omega0: [f64; 3],
     scale: RateScale,
-) -> Result<RunOutput> {
+) -> Result<(FrameGrid, Method)> {
     let t_end = scale.time_to_unit(grid.t_end);
     if !t_end.is_finite() {
         return Err(Error::TooLarge {
@@ -438,6 +449,31 @@ fn simulate_scaled(
         }),
         fixed => fixed,
     };
+    Ok((unit_grid, method))
+}
+
+/// A time of a run in the units of `scale` back in the user's, within the user's span (NaN,
+/// "no such time", stays NaN).
+pub(crate) fn time_from_unit(scale: RateScale, t: f64, t_end: f64) -> f64 {
+    match t.is_nan() {
+        true => t,
+        false => scale.time_from_unit(t).min(t_end),
+    }
+}
+
+/// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
+#[allow(clippy::too_many_arguments)]
+fn simulate_scaled(
+    body: &RigidBody,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+    scale: RateScale,
+) -> Result<RunOutput> {
+    let (unit_grid, method) = to_unit(grid, method, omega0, scale)?;
     let mut out = simulate(
         body,
         omega0.map(|w| scale.rate_to_unit(w)),
@@ -457,7 +493,7 @@ fn simulate_scaled(
         });
     }
     for t in &mut out.flip_times {
-        *t = scale.time_from_unit(*t).min(grid.t_end);
+        *t = time_from_unit(scale, *t, grid.t_end);
     }
     out.dt = scale.time_from_unit(out.dt);
     Ok(out)
@@ -496,6 +532,18 @@ fn simulate_exact(
         false => Vec::new(),
     };
     let (drift, frames) = obs;
+    // Past the stability limit a short run can end finite but so large that its invariants
+    // overflow: that run diverged, whatever the cheap checks inside the loop saw.
+    let d = drift.drift;
+    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        return Err(Error::Diverged {
+            t: grid.t_end(),
+            hint: DIVERGED_HINT,
+        });
+    }
     let frames = frames.unwrap_or_default();
     Ok(RunOutput {
         omega: frames.omega,

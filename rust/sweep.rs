@@ -12,13 +12,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::batch::{run_group, FlipTally, Options, Start, Stop, Watch, LANES};
+use crate::batch::{needs_scaling, run_group, FlipTally, Options, Start, Stop, Watch, LANES};
 use crate::dynamics::{state_from, FreeRigidBody};
 use crate::error::{Error, Result};
 use crate::exact::{flip_period, flip_period_of_rates, ExactMotion};
 use crate::integrators::Stats;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
-use crate::run::{normalized, run_method, FrameGrid, Method, CHECK_EVERY};
+use crate::run::{
+    normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY, DIVERGED_HINT,
+};
+use crate::scale::RateScale;
 use crate::tilt::TiltMonitor;
 
 /// What one run of a sweep measured.
@@ -106,6 +109,20 @@ fn rk4_group(
         tilt: true,
         count_only: true,
     };
+    if group.iter().any(needs_scaling) {
+        // as a batch does: such rows run alone, in their own units
+        return group
+            .iter()
+            .enumerate()
+            .map(|(l, start)| {
+                stop.check()?;
+                stop.watch(
+                    single(start, grid, Method::Rk4, stop.cancel)
+                        .map_err(|e| e.in_row(first_row + l)),
+                )
+            })
+            .collect();
+    }
     let runs = run_group(isa, group, first_row, grid, watch, None, stop)?;
     let n_steps = grid.n_steps();
     group
@@ -137,8 +154,32 @@ fn exact_period(start: &Start) -> Result<f64> {
     }
 }
 
-/// One run of another method, watched as [`crate::run::simulate`] watches it, plus the tilt.
+/// One run of another method, watched as [`crate::run::simulate`] watches it (in the motion's
+/// own units for rates far from 1), plus the tilt.
 fn single(
+    start: &Start,
+    grid: &FrameGrid,
+    method: Method,
+    cancel: &AtomicBool,
+) -> Result<RunSummary> {
+    let scale = RateScale::of(start.omega0);
+    if scale.is_identity() {
+        return single_unscaled(start, grid, method, cancel);
+    }
+    let (unit_grid, unit_method) = to_unit(grid, method, start.omega0, scale)?;
+    let unit = Start {
+        omega0: start.omega0.map(|w| scale.rate_to_unit(w)),
+        ..*start
+    };
+    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)?;
+    run.flips.first = time_from_unit(scale, run.flips.first, grid.t_end());
+    run.flips.last = time_from_unit(scale, run.flips.last, grid.t_end());
+    run.exact_period = exact_period(start)?;
+    run.dt = scale.time_from_unit(run.dt);
+    Ok(run)
+}
+
+fn single_unscaled(
     start: &Start,
     grid: &FrameGrid,
     method: Method,
@@ -175,6 +216,16 @@ fn single(
         };
         (stats, dt)
     };
+    let d = drift.drift;
+    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
+        .iter()
+        .all(|v| v.is_finite())
+    {
+        return Err(Error::Diverged {
+            t: grid.t_end(),
+            hint: DIVERGED_HINT,
+        });
+    }
     Ok(RunSummary {
         flips,
         tilt: tilt.tilt(),
