@@ -486,6 +486,11 @@ fn simulate_scaled(
     for w in &mut out.omega {
         *w = scale.rate_from_unit(*w);
     }
+    // Frame 0 is the start as given: components below 2^-1074 of the largest rate round in
+    // the run's own units (and move it by that much), but the start itself is exact.
+    if let Some(first) = out.omega.get_mut(..3) {
+        first.copy_from_slice(&omega0);
+    }
     if !out.omega.iter().all(|w| w.is_finite()) {
         return Err(Error::Diverged {
             t: grid.t_end,

@@ -306,6 +306,8 @@ def simulate_batch(
     leading batch axis)."""
     t_end, frames, max_steps = checked_run(t_end, frames, method, max_steps)
     threads = checked_threads(threads)
+    if not isinstance(flips, (bool, np.bool_)):
+        raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
     inertia, omega, q, shape = batch_rows(body, omega0, q0, max_batch_ndim=1,
                                           stacklevel=stacklevel + 1)
     m = len(omega)

@@ -61,7 +61,21 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     -------
     ndarray, shape (...)
     """
-    inertia, omega = np.broadcast_arrays(np.asarray(inertia, float), np.asarray(omega, float))
+    from ._checks import as_array
+
+    inertia = as_array("inertia", inertia, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
+    omega = as_array("omega", omega, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
+    if not (inertia > 0).all():
+        raise ValueError("`inertia` must hold positive principal moments")
+    try:
+        inertia, omega = np.broadcast_arrays(inertia, omega)
+    except ValueError:
+        raise ValueError(f"`inertia` and `omega` must broadcast together, got shapes "
+                         f"{inertia.shape} and {omega.shape}") from None
+    # in units of a power of two near each row's largest moment and rate (exact, so the
+    # differences of nearly equal moments keep their digits): no square over- or underflows
+    inertia = np.ldexp(inertia, -np.frexp(inertia.max(axis=-1, keepdims=True))[1])
+    omega = np.ldexp(omega, -np.frexp(np.abs(omega).max(axis=-1, keepdims=True))[1])
     mid = np.median(inertia, axis=-1, keepdims=True)
     l2 = np.sum((inertia * omega) ** 2, axis=-1)
     gap = np.sum(inertia * (inertia - mid) * omega**2, axis=-1)

@@ -15,6 +15,7 @@ cluster, and the result is the same, bit for bit, as on one machine.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -23,7 +24,7 @@ import numpy as np
 from tqdm import tqdm
 
 from . import _core
-from ._checks import as_array, as_int
+from ._checks import as_array, as_int, check_size
 from .batch import (
     BatchDrift,
     batch_rows,
@@ -152,7 +153,7 @@ def grid(*axes: Any) -> np.ndarray:
     array([0.2, 1. , 1. ])
     """
     if not axes:
-        raise ValueError("`grid` needs at least one axis or value")
+        raise ValueError("`axes` of `grid` must hold at least one axis or value, got none")
     values = []
     for k, axis in enumerate(axes):
         name = f"axes[{k}]"
@@ -168,6 +169,8 @@ def grid(*axes: Any) -> np.ndarray:
         values.append(as_array(name, arr.reshape(-1), "(n,)", last=arr.size, ndim=(1,)))
     varying = [v for v, a in zip(values, axes) if np.ndim(a) == 1]
     shape = tuple(len(v) for v in varying)
+    check_size(math.prod(shape) * len(axes) * 8, f"a grid of shape {shape + (len(axes),)}",
+               "give shorter `axes`")
     out = np.empty(shape + (len(axes),))
     k = 0
     for j, (v, a) in enumerate(zip(values, axes)):

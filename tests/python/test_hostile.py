@@ -29,7 +29,8 @@ from typing import Any
 import pytest
 from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
-from public_api import ENTRIES, NOT_CALLED, Entry
+from public_api import NOT_CALLED, Entry
+from public_api_batch import ENTRIES
 
 import dzhanibekov as dz
 
