@@ -486,9 +486,10 @@ fn simulate_scaled(
     for w in &mut out.omega {
         *w = scale.rate_from_unit(*w);
     }
-    // Frame 0 is the start as given: components below 2^-1074 of the largest rate round in
-    // the run's own units (and move it by that much), but the start itself is exact.
-    if let Some(first) = out.omega.get_mut(..3) {
+    // An integrator's frame 0 is the start as given: components below 2^-1074 of the largest
+    // rate round in the run's own units (and move it by that much), the start itself does
+    // not. (The exact method's frame 0 is its closed form at t = 0, scaled like the rest.)
+    if let (Some(first), false) = (out.omega.get_mut(..3), matches!(method, Method::Exact)) {
         first.copy_from_slice(&omega0);
     }
     if !out.omega.iter().all(|w| w.is_finite()) {

@@ -18,7 +18,7 @@ from pathlib import Path
 
 CHILD = Path(__file__).resolve().parents[2] / "tests" / "python" / "interrupt_child.py"
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
-         "summarize-exact", "rotate"]
+         "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate"]
 
 
 def main() -> None:

@@ -2,7 +2,8 @@
 
     python interrupt_child.py CALL [DELAY]
 
-Starts CALL (one of `CALLS`: runs of 10⁹ steps and more, a rotation of a gigabyte), sends
+Starts CALL (one of `CALLS`: runs, batches and sweeps of 10⁹ steps a run and more, a
+rotation of a gigabyte), sends
 this process SIGINT after DELAY seconds (0.5 by default) from another thread, as a terminal's
 Ctrl-C would, and prints one line of JSON:
 
@@ -31,6 +32,7 @@ import dzhanibekov as dz
 
 BODY = dz.Body(dz.PAPER_INERTIA)
 OMEGA = (0.01, 0.01, 1.0)
+BATCH_OMEGA = dz.grid([0.01, 0.02, 0.05, 0.1], [0.01, 0.2], 1.0).reshape(-1, 3)
 
 CALLS: dict[str, Callable[[], Any]] = {
     # 10⁹ RK4 steps, about 25 s
@@ -45,6 +47,13 @@ CALLS: dict[str, Callable[[], Any]] = {
     # 10⁹ evaluations of the closed form, keeping no frames
     "summarize-exact": lambda: dz.summarize(BODY, OMEGA, t_end=1e6, frames=10**9,
                                             method="exact"),
+    # a batch of 8 runs of 10⁹ steps each, in SIMD lanes on all cores
+    "batch-rk4": lambda: dz.simulate(BODY, BATCH_OMEGA, t_end=1e6, frames=201, dt=1e-3),
+    # a batch of another method: runs one by one on all cores
+    "batch-splitting": lambda: dz.simulate(BODY, BATCH_OMEGA, t_end=1e6, frames=201, dt=1e-3,
+                                           method="splitting"),
+    # a sweep of 8 runs of 10⁹ steps each, keeping a few numbers per run
+    "sweep-rk4": lambda: dz.sweep(BODY, BATCH_OMEGA, t_end=1e6, dt=1e-3, progress=False),
     # 4·10⁷ point-frames into a fresh gigabyte
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),

@@ -12,7 +12,7 @@ import pytest
 
 CHILD = Path(__file__).with_name("interrupt_child.py")
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
-         "summarize-exact", "rotate"]
+         "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate"]
 
 
 def interrupted(call: str) -> dict:
@@ -25,11 +25,12 @@ def interrupted(call: str) -> dict:
 @pytest.mark.parametrize("call", CALLS)
 def test_ctrl_c_stops_a_long_call_at_once(call):
     # every call would run for tens of seconds (10⁹ steps, a gigabyte of points); stopping
-    # within 2 s of the signal, from inside the call, can only be the interrupt at work
+    # within 1 s of the signal, from inside the call, can only be the interrupt at work (the
+    # core polls every 50 ms; the median, ~55 ms, is measured by bench_interrupts.py)
     report = interrupted(call)
     assert report["interrupted"] and report["inside"], report
     if call != "rotate":  # a gigabyte's rotation may be over in 0.5 s on a fast machine
         assert report["completed_before_signal"] == 0, report
-    assert report["latency"] < 2.0 and report["latency_second"] < 2.0, report
+    assert report["latency"] < 1.0 and report["latency_second"] < 1.0, report
     # afterwards the same short run gives the same bits, and Ctrl-C works a second time
     assert report["usable"], report

@@ -17,6 +17,7 @@ from dzhanibekov._checks import memory_available
 
 BODY = dz.Body(dz.PAPER_INERTIA)
 W = (0.01, 0.01, 1.0)
+BATCH = dz.grid([0.01, 0.05, 0.1], [0.01, 0.2], 1.0).reshape(-1, 3)
 
 
 def rss() -> int:
@@ -47,6 +48,9 @@ def workload(i: int) -> None:
     dz.rotate(traj.q[:200], dz.box_vertices())
     out = np.empty((50, 8, 3))
     dz.rotate(traj.q[:50], dz.box_vertices(), out=out)
+    batch = dz.simulate(BODY, BATCH, t_end=5.0, frames=201, method=method)
+    batch[1].invariants()
+    dz.sweep(BODY, BATCH, t_end=5.0, frames=11, method=method, progress=False)
     dz.flip_period(BODY, W)
     dz.ellipsoid_mesh((1.0, 2.0, 3.0), 24, 12)
     dz.Body.box(20, 10, 15)
@@ -92,6 +96,15 @@ def test_a_request_beyond_available_memory_is_refused_before_allocation():
     frames = int(room / 64) + 10**6
     with pytest.raises(ValueError, match=rf"frames={frames} would need [\d.]+ GB"):
         dz.simulate(BODY, W, frames=frames, method="exact")
+    runs = 1000
+    frames = int(room / (runs * 56)) + 10**4
+    with pytest.raises(ValueError, match=rf"a batch of {runs} runs × {frames} frames would need "
+                                         r"[\d.]+ GB \(\d+ bytes\), more than this machine's"):
+        dz.simulate(BODY, np.tile(W, (runs, 1)), frames=frames, method="exact")
+    with pytest.raises(ValueError, match=r"a grid of shape \(\d+, \d+, 2\) would need [\d.]+ GB"):
+        side = int(np.sqrt(room / 16)) + 1000
+        dz.grid(np.arange(side, dtype=float), np.arange(side, dtype=float))
+    assert rss() - before < 16e6, "memory was touched before the refusals"
     with pytest.raises(ValueError, match=r"n_around × n_along = 1048576 × 1048576 cells"):
         dz.ellipsoid_mesh((1.0, 1.0, 1.0), 2**20, 2**20)
 

@@ -185,8 +185,11 @@ def test_scene_files_that_are_not_text_or_not_paths_are_named(tmp_path):
 # -- the exact solution --------------------------------------------------------------------------
 
 def test_an_exact_phase_beyond_float64_is_an_error_not_nan():
-    # t_end · |ω| = 1e310 radians: the elliptic argument overflows; it used to give NaN frames
+    # t_end · |ω| = 1e309 radians: the elliptic argument overflows; it used to give NaN frames
     with pytest.raises(ValueError, match=r"exact solution needs its phase .* float64"):
+        dz.simulate(BODY, (10.0, 1.0, 10.0), t_end=1e308, frames=3, method="exact")
+    # rates far from 1 run in their own units, where the span itself is what overflows
+    with pytest.raises(ValueError, match=r"t_end · max\|omega0\| = .* float64"):
         dz.simulate(BODY, (1e300, 1e299, 1e300), t_end=1e10, frames=3, method="exact")
 
 
@@ -264,3 +267,59 @@ def test_figures_of_a_body_at_rest_draw_without_warnings():
 def test_phases_need_at_least_one_column():
     with pytest.raises(ValueError, match="`columns` must be at least 1"):
         plotting.phases_figure(dz.SCENES["example"], columns=0)
+
+
+# -- batches, sweeps, grids and maps (the second part of the table) -----------------------------
+
+def test_batches_and_sweeps_of_rates_far_from_one_are_their_single_runs():
+    # rows of rates 2^±200 run in their own units, alone, as simulate runs them: every row
+    # is the single run bit for bit, and (powers of two scale exactly) the run at unit rate
+    unit = np.array([[0.01, 0.01, 1.0], [0.02, 0.1, 1.0]])
+    at_one = dz.simulate(BODY, unit, t_end=100.0, frames=5, dt=1e-2)
+    for s in (2.0**200, 2.0**-200):
+        rows = unit * s
+        run = dict(t_end=100.0 / s, frames=5, dt=1e-2 / s)
+        batch = dz.simulate(BODY, rows, **run)
+        swept = dz.sweep(BODY, rows, progress=False, **run)
+        assert np.array_equal(batch.q, at_one.q) and np.array_equal(batch.omega, at_one.omega * s)
+        for k in range(2):
+            alone = dz.simulate(BODY, rows[k], **run)
+            assert np.array_equal(batch[k].q, alone.q) and np.array_equal(batch[k].omega, alone.omega)
+            assert np.array_equal(batch[k].flip_times, alone.flip_times)
+            assert np.array_equal(alone.flip_times, at_one[k].flip_times / s)
+            assert swept.flips[k] == len(alone.flip_times) > 0
+            assert tuple(float(d[k]) for d in swept.drift) == tuple(alone.drift)
+
+
+def test_a_scaled_run_starts_at_the_rates_given():
+    # a component 2^-1080 below the largest underflows in the run's own units; frame 0 is
+    # still the start as given
+    omega0 = (1e150, 0.0, 1e150 * 2.0**-1060)
+    traj = dz.simulate(BODY, omega0, t_end=1e-149, frames=3, dt=1e-151)
+    assert tuple(traj.omega[0]) == omega0
+
+
+def test_a_batch_checks_flips_and_a_grid_names_its_axes():
+    with pytest.raises(TypeError, match="`flips` must be True or False"):
+        dz.simulate(BODY, np.ones((2, 3)), t_end=1.0, flips=2)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="`axes` of `grid`"):
+        dz.grid()
+    with pytest.raises(ValueError, match=r"`axes\[1\]` must be finite"):
+        dz.grid([0.1, 0.2], [1.0, math.nan])
+
+
+def test_the_separatrix_gap_refuses_bad_input_and_keeps_near_symmetric_digits():
+    from dzhanibekov.maps import separatrix_gap
+    with pytest.raises(TypeError, match="`inertia`"):
+        separatrix_gap(None, (1.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="`inertia` must hold positive"):
+        separatrix_gap((1.0, -1.0, 2.0), (1.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match="`omega` must be finite"):
+        separatrix_gap((1.0, 2.0, 3.0), (math.inf, 0.0, 0.0))
+    # moments 1e-8 apart at 1e-150: the difference keeps its digits, nothing underflows
+    inertia = np.array([1.0, 1.0 + 1e-8, 1.02]) * 1e-150
+    omega = np.array([1.0, 0.0, 1e-8]) * 1e-151
+    gap = float(separatrix_gap(inertia, omega))
+    i, w = inertia * 1e150, omega * 1e151
+    mid = i[1]
+    assert gap == pytest.approx(np.sum(i * (i - mid) * w**2) / np.sum((i * w) ** 2), rel=1e-6)

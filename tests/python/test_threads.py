@@ -16,6 +16,7 @@ import dzhanibekov as dz
 
 BODY = dz.Body(dz.PAPER_INERTIA)
 W = (0.01, 0.01, 1.0)
+BATCH = dz.grid([0.01, 0.05, 0.1, 0.3], [0.01, 0.2], 1.0).reshape(-1, 3)
 
 
 def ticks_during(call: Callable[[], Any]) -> tuple[int, float]:
@@ -58,6 +59,12 @@ LONG_CALLS: dict[str, Callable[[], Any]] = {
     "simulate-exact": lambda: dz.simulate(BODY, W, t_end=1e3, frames=10**6, method="exact"),
     "summarize": lambda: dz.summarize(BODY, W, t_end=1e4),
     "rotate": lambda: dz.rotate(np.tile([1.0, 0.2, 0.0, 1.0], (100, 1)), np.ones((100_000, 3))),
+    "batch-rk4": lambda: dz.simulate(BODY, BATCH, t_end=2e3, frames=2),
+    "batch-splitting": lambda: dz.simulate(BODY, BATCH[:2], t_end=1e3, frames=2,
+                                           method="splitting"),
+    "sweep-rk4": lambda: dz.sweep(BODY, BATCH, t_end=2e3, frames=2, progress=False),
+    "sweep-dopri5": lambda: dz.sweep(BODY, BATCH[:2], t_end=1e4, frames=2, method="dopri5",
+                                     dt=None, rtol=1e-12, progress=False),
     "ellipsoid_mesh": lambda: dz.ellipsoid_mesh((1.0, 2.0, 3.0), 4096, 2048),
     "Trajectory.invariants": lambda: dz.Trajectory(**{
         **{f: getattr(LONG_TRAJECTORY, f) for f in ("t", "omega", "q", "flip_times", "body",
@@ -79,6 +86,16 @@ def run(task: tuple[str, Any]) -> Any:
     kind, args = task
     if kind == "rotate":
         return dz.rotate(*args)
+    if kind == "batch":
+        method, omegas = args
+        b = dz.simulate(BODY, omegas, t_end=50.0, frames=11, method=method,
+                        dt=None if method in ("dopri5", "dop853") else 1e-2)
+        return b.omega, b.q, b.flip_times, tuple(b.drift), b.n_steps
+    if kind == "sweep":
+        method, omegas = args
+        sw = dz.sweep(BODY, omegas, t_end=50.0, frames=11, method=method, progress=False,
+                      dt=None if method in ("dopri5", "dop853") else 1e-2)
+        return sw.flips, sw.first_flip, sw.tilt, tuple(sw.drift), sw.n_steps
     if kind == "summarize":
         s = dz.summarize(BODY, *args, t_end=200.0, frames=11)
         return s.flip_times, tuple(s.drift), s.n_steps
@@ -92,7 +109,7 @@ def same(a: Any, b: Any) -> bool:
     if isinstance(a, tuple):
         return len(a) == len(b) and all(same(x, y) for x, y in zip(a, b))
     if isinstance(a, np.ndarray):
-        return a.dtype == b.dtype and np.array_equal(a, b)
+        return a.dtype == b.dtype and a.shape == b.shape and bytes(a.data) == bytes(b.data)
     return bool(a == b)
 
 
@@ -101,6 +118,9 @@ def test_threads_at_once_get_the_serial_bits():
     omegas = [tuple(rng.normal(size=3)) for _ in range(3)] + [W]
     tasks: list[tuple[str, Any]] = [("simulate", (m, w)) for m in dz.METHODS for w in omegas]
     tasks += [("summarize", (w,)) for w in omegas]
+    batches = np.array(omegas[:3] + [(1e-25, 2e-26, 1e-26)])  # a row far from 1 runs alone
+    tasks += [(kind, (m, batches if m != "rk4" else np.array(omegas)))
+              for kind in ("batch", "sweep") for m in ("rk4", "splitting", "dop853")]
     # small rotations on the caller's thread, large ones on all cores
     tasks += [("rotate", (rng.normal(size=(n, 4)), rng.normal(size=(p, 3))))
               for n, p in ((7, 5), (300, 1000), (64, 300_000))]
