@@ -593,7 +593,8 @@ impl ExactMotion {
 /// [`ExactMotion::flip_period`] for when it is infinite.
 ///
 /// # Errors
-/// Non-finite `omega0`.
+/// Non-finite `omega0`; a period that underflows float64 (below 5e-324: rates near the
+/// largest float64 on a body of moments far apart).
 ///
 /// # Example
 /// ```
@@ -603,7 +604,24 @@ impl ExactMotion {
 /// assert!(dzhanibekov::exact::flip_period(&body, [0.0, 1.0, 0.0]).unwrap().is_infinite());
 /// ```
 pub fn flip_period(body: &RigidBody, omega0: [f64; 3]) -> Result<f64> {
-    Ok(ExactMotion::try_new(body, omega0, [1.0, 0.0, 0.0, 0.0])?.flip_period())
+    let period = ExactMotion::try_new(body, omega0, [1.0, 0.0, 0.0, 0.0])?.flip_period();
+    representable_period(period, omega0)
+}
+
+/// `period`, unless it underflowed to zero (a flip period is never zero).
+///
+/// # Errors
+/// A zero period, naming the rates.
+pub(crate) fn representable_period(period: f64, omega0: [f64; 3]) -> Result<f64> {
+    match period > 0.0 {
+        true => Ok(period),
+        false => Err(Error::invalid(
+            "omega0",
+            "must give a flip period that float64 holds (at least 5e-324); these rates \
+             on this body flip faster",
+            omega0,
+        )),
+    }
 }
 
 /// [`flip_period`] from the body rates alone, without the attitude part of the solution

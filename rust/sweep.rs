@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use crate::batch::{needs_scaling, run_group, FlipTally, Options, Start, Stop, Watch, LANES};
 use crate::dynamics::{state_from, FreeRigidBody};
 use crate::error::{Error, Result};
-use crate::exact::{flip_period, flip_period_of_rates, ExactMotion};
+use crate::exact::{flip_period, flip_period_of_rates, representable_period, ExactMotion};
 use crate::integrators::Stats;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::run::{
@@ -149,7 +149,7 @@ fn rk4_group(
 /// The exact flip period of a start, from its rates alone where that decides it.
 fn exact_period(start: &Start) -> Result<f64> {
     match flip_period_of_rates(&start.body, start.omega0) {
-        Some(period) => Ok(period),
+        Some(period) => representable_period(period, start.omega0),
         None => flip_period(&start.body, start.omega0),
     }
 }

@@ -795,7 +795,7 @@ ENTRIES: dict[str, Entry] = {
     ),
     "flip_period": Entry(
         call=dz.flip_period,
-        valid=st.tuples(inertias(), directions(3), st.sampled_from([0, 0, -1000, -60, 60, 500]))
+        valid=st.tuples(inertias(), directions(3), st.sampled_from([0, 0, -1000, -60, 60, 500, 1010]))
         .flatmap(lambda a: st.fixed_dictionaries({"body": bodies(a[0]), "omega0": layouts(scaled(a[1], a[2]))})),
         hostile={"body": hostile_vector3(positive=True, moments=True), "omega0": hostile_vector3()},
         check=check_flip_period,

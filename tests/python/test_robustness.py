@@ -323,3 +323,12 @@ def test_the_separatrix_gap_refuses_bad_input_and_keeps_near_symmetric_digits():
     i, w = inertia * 1e150, omega * 1e151
     mid = i[1]
     assert gap == pytest.approx(np.sum(i * (i - mid) * w**2) / np.sum((i * w) ** 2), rel=1e-6)
+
+
+def test_a_flip_period_below_float64_is_an_error_not_zero():
+    # found by the fuzz target: rates near the largest float64 on moments 1e89 apart flip
+    # every 1e-349 time units, which float64 rounds to 0 (a period no motion has)
+    with pytest.warns(dz.InertiaWarning):  # moments no body has, but a motion all the same
+        body = dz.Body((4.330480332540362e262, 6.183675162794051e173, 4.4207826926609875e262))
+    with pytest.raises(ValueError, match=r"`omega0` must give a flip period that float64 holds"):
+        dz.flip_period(body, (-1.8518347881150608e304, 2.781342323133997e-309, -4.091738259870177e149))
