@@ -448,7 +448,7 @@ struct RowOutput {
 
 /// Simulates every start over `grid`, each as [`simulate`] would alone, on all cores.
 ///
-/// RK4 runs in SIMD lanes (see [`run_group`]); other methods as single runs, one per row.
+/// RK4 runs in SIMD lanes (`run_group`); other methods as single runs, one per row.
 /// Either way row `i` equals `simulate` of `starts[i]` bit for bit, whatever `options`.
 ///
 /// # Errors

@@ -254,8 +254,23 @@ fn power_of_two_near(x: f64) -> f64 {
     2.0_f64.powi(x.log2().floor() as i32)
 }
 
-impl Asymmetric {
-    fn new(inertia_body: Vector3<f64>, omega_body: Vector3<f64>, q0: UnitQuaternion<f64>) -> Self {
+/// The rates and moments in the solution's canonical frame: axes permuted (with a sign that
+/// keeps the frame right-handed) so that ω₃ never changes sign (`L² ≥ 2E J₂`), rates over a
+/// power of two near the largest and moments over one near the largest, with the amplitudes
+/// `a₁, a₂, a₃` of ω, the rate `λ` and the separatrix measure `p_mid ∝ L² − 2E J₂`.
+struct Canonical {
+    perm: [usize; 3],
+    sign: [f64; 3],
+    time_scale: f64,
+    w: Vector3<f64>,
+    j: Vector3<f64>,
+    a: Vector3<f64>,
+    lambda: f64,
+    p_mid: f64,
+}
+
+impl Canonical {
+    fn new(inertia_body: Vector3<f64>, omega_body: Vector3<f64>) -> Self {
         let mut order = [0usize, 1, 2];
         order.sort_by(|&a, &b| inertia_body[a].total_cmp(&inertia_body[b]));
         let [lo, mid, hi] = order;
@@ -276,35 +291,62 @@ impl Asymmetric {
         };
         let even = matches!(perm, [0, 1, 2] | [1, 2, 0] | [2, 0, 1]);
         let sign = [1.0, if even { 1.0 } else { -1.0 }, 1.0];
-        let mut rotation = Matrix3::zeros();
-        for k in 0..3 {
-            rotation[(k, perm[k])] = sign[k];
-        }
-        let to_canonical =
-            UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(rotation));
-
         let w = Vector3::from_fn(|k, _| sign[k] * w_body[perm[k]]);
         let j = Vector3::from_fn(|k, _| j_body[perm[k]]);
         let (j1, j2, j3) = (j.x, j.y, j.z);
         let (d21, d31, d32) = (j2 - j1, j3 - j1, j3 - j2);
-        let a1 = w.x.hypot((j2 * d32 / (j1 * d31)).sqrt() * w.y);
-        let a2 = ((j1 * d31 / (j2 * d32)).sqrt() * w.x).hypot(w.y);
-        let a3 = w.z.hypot((j2 * d21 / (j3 * d31)).sqrt() * w.y);
-        let lambda = a3 * (d32 * d31 / (j1 * j2)).sqrt();
-        let p_mid = j3 * d32 * w.z * w.z - j1 * d21 * w.x * w.x;
-        let (m, m1) = if p_mid == 0.0 {
-            (1.0, 0.0)
-        } else {
-            let ratio = a1 / a3;
-            (
-                ratio * ratio * (j1 * d21 / (j3 * d32)),
-                p_mid / (d32 * j3 * a3 * a3),
-            )
-        };
-        // An `m1` that underflows to zero is the separatrix as far as float64 can tell (and
-        // with no period, `K = ∞`, the periodic formulas below would not end).
+        let a = Vector3::new(
+            w.x.hypot((j2 * d32 / (j1 * d31)).sqrt() * w.y),
+            ((j1 * d31 / (j2 * d32)).sqrt() * w.x).hypot(w.y),
+            w.z.hypot((j2 * d21 / (j3 * d31)).sqrt() * w.y),
+        );
+        Self {
+            perm,
+            sign,
+            time_scale,
+            w,
+            j,
+            a,
+            lambda: a.z * (d32 * d31 / (j1 * j2)).sqrt(),
+            p_mid: j3 * d32 * w.z * w.z - j1 * d21 * w.x * w.x,
+        }
+    }
+
+    /// The elliptic parameter `m` and its complement `1 − m`, the latter from `p_mid` so that
+    /// it keeps its digits near the separatrix; `(1, 0)` on it.
+    ///
+    /// An `m1` that underflows to zero is the separatrix as far as float64 can tell (and with
+    /// no period, `K = ∞`, the periodic formulas would not end): `(1, 0)` then too.
+    fn parameter(&self) -> (f64, f64) {
+        if self.p_mid == 0.0 {
+            return (1.0, 0.0);
+        }
+        let (j1, j2, j3) = (self.j.x, self.j.y, self.j.z);
+        let ratio = self.a.x / self.a.z;
+        let m1 = self.p_mid / ((j3 - j2) * j3 * self.a.z * self.a.z);
+        if m1 == 0.0 {
+            return (1.0, 0.0);
+        }
+        (ratio * ratio * (j1 * (j2 - j1) / (j3 * (j3 - j2))), m1)
+    }
+}
+
+impl Asymmetric {
+    fn new(inertia_body: Vector3<f64>, omega_body: Vector3<f64>, q0: UnitQuaternion<f64>) -> Self {
+        let c = Canonical::new(inertia_body, omega_body);
+        let mut rotation = Matrix3::zeros();
+        for k in 0..3 {
+            rotation[(k, c.perm[k])] = c.sign[k];
+        }
+        let to_canonical =
+            UnitQuaternion::from_rotation_matrix(&Rotation3::from_matrix_unchecked(rotation));
+
+        let (w, j, time_scale, lambda) = (c.w, c.j, c.time_scale, c.lambda);
+        let (j1, j2, j3) = (j.x, j.y, j.z);
+        let (d21, d31, d32) = (j2 - j1, j3 - j1, j3 - j2);
+        let (a1, a2, a3) = (c.a.x, c.a.y, c.a.z);
+        let (m, m1) = c.parameter();
         let separatrix = m1 == 0.0;
-        let (m, m1) = if separatrix { (1.0, 0.0) } else { (m, m1) };
         let jacobi = Jacobi::new(m, m1);
 
         let s3 = w.z.signum();
@@ -366,8 +408,8 @@ impl Asymmetric {
         let e_l = Unit::new_normalize(q_canonical0 * n0);
         let mut motion = Self {
             time_scale,
-            perm,
-            sign,
+            perm: c.perm,
+            sign: c.sign,
             to_canonical,
             inertia: j,
             amplitude,
@@ -637,48 +679,22 @@ pub(crate) fn flip_period_of_rates(body: &RigidBody, omega0: [f64; 3]) -> Option
     if omega_body.iter().filter(|w| **w != 0.0).count() <= 1 || body.intermediate_axis().is_none() {
         return Some(f64::INFINITY);
     }
-    let inertia_body = body.inertia_body();
-    let mut order = [0usize, 1, 2];
-    order.sort_by(|&a, &b| inertia_body[a].total_cmp(&inertia_body[b]));
-    let [lo, mid, hi] = order;
-    let time_scale = power_of_two_near(omega_body.amax());
-    let inertia_scale = power_of_two_near(inertia_body.max());
-    let w_body = omega_body / time_scale;
-    let j_body = inertia_body / inertia_scale;
-    let p_mid_sign = {
-        let (i1, i2, i3) = (j_body[lo], j_body[mid], j_body[hi]);
-        let (w1, w3) = (w_body[lo], w_body[hi]);
-        i3 * (i3 - i2) * w3 * w3 - i1 * (i2 - i1) * w1 * w1
-    };
-    let perm = if p_mid_sign >= 0.0 {
-        [lo, mid, hi]
-    } else {
-        [hi, mid, lo]
-    };
-    let even = matches!(perm, [0, 1, 2] | [1, 2, 0] | [2, 0, 1]);
-    let sign = [1.0, if even { 1.0 } else { -1.0 }, 1.0];
-    let w = Vector3::from_fn(|k, _| sign[k] * w_body[perm[k]]);
-    let j = Vector3::from_fn(|k, _| j_body[perm[k]]);
-    let (j1, j2, j3) = (j.x, j.y, j.z);
-    let (d21, d31, d32) = (j2 - j1, j3 - j1, j3 - j2);
-    let a1 = w.x.hypot((j2 * d32 / (j1 * d31)).sqrt() * w.y);
-    let a2 = ((j1 * d31 / (j2 * d32)).sqrt() * w.x).hypot(w.y);
-    let a3 = w.z.hypot((j2 * d21 / (j3 * d31)).sqrt() * w.y);
-    let lambda = a3 * (d32 * d31 / (j1 * j2)).sqrt();
-    let p_mid = j3 * d32 * w.z * w.z - j1 * d21 * w.x * w.x;
-    let momentum = j.component_mul(&w).norm();
-    if ![a1, a2, a3, lambda, momentum].iter().all(|v| v.is_finite()) {
+    let c = Canonical::new(body.inertia_body(), omega_body);
+    let j2 = c.j.y;
+    let momentum = c.j.component_mul(&c.w).norm();
+    if ![c.a.x, c.a.y, c.a.z, c.lambda, momentum]
+        .iter()
+        .all(|v| v.is_finite())
+    {
         return None;
     }
-    let threshold = momentum * std::f64::consts::FRAC_1_SQRT_2 / (j2 * a2);
-    if p_mid == 0.0 || threshold >= 1.0 {
+    let threshold = momentum * std::f64::consts::FRAC_1_SQRT_2 / (j2 * c.a.y);
+    if c.p_mid == 0.0 || threshold >= 1.0 {
         return Some(f64::INFINITY); // on the separatrix, or never dominant
     }
-    let ratio = a1 / a3;
-    let m = ratio * ratio * (j1 * d21 / (j3 * d32));
-    let m1 = p_mid / (d32 * j3 * a3 * a3);
+    let (m, m1) = c.parameter();
     let k = Jacobi::new(m, m1).quarter_period();
-    Some(2.0 * k / lambda / time_scale)
+    Some(2.0 * k / c.lambda / c.time_scale)
 }
 
 #[cfg(test)]

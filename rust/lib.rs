@@ -14,8 +14,8 @@
 //! The quaternion rows are the body-frame law `q' = ½ q ⊗ (0, ω)`; the paper's printed `V'`
 //! row has a sign error (see [`dynamics`]).
 //!
-//! The crate is Python-free unless the `python` feature is on; then [`python`] holds the
-//! bindings and nothing else.
+//! The crate is Python-free unless the `python` feature is on; then the `python` module
+//! (rust/python.rs) holds the bindings and nothing else.
 
 pub mod adaptive;
 pub mod batch;

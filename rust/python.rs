@@ -618,13 +618,15 @@ fn step_plan_batch<'py>(
         values("omega0", &omega0)?,
         &identity,
     )?;
-    let plans = starts
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            plan(&s.body, s.omega0, t_end, frames, method, dt, rtol).map_err(|e| e.in_row(i))
-        })
-        .collect::<Result<Vec<_>, Error>>()?;
+    let plans = py.detach(|| {
+        starts
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                plan(&s.body, s.omega0, t_end, frames, method, dt, rtol).map_err(|e| e.in_row(i))
+            })
+            .collect::<Result<Vec<_>, Error>>()
+    })?;
     let result = PyDict::new(py);
     let of =
         |f: fn(&crate::step_size::StepPlan) -> f64| -> Vec<f64> { plans.iter().map(f).collect() };

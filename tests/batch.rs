@@ -12,15 +12,8 @@ use dzhanibekov::sweep::sweep;
 use dzhanibekov::Error;
 use proptest::prelude::*;
 
-const PAPER: [f64; 3] = [52.0833, 27.0833, 41.6666];
-const KEEP_ALL: Keep = Keep {
-    frames: true,
-    flips: true,
-};
-
-fn no_cancel() -> AtomicBool {
-    AtomicBool::new(false)
-}
+mod common;
+use common::{no_cancel, KEEP_ALL, PAPER};
 
 /// A deterministic spread of starts: mixed bodies (the paper's, boxes, a symmetric top),
 /// rates near each axis and in between, attitudes of every kind.

@@ -6,17 +6,15 @@ use std::sync::atomic::AtomicBool;
 use approx::assert_relative_eq;
 use dzhanibekov::dynamics::Invariants;
 use dzhanibekov::exact::{flip_period, ExactMotion};
-use dzhanibekov::run::{simulate, FrameGrid, Keep, Method, RunOutput};
+use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
 use dzhanibekov::{Error, RigidBody};
 use nalgebra::{UnitQuaternion, Vector3};
 use proptest::prelude::*;
 
-const PAPER: [f64; 3] = [52.0833, 27.0833, 41.6666];
-const KEEP_ALL: Keep = Keep {
-    frames: true,
-    flips: true,
-};
+mod common;
+use common::{KEEP_ALL, PAPER};
 
+/// A run from the attitude these tests share, with RK4 at `dt = 1e-3`.
 fn run(
     method: Method,
     inertia: [f64; 3],
@@ -24,22 +22,15 @@ fn run(
     t_end: f64,
     frames: usize,
 ) -> RunOutput {
-    let body = RigidBody::try_new(inertia).unwrap();
-    let grid = match method {
-        Method::Exact => FrameGrid::try_frames(t_end, frames).unwrap(),
-        _ => FrameGrid::try_new(t_end, frames, 1e-3, u64::MAX).unwrap(),
-    };
-    let q0 = [0.8, 0.1, -0.3, 0.5];
-    simulate(
-        &body,
-        omega0,
-        q0,
-        &grid,
+    common::run(
         method,
-        KEEP_ALL,
-        &AtomicBool::new(false),
+        inertia,
+        omega0,
+        [0.8, 0.1, -0.3, 0.5],
+        t_end,
+        frames,
+        1e-3,
     )
-    .unwrap()
 }
 
 fn max_diff(a: &[f64], b: &[f64]) -> f64 {

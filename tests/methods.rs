@@ -9,14 +9,12 @@ use dzhanibekov::dynamics::{state_from, FreeRigidBody, State};
 use dzhanibekov::integrators::{
     DenseOutput, Dop853, Dopri5, EmbeddedPair, EmbeddedStep, OdeSystem,
 };
-use dzhanibekov::run::{simulate, FrameGrid, Keep, Method, RunOutput};
+use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
 use dzhanibekov::{Error, RigidBody};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
-const KEEP_ALL: Keep = Keep {
-    frames: true,
-    flips: true,
-};
+mod common;
+use common::{run, KEEP_ALL};
 
 /// Every method, adaptive ones at tight tolerances.
 fn all_methods() -> Vec<(&'static str, Method)> {
@@ -29,37 +27,6 @@ fn all_methods() -> Vec<(&'static str, Method)> {
         ("dopri5", Method::Dopri5(tight)),
         ("dop853", Method::Dop853(tight)),
     ]
-}
-
-fn grid_for(method: Method, t_end: f64, frames: usize, dt: f64) -> FrameGrid {
-    match method.is_adaptive() {
-        true => FrameGrid::frames_only(t_end, frames).unwrap(),
-        false => FrameGrid::try_new(t_end, frames, dt, u64::MAX).unwrap(),
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn run(
-    method: Method,
-    inertia: [f64; 3],
-    omega0: [f64; 3],
-    q0: [f64; 4],
-    t_end: f64,
-    frames: usize,
-    dt: f64,
-) -> RunOutput {
-    let body = RigidBody::try_new(inertia).unwrap();
-    let grid = grid_for(method, t_end, frames, dt);
-    simulate(
-        &body,
-        omega0,
-        q0,
-        &grid,
-        method,
-        KEEP_ALL,
-        &AtomicBool::new(false),
-    )
-    .unwrap()
 }
 
 /// The symmetric top (I1 = I2 = I): ω⊥ turns in the body at Ω = (I3 − I) ω3 / I and the

@@ -4,16 +4,15 @@ use std::sync::atomic::AtomicBool;
 
 use approx::assert_relative_eq;
 use dzhanibekov::kinematics::rotation_matrix;
-use dzhanibekov::run::{simulate, FrameGrid, Keep, Method, RunOutput};
+use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
 use dzhanibekov::{Error, RigidBody};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 use proptest::prelude::*;
 
-const KEEP_ALL: Keep = Keep {
-    frames: true,
-    flips: true,
-};
+mod common;
+use common::KEEP_ALL;
 
+/// An RK4 run (the core engine's tests).
 fn run(
     inertia: [f64; 3],
     omega0: [f64; 3],
@@ -22,18 +21,7 @@ fn run(
     frames: usize,
     dt: f64,
 ) -> RunOutput {
-    let body = RigidBody::try_new(inertia).unwrap();
-    let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX).unwrap();
-    simulate(
-        &body,
-        omega0,
-        q0,
-        &grid,
-        Method::Rk4,
-        KEEP_ALL,
-        &AtomicBool::new(false),
-    )
-    .unwrap()
+    common::run(Method::Rk4, inertia, omega0, q0, t_end, frames, dt)
 }
 
 fn quaternion(q: &[f64]) -> Quaternion<f64> {

@@ -280,7 +280,10 @@ def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
     ax.set_zlabel("Z")
-    ax.set_title(_title(result, 56), fontsize=9)
+    # wrapped to the panel's width: a second line of a 3-D axes' title is cut off at the top
+    spec = ax.get_subplotspec()
+    columns = spec.get_gridspec().ncols if spec is not None else 1
+    ax.set_title(_title(result, int(15 * fig.get_figwidth() / columns)), fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
     return _saved(fig, save)
 
