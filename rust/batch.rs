@@ -593,11 +593,11 @@ fn rk4_rows(
         .collect()
 }
 
-/// Whether a start's rates are so far from 1 that its run is integrated in its own units
-/// (see [`crate::scale`]): such rows run alone, as [`simulate`] runs them, since the lanes of a
+/// Whether a start's rates or moments are so far from 1 that its run is integrated in its
+/// own units (see [`crate::scale`]): such rows run alone, as [`simulate`] runs them, since the lanes of a
 /// group share one step.
 pub(crate) fn needs_scaling(start: &Start) -> bool {
-    !RateScale::of(start.omega0).is_identity()
+    !RateScale::of(start.omega0).is_identity() || crate::scale::unit_body(&start.body).is_some()
 }
 
 /// The rows of a group, rows `first_row..` of the batch, run one by one by [`simulate`].

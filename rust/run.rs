@@ -318,7 +318,8 @@ pub struct RunOutput {
 /// (normalised here) over `grid`.
 ///
 /// Rates of any size are integrated in the motion's own units (see [`crate::scale`]), so
-/// that rates of 1e-300 or 1e300 neither underflow nor overflow in Euler's products.
+/// that rates of 1e-300 or 1e300 neither underflow nor overflow in Euler's products; moments
+/// likewise, over a power of two near the largest.
 ///
 /// # Errors
 /// Non-finite `omega0`, a zero or non-finite `q0`, a span `t_end · max|ω₀|` beyond float64,
@@ -352,6 +353,9 @@ pub fn simulate(
             "must be three finite body rates",
             omega0,
         ));
+    }
+    if let Some(unit) = crate::scale::unit_body(body) {
+        return simulate(&unit, omega0, q0, grid, method, keep, cancel);
     }
     let scale = RateScale::of(omega0);
     if !scale.is_identity() {

@@ -8,6 +8,8 @@
 //! the latter has no overflow or underflow; runs with `|e|` up to [`UNSCALED`] are left as
 //! they are.
 
+use crate::body::RigidBody;
+
 /// Runs whose largest initial rate is within `2^±UNSCALED` run unscaled: their products stay
 /// far inside float64 for any body the core accepts.
 pub const UNSCALED: i32 = 64;
@@ -82,6 +84,20 @@ impl RateScale {
     pub fn time_from_unit(&self, t: f64) -> f64 {
         ldexp(t, -self.e)
     }
+}
+
+/// `body` with its moments over a power of two near the largest, if that is beyond
+/// `2^±UNSCALED`: the motion does not change (ω is the same for `I → cI`), the coefficients of
+/// Euler's equations are the same bits (ratios of moments scale exactly), and the angular
+/// momentum `Iω` of tiny moments and rates no longer underflows (nor that of huge ones
+/// overflows).
+pub fn unit_body(body: &RigidBody) -> Option<RigidBody> {
+    let inertia = body.inertia_body();
+    let e = exponent(inertia.max());
+    if e.abs() <= UNSCALED {
+        return None;
+    }
+    RigidBody::try_new([inertia.x, inertia.y, inertia.z].map(|i| ldexp(i, -e))).ok()
 }
 
 #[cfg(test)]

@@ -162,6 +162,12 @@ fn single(
     method: Method,
     cancel: &AtomicBool,
 ) -> Result<RunSummary> {
+    if let Some(body) = crate::scale::unit_body(&start.body) {
+        let unit = Start { body, ..*start };
+        let mut run = single(&unit, grid, method, cancel)?;
+        run.exact_period = exact_period(start)?;
+        return Ok(run);
+    }
     let scale = RateScale::of(start.omega0);
     if scale.is_identity() {
         return single_unscaled(start, grid, method, cancel);

@@ -247,7 +247,10 @@ def tolerance(method: str, kwargs: dict[str, Any], traj: Any, rate: float) -> di
     elif method == "rk4":
         step_rate = traj.dt * rate
         if step_rate <= 0.5:  # the guard's prediction holds, and the error model with it
-            out["q_norm"] = 1.01 * MAX_PREDICTED_DRIFT + roundoff
+            # (a step picked for `rtol`, dt=None, answers to the larger of the two)
+            allowed = MAX_PREDICTED_DRIFT if kwargs.get("dt") is not None else max(
+                MAX_PREDICTED_DRIFT, float(kwargs.get("rtol") or 0.0))
+            out["q_norm"] = 1.01 * allowed + roundoff
             out["energy"] = 0.01 * max(turns, 1.0) * step_rate**4 + roundoff
     return out
 
@@ -308,7 +311,9 @@ def check_run(kwargs: dict[str, Any], result: Any, caught: list[warnings.Warning
     for name, bound in bounds.items():
         if warned and method in ("rk4", "rk4_projected"):
             continue
-        assert measured[name] <= bound, (method, name, measured[name], bound, rate * traj.dt)
+        assert measured[name] <= bound, (method, name, measured[name], bound, rate * traj.dt,
+                                         {k: np.asarray(v).tolist() if isinstance(v, (list, tuple, np.ndarray)) else v
+                                          for k, v in kwargs.items()})
 
 
 def check_summary(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
