@@ -385,32 +385,12 @@ pub fn simulate(
             Vec::new(),
         )
     };
-    let (drift, frames) = obs;
-    // Past the stability limit a short run can end finite but so large that its invariants
-    // overflow: that run diverged, whatever the cheap checks inside the loop saw.
-    let d = drift.drift;
-    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
-        .iter()
-        .all(|v| v.is_finite())
-    {
-        return Err(Error::Diverged {
-            t: grid.t_end(),
-            hint: DIVERGED_HINT,
-        });
-    }
-    let frames = frames.unwrap_or_default();
-    Ok(RunOutput {
-        omega: frames.omega,
-        q: frames.q,
-        flip_times,
-        drift: drift.drift,
-        dt: if method.is_adaptive() {
-            grid.t_end() / stats.n_steps.max(1) as f64
-        } else {
-            grid.step_size()
-        },
-        stats,
-    })
+    let dt = if method.is_adaptive() {
+        grid.t_end() / stats.n_steps.max(1) as f64
+    } else {
+        grid.step_size()
+    };
+    finished(obs, flip_times, stats, dt, grid)
 }
 
 /// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::scale`]):
@@ -541,9 +521,22 @@ fn simulate_exact(
         true => motion.flip_times(grid.t_end())?,
         false => Vec::new(),
     };
-    let (drift, frames) = obs;
-    // Past the stability limit a short run can end finite but so large that its invariants
-    // overflow: that run diverged, whatever the cheap checks inside the loop saw.
+    finished(obs, flip_times, Stats::default(), 0.0, grid)
+}
+
+/// The output of a run from what its observers saw.
+///
+/// # Errors
+/// Invariants that overflowed: past the stability limit a short run can end finite but so
+/// large that its energy is not, and that run diverged, whatever the cheap checks in the loop
+/// saw.
+fn finished(
+    (drift, frames): (DriftMonitor, Option<FrameRecorder>),
+    flip_times: Vec<f64>,
+    stats: Stats,
+    dt: f64,
+    grid: &FrameGrid,
+) -> Result<RunOutput> {
     let d = drift.drift;
     if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
         .iter()
@@ -559,9 +552,9 @@ fn simulate_exact(
         omega: frames.omega,
         q: frames.q,
         flip_times,
-        drift: drift.drift,
-        stats: Stats::default(),
-        dt: 0.0,
+        drift: d,
+        stats,
+        dt,
     })
 }
 

@@ -8,17 +8,15 @@ use std::sync::atomic::AtomicBool;
 use dzhanibekov::adaptive::Adaptive;
 use dzhanibekov::batch::{simulate_batch, Options, Start};
 use dzhanibekov::dynamics::{state_from, Invariants};
-use dzhanibekov::run::{simulate, FrameGrid, Keep, Method, RunOutput};
+use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
 use dzhanibekov::sweep::sweep;
 use dzhanibekov::RigidBody;
 use nalgebra::Vector3;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
 
-const KEEP_ALL: Keep = Keep {
-    frames: true,
-    flips: true,
-};
+mod common;
+use common::{grid_for as grid, no_cancel, KEEP_ALL};
 
 /// Every method, the adaptive ones at a tight tolerance.
 fn methods() -> [Method; 7] {
@@ -34,14 +32,6 @@ fn methods() -> [Method; 7] {
     ]
 }
 
-fn grid(method: Method, t_end: f64, frames: usize, dt: f64) -> FrameGrid {
-    match method {
-        Method::Exact => FrameGrid::try_frames(t_end, frames).unwrap(),
-        m if m.is_adaptive() => FrameGrid::frames_only(t_end, frames).unwrap(),
-        _ => FrameGrid::try_new(t_end, frames, dt, u64::MAX).unwrap(),
-    }
-}
-
 fn run(
     method: Method,
     body: &RigidBody,
@@ -49,16 +39,7 @@ fn run(
     q0: [f64; 4],
     grid: &FrameGrid,
 ) -> RunOutput {
-    simulate(
-        body,
-        omega0,
-        q0,
-        grid,
-        method,
-        KEEP_ALL,
-        &AtomicBool::new(false),
-    )
-    .unwrap()
+    simulate(body, omega0, q0, grid, method, KEEP_ALL, &no_cancel()).unwrap()
 }
 
 /// The largest relative departure over the frames of each invariant, recomputed from the
