@@ -72,13 +72,17 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     except ValueError:
         raise ValueError(f"`inertia` and `omega` must broadcast together, got shapes "
                          f"{inertia.shape} and {omega.shape}") from None
-    # in units of a power of two near each row's largest moment and rate (exact, so the
-    # differences of nearly equal moments keep their digits): no square over- or underflows
-    inertia = np.ldexp(inertia, -np.frexp(inertia.max(axis=-1, keepdims=True))[1])
-    omega = np.ldexp(omega, -np.frexp(np.abs(omega).max(axis=-1, keepdims=True))[1])
+    # Σ x_k² (I_k − I_mid) / I_k over Σ x_k², x = I ω in units of a power of two near the
+    # row's largest |I_k ω_k| (from the exponents of I and ω apart, so no product over- or
+    # underflows before the scaling); I_k − I_mid is exact for nearly equal moments.
     mid = np.median(inertia, axis=-1, keepdims=True)
-    l2 = np.sum((inertia * omega) ** 2, axis=-1)
-    gap = np.sum(inertia * (inertia - mid) * omega**2, axis=-1)
+    mi, ei = np.frexp(inertia)
+    mw, ew = np.frexp(omega)
+    mantissa = mi * mw
+    exponent = np.where(mantissa != 0, ei + ew, np.iinfo(np.int32).min // 2)
+    x = np.ldexp(mantissa, exponent - exponent.max(axis=-1, keepdims=True))
+    l2 = np.sum(x * x, axis=-1)
+    gap = np.sum(x * x * ((inertia - mid) / inertia), axis=-1)
     with np.errstate(invalid="ignore", divide="ignore"):
         return np.where(l2 > 0, gap / l2, 0.0)
 
