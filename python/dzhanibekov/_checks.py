@@ -114,10 +114,17 @@ def memory_available() -> tuple[int, str] | None:
     return min(limits)
 
 
+SMALL_REQUEST = 1 << 24
+"""Bytes below which `check_size` does not ask the kernel (five file reads, ~0.1 ms, more
+than a short run): the core's own allocations are fallible and refuse what cannot be had."""
+
+
 def check_size(nbytes: int, what: str, hint: str) -> None:
     """Refuses a request for more memory than this machine can give now, before allocating
     it: the allocation itself would succeed (memory is committed lazily) and the process
     would be killed when it touched the pages."""
+    if nbytes < SMALL_REQUEST:
+        return
     room = memory_available()
     if room is not None and nbytes > room[0]:
         raise ValueError(
