@@ -19,7 +19,9 @@ use crate::error::{Error, Result};
 use crate::integrators::Stats;
 use crate::lanes::{advance, Isa, Lanes, Span};
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
-use crate::run::{normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT};
+use crate::run::{
+    finite_drift, normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT,
+};
 use crate::scale::RateScale;
 use crate::tilt::TiltMonitor;
 
@@ -383,19 +385,9 @@ pub(crate) fn run_group(
             record(i, l, &x, &mut frames);
         }
     }
-    // as a single run: invariants that overflow mean the run diverged (see `run::simulate`)
+    // as a single run: invariants that overflow mean the run diverged
     for (l, monitor) in drift.iter().enumerate() {
-        let d = monitor.drift;
-        if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
-            .iter()
-            .all(|v| v.is_finite())
-        {
-            return Err(Error::Diverged {
-                t: grid.t_end(),
-                hint: DIVERGED_HINT,
-            }
-            .in_row(first_row + l));
-        }
+        finite_drift(monitor.drift, grid.t_end()).map_err(|e| e.in_row(first_row + l))?;
     }
     Ok((0..real)
         .map(|l| {

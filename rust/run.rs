@@ -436,6 +436,27 @@ pub(crate) fn to_unit(
     Ok((unit_grid, method))
 }
 
+/// `drift`, or [`Error::Diverged`] at `t_end` when an invariant overflowed: past the
+/// stability limit a short run can end finite but so large that its energy is not, and that
+/// run diverged, whatever the cheap checks in the step loop saw.
+pub(crate) fn finite_drift(drift: Drift, t_end: f64) -> Result<Drift> {
+    match [
+        drift.energy,
+        drift.momentum,
+        drift.momentum_world,
+        drift.q_norm,
+    ]
+    .iter()
+    .all(|v| v.is_finite())
+    {
+        true => Ok(drift),
+        false => Err(Error::Diverged {
+            t: t_end,
+            hint: DIVERGED_HINT,
+        }),
+    }
+}
+
 /// A time of a run in the units of `scale` back in the user's, within the user's span (NaN,
 /// "no such time", stays NaN).
 pub(crate) fn time_from_unit(scale: RateScale, t: f64, t_end: f64) -> f64 {
@@ -527,9 +548,7 @@ fn simulate_exact(
 /// The output of a run from what its observers saw.
 ///
 /// # Errors
-/// Invariants that overflowed: past the stability limit a short run can end finite but so
-/// large that its energy is not, and that run diverged, whatever the cheap checks in the loop
-/// saw.
+/// Invariants that overflowed (see [`finite_drift`]).
 fn finished(
     (drift, frames): (DriftMonitor, Option<FrameRecorder>),
     flip_times: Vec<f64>,
@@ -537,22 +556,13 @@ fn finished(
     dt: f64,
     grid: &FrameGrid,
 ) -> Result<RunOutput> {
-    let d = drift.drift;
-    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
-        .iter()
-        .all(|v| v.is_finite())
-    {
-        return Err(Error::Diverged {
-            t: grid.t_end(),
-            hint: DIVERGED_HINT,
-        });
-    }
+    let drift = finite_drift(drift.drift, grid.t_end())?;
     let frames = frames.unwrap_or_default();
     Ok(RunOutput {
         omega: frames.omega,
         q: frames.q,
         flip_times,
-        drift: d,
+        drift,
         stats,
         dt,
     })

@@ -19,7 +19,7 @@ use crate::exact::{flip_period, flip_period_of_rates, representable_period, Exac
 use crate::integrators::Stats;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::run::{
-    normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY, DIVERGED_HINT,
+    finite_drift, normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
 };
 use crate::scale::RateScale;
 use crate::tilt::TiltMonitor;
@@ -222,21 +222,12 @@ fn single_unscaled(
         };
         (stats, dt)
     };
-    let d = drift.drift;
-    if ![d.energy, d.momentum, d.momentum_world, d.q_norm]
-        .iter()
-        .all(|v| v.is_finite())
-    {
-        return Err(Error::Diverged {
-            t: grid.t_end(),
-            hint: DIVERGED_HINT,
-        });
-    }
+    let drift = finite_drift(drift.drift, grid.t_end())?;
     Ok(RunSummary {
         flips,
         tilt: tilt.tilt(),
         exact_period,
-        drift: drift.drift,
+        drift,
         stats,
         dt,
     })
