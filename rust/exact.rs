@@ -249,6 +249,35 @@ fn symmetric(inertia: Vector3<f64>, omega: Vector3<f64>, q0: UnitQuaternion<f64>
     }
 }
 
+/// `L² − 2E J2 = J3 (J3 − J2) ω3² − J1 (J2 − J1) ω1²` for moments `j = (J1, J2, J3)`, in
+/// double-double arithmetic (error-free sums and FMA products) rounded once at the end.
+///
+/// Near the separatrix far from the intermediate axis the two terms are O(1) and cancel to
+/// `1 − m`; each rounded in float64 would leave an error of 1e-16 in a difference of 1e-15,
+/// and the flip period `2K/λ ≈ ln(16/(1 − m))/λ` would be off in its third digit.
+fn separatrix_measure(j: [f64; 3], w1: f64, w3: f64) -> f64 {
+    let [j1, j2, j3] = j;
+    let major = dd_mul(dd_mul(dd_mul(two_sum(j3, -j2), j3), w3), w3);
+    let minor = dd_mul(dd_mul(dd_mul(two_sum(j2, -j1), j1), w1), w1);
+    let (hi, lo) = two_sum(major.0, -minor.0);
+    hi + (lo + (major.1 - minor.1))
+}
+
+/// `a + b` as an unevaluated sum `(s, e)` with `s = fl(a + b)` exactly (Knuth's TwoSum).
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// The double-double `x` times `y`, renormalised (the product `x.0 · y` error-free by FMA).
+fn dd_mul(x: (f64, f64), y: f64) -> (f64, f64) {
+    let p = x.0 * y;
+    let e = x.0.mul_add(y, -p) + x.1 * y;
+    let s = p + e;
+    (s, e - (s - p))
+}
+
 /// A power of two near `x > 0`.
 fn power_of_two_near(x: f64) -> f64 {
     2.0_f64.powi(x.log2().floor() as i32)
@@ -279,11 +308,11 @@ impl Canonical {
         let w_body = omega_body / time_scale;
         let j_body = inertia_body / inertia_scale;
         // The separatrix measure L² − 2E I_mid, from the two rates that enter it.
-        let p_mid_sign = {
-            let (i1, i2, i3) = (j_body[lo], j_body[mid], j_body[hi]);
-            let (w1, w3) = (w_body[lo], w_body[hi]);
-            i3 * (i3 - i2) * w3 * w3 - i1 * (i2 - i1) * w1 * w1
-        };
+        let p_mid_sign = separatrix_measure(
+            [j_body[lo], j_body[mid], j_body[hi]],
+            w_body[lo],
+            w_body[hi],
+        );
         let perm = if p_mid_sign >= 0.0 {
             [lo, mid, hi]
         } else {
@@ -308,7 +337,7 @@ impl Canonical {
             j,
             a,
             lambda: a.z * (d32 * d31 / (j1 * j2)).sqrt(),
-            p_mid: j3 * d32 * w.z * w.z - j1 * d21 * w.x * w.x,
+            p_mid: separatrix_measure([j1, j2, j3], w.x, w.z),
         }
     }
 

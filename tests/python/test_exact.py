@@ -328,3 +328,57 @@ def test_exact_at_the_extremes_matches_extended_precision_taylor(inertia, omega0
     omega, q = taylor_longdouble(inertia, np.asarray(omega0) / scale, q0, traj.t * scale, h=0.05)
     assert scaled(traj.omega / scale, omega, 1.0) <= 1e-13
     assert scaled(traj.q, q, 1.0) <= 1e-13
+
+
+# --- near the separatrix far from the intermediate axis (issue 11) --------------------------
+
+
+def near_separatrix_start(perm, side, m1, sign):
+    """Rates on the body (1, 2, 3) with its axes permuted by `perm`, ω2 = 0.2 and ω3 = 0.5,
+    and ω1 picked so that 1 − m ≈ `m1` on the major (`side` = +1) or minor (−1) side of the
+    separatrix: there L² − 2E I2 = 3·ω3² − ω1² is a difference of two terms near 0.75."""
+    # 1 − m = (I3 − I1)(L² − 2E I2) / ((I3 − I2)(L² − 2E I1)) on the major side, with
+    # L² − 2E I1 ≈ 2·0.04 + 6·0.25 on this orbit; the minor side swaps I1 and I3.
+    gap = m1 * (1.58 / 2 if side > 0 else 0.08 * 2 + 0.75 * 2) / 2
+    w1 = float(mp.sqrt(mp.mpf(0.75) - side * mp.mpf(gap)))
+    # body axis i is axis perm[i] of the body (1, 2, 3)
+    inertia = np.array([1.0, 2.0, 3.0])[list(perm)]
+    omega0 = sign * np.array([w1, 0.2, 0.5])[list(perm)]
+    return inertia, omega0
+
+
+SEPARATRIX_CASES = [(perm, side, m1, sign)
+                    for perm in [(0, 1, 2), (2, 0, 1), (1, 0, 2)]
+                    for side in (1, -1)
+                    for m1 in (1e-3, 1e-9, 1e-13, 1e-15)
+                    for sign in (1.0, -1.0)]
+
+
+def test_issue_11s_start_has_the_flip_period_of_mpmath():
+    # I3 (I3 − I2) ω3² = 0.75 and I1 (I2 − I1) ω1² = 0.75 + 1.6e-16: was 71.86016
+    omega0 = (0.8660254037844394, 0.2, 0.5)
+    ref = ExactOmegaMP((1.0, 2.0, 3.0), omega0, dps=60)
+    assert dz.flip_period(dz.Body((1.0, 2.0, 3.0)), omega0) == pytest.approx(ref.flip_period,
+                                                                            rel=1e-13)
+    assert ref.flip_period == pytest.approx(71.80057, abs=1e-5)
+
+
+@pytest.mark.parametrize("perm, side, m1, sign", SEPARATRIX_CASES)
+def test_flip_period_near_the_separatrix_matches_mpmath_on_every_side(perm, side, m1, sign):
+    inertia, omega0 = near_separatrix_start(perm, side, m1, sign)
+    ref = ExactOmegaMP(inertia, omega0, dps=60)
+    with mp.workdps(60):
+        assert m1 / 3 < 1 - ref.m < 3 * m1 and ref.about_major == (side > 0)
+    assert dz.flip_period(dz.Body(inertia), omega0) == pytest.approx(ref.flip_period, rel=1e-13)
+
+
+@pytest.mark.parametrize("perm, side, m1, sign",
+                         [c for c in SEPARATRIX_CASES if c[2] <= 1e-13 and c[3] > 0])
+def test_exact_omega_near_the_separatrix_matches_mpmath_at_t_1000(perm, side, m1, sign):
+    inertia, omega0 = near_separatrix_start(perm, side, m1, sign)
+    t = np.linspace(0.0, 1000.0, 21)
+    traj = dz.simulate(inertia, omega0, t_end=1000.0, frames=21, method="exact", flips=False)
+    ref = ExactOmegaMP(inertia, omega0, dps=60)(t)
+    # a phase error δu moves ω by up to |ω'|·δu; |ω'| ≤ 1 here and u ≈ 1000 λ ≈ 900 has
+    # ulps of 1e-13: 1e-11 leaves room for the phase's round-off, not for a wrong parameter
+    assert scaled(traj.omega, ref, 1.0) <= 1e-11
