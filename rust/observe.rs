@@ -331,6 +331,33 @@ impl FlipDetector {
         t0 + 0.5 * (lo + hi) * (t1 - t0)
     }
 
+    /// The time and value of the extremum of ω_mid on `[t0, t1]` on a continuous extension
+    /// `at`: the sign change of its slope `∝ ω_a ω_b`, by bisection.
+    #[cold]
+    #[inline(never)]
+    fn peak_on(
+        &self,
+        k: usize,
+        t0: f64,
+        t1: f64,
+        positive_at_t0: bool,
+        at: &mut dyn FnMut(f64) -> State,
+    ) -> (f64, f64) {
+        let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            let x = at(mid);
+            if (x[a] * x[b] > 0.0) == positive_at_t0 {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let theta = 0.5 * (lo + hi);
+        (t0 + theta * (t1 - t0), at(theta)[k])
+    }
+
     /// Counts a flip if the intermediate axis has come near `L` on the side opposite to the
     /// last one, at the crossing seen since.
     #[inline(always)]
@@ -411,8 +438,25 @@ impl Observer for FlipDetector {
     ) {
         let Some(k) = self.axis else { return };
         let (r0, r1) = (component(x0, k), component(x1, k));
-        if crosses(r0, r1) {
-            self.candidate = Some(self.crossing_on(k, t0, t1, r0 > 0.0, at));
+        let crossing = crosses(r0, r1).then(|| self.crossing_on(k, t0, t1, r0 > 0.0, at));
+        // A long step can hold a whole stretch of dominance that neither end shows: where
+        // ω_mid peaks inside it (its slope ∝ ω_a ω_b changes sign), the peak is looked at too.
+        let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+        let peak = crosses(x0[a] * x0[b], x1[a] * x1[b])
+            .then(|| self.peak_on(k, t0, t1, x0[a] * x0[b] > 0.0, at));
+        match (crossing, peak) {
+            (Some(tc), Some((tp, rate))) if tp < tc => {
+                self.settle(rate);
+                self.candidate = Some(tc);
+            }
+            (crossing, peak) => {
+                if let Some(tc) = crossing {
+                    self.candidate = Some(tc);
+                }
+                if let Some((_, rate)) = peak {
+                    self.settle(rate);
+                }
+            }
         }
         self.settle(r1);
     }

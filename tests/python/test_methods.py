@@ -4,7 +4,7 @@ the invariants each method keeps, and flips for every method."""
 
 import numpy as np
 import pytest
-from reference import ExactOmega, dop853
+from reference import ExactOmega, ExactOmegaMP, dop853
 
 import dzhanibekov as dz
 
@@ -149,3 +149,20 @@ def test_every_method_locates_the_flips(method, inertia, omega0):
                        method=method, rtol=rtol)
     assert len(traj.flip_times) == len(zeros) >= 5, (traj.flip_times, zeros)
     np.testing.assert_allclose(traj.flip_times, zeros, rtol=0, atol=10 * rtol * exact.flip_period)
+
+
+@pytest.mark.parametrize("method", ADAPTIVE)
+@pytest.mark.parametrize("rtol", [1e-12, None])
+def test_flips_just_past_the_dominance_threshold_are_found_by_the_adaptive_methods(method, rtol):
+    # |L2| exceeds |L|/√2 by 5e-5 at the peaks of ω2 only: a long adaptive step spans each
+    # stretch of dominance without its ends seeing it (dop853 at rtol=1e-12 found 3 of 36)
+    inertia, omega0, t_end = (1.0, 2.0, 3.0), (0.0, 0.75 * (1 + 1e-4), 0.5), 200.0
+    period = ExactOmegaMP(inertia, omega0).flip_period  # 2K(m)/λ in mpmath
+    # ω1(0) = 0 puts ω2 at its peak, u0 = K: ω2 ∝ sn vanishes at t = (2j − 1)·P/2, and each
+    # zero is a flip once ω2 peaks on the other side, P/2 later
+    zeros = (2 * np.arange(1, 200) - 1) * period / 2
+    flips = zeros[zeros + period / 2 <= t_end]
+    assert np.min(np.abs(zeros + period / 2 - t_end)) > 0.05 * period  # no flip at the edge
+    run = dz.summarize(inertia, omega0, t_end=t_end, method=method, dt=None, rtol=rtol)
+    assert len(run.flip_times) == len(flips) > 30
+    np.testing.assert_allclose(run.flip_times, flips, rtol=0, atol=1e-6 * period)
