@@ -102,7 +102,7 @@ impl Start {
 /// How a batch runs: on how many threads, with which instruction set.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Options {
-    /// Threads to run on; `None` for rayon's global pool (all cores).
+    /// Threads to run on; `None` for the process's pool (all cores; see [`crate::pool`]).
     pub threads: Option<usize>,
     /// The SIMD instruction set of the RK4 lanes; `None` for the widest this CPU has.
     pub isa: Option<Isa>,
@@ -115,7 +115,7 @@ impl Options {
     /// `threads` zero, or a pool that cannot be built; the errors of `work`.
     pub(crate) fn install<T: Send>(&self, work: impl FnOnce() -> Result<T> + Send) -> Result<T> {
         let Some(n) = self.threads else {
-            return work();
+            return crate::pool::install(work)?;
         };
         if n == 0 {
             return Err(Error::invalid("threads", "must be at least 1", n));

@@ -156,22 +156,24 @@ pub fn rotate_points_until(
     // task reads its block of points once from memory and writes it for every frame.
     let blocks = p.div_ceil(POINT_BLOCK);
     let out_ptr = SyncPtr(out.as_mut_ptr());
-    (0..blocks).into_par_iter().for_each(|b| {
-        let start = b * POINT_BLOCK;
-        let end = (start + POINT_BLOCK).min(p);
-        let src = &points[start * 3..end * 3];
-        for (i, m) in matrices.iter().enumerate() {
-            if cancel.load(Ordering::Relaxed) {
-                return;
+    crate::pool::install(|| {
+        (0..blocks).into_par_iter().for_each(|b| {
+            let start = b * POINT_BLOCK;
+            let end = (start + POINT_BLOCK).min(p);
+            let src = &points[start * 3..end * 3];
+            for (i, m) in matrices.iter().enumerate() {
+                if cancel.load(Ordering::Relaxed) {
+                    return;
+                }
+                let offset = i * frame_len + start * 3;
+                // SAFETY: tiles (i, b) are disjoint ranges of `out`, each written by one task.
+                let dst = unsafe {
+                    std::slice::from_raw_parts_mut(out_ptr.get().add(offset), (end - start) * 3)
+                };
+                rotate_block(m, src, dst);
             }
-            let offset = i * frame_len + start * 3;
-            // SAFETY: tiles (i, b) are disjoint ranges of `out`, each written by one task.
-            let dst = unsafe {
-                std::slice::from_raw_parts_mut(out_ptr.get().add(offset), (end - start) * 3)
-            };
-            rotate_block(m, src, dst);
-        }
-    });
+        })
+    })?;
     stopped()
 }
 

@@ -30,6 +30,7 @@ pub mod kinematics;
 pub mod lanes;
 pub mod mesh;
 pub mod observe;
+pub mod pool;
 pub mod run;
 pub mod scale;
 pub mod step_size;
