@@ -28,6 +28,9 @@ use crate::step_size::{check_rtol, rate_bound};
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
 const CHECK_EVERY: u64 = 1 << 10;
 
+/// Frames (interpolated within one step) between two looks at the cancel flag.
+const FRAMES_BETWEEN_CHECKS: u64 = 1 << 16;
+
 /// The settings of an adaptive run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Adaptive {
@@ -227,6 +230,9 @@ where
             };
             h *= factor.min(1.0);
             rejected = true;
+            if stats.n_rejected.is_multiple_of(CHECK_EVERY) {
+                check(&x, t, cancel)?;
+            }
             continue;
         }
         let t1 = if last { t_end } else { t + h };
@@ -244,11 +250,15 @@ where
         if O::WANTS_STEPS {
             obs.step_dense(t, &x, t1, &x1, &mut at);
         }
+        // One step can span millions of frames: the cancel flag is read between them too.
         while next_frame < grid.frames() && grid.time(next_frame) <= t1 {
             let tf = grid.time(next_frame);
             let xf = if tf == t1 { x1 } else { at((tf - t) / h) };
             obs.frame(next_frame, tf, &xf);
             next_frame += 1;
+            if (next_frame as u64).is_multiple_of(FRAMES_BETWEEN_CHECKS) {
+                check(&x, t, cancel)?;
+            }
         }
         stats.nfev += dense_nfev;
         let mut factor = ctl.safety * err.powf(-ctl.alpha) * err_prev.powf(ctl.beta);

@@ -54,6 +54,16 @@ CALLS: dict[str, Callable[[], Any]] = {
                                            method="splitting"),
     # a sweep of 8 runs of 10⁹ steps each, keeping a few numbers per run
     "sweep-rk4": lambda: dz.sweep(BODY, BATCH_OMEGA, t_end=1e6, dt=1e-3, progress=False),
+    # 2³¹ frames interpolated within a few hundred adaptive steps, keeping none
+    "summarize-dop853-frames": lambda: dz.summarize(BODY, OMEGA, t_end=100.0, frames=2**31,
+                                                    method="dop853", dt=None),
+    "summarize-dopri5-frames": lambda: dz.summarize(BODY, OMEGA, t_end=100.0, frames=2**31,
+                                                    method="dopri5", dt=None),
+    "sweep-dop853-frames": lambda: dz.sweep(BODY, BATCH_OMEGA[:2], t_end=100.0, frames=2**31,
+                                            method="dop853", dt=None, progress=False),
+    # a tiny span in subnormal steps: 2·10¹³ steps once max_steps allows them
+    "summarize-subnormal-dt": lambda: dz.summarize(BODY, OMEGA, t_end=1e-310, dt=5e-324,
+                                                   max_steps=2**62),
     # 4·10⁷ point-frames into a fresh gigabyte
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),

@@ -12,7 +12,9 @@ import pytest
 
 CHILD = Path(__file__).with_name("interrupt_child.py")
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
-         "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate"]
+         "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate",
+         "summarize-dop853-frames", "summarize-dopri5-frames", "sweep-dop853-frames",
+         "summarize-subnormal-dt"]
 
 
 def interrupted(call: str) -> dict:
