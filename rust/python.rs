@@ -14,7 +14,7 @@ use numpy::{
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::adaptive::Adaptive;
 use crate::batch::{simulate_batch as core_simulate_batch, Options as BatchOptions, Start};
@@ -30,7 +30,7 @@ use crate::mesh::ellipsoid;
 use crate::observe::Drift;
 use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
 use crate::step_size::plan;
-use crate::sweep::{sweep as core_sweep, RunSummary};
+use crate::sweep::{sweep as core_sweep, RunStatus, RunSummary};
 
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
@@ -145,7 +145,7 @@ fn simulate<'py>(
     q0: [f64; 4],
     t_end: f64,
     frames: usize,
-    dt: f64,
+    dt: Option<f64>,
     method: &str,
     max_steps: u64,
     keep_frames: bool,
@@ -195,17 +195,22 @@ fn method_and_grid(
     method: &str,
     t_end: f64,
     frames: usize,
-    dt: f64,
+    dt: Option<f64>,
     max_steps: u64,
     rtol: f64,
     atol: f64,
 ) -> PyResult<(Method, FrameGrid)> {
-    let method = adaptive_method(method, rtol, atol, Some(dt))?;
+    let method = adaptive_method(method, rtol, atol, dt)?;
     let grid = match method {
         // The exact solution takes no steps: `dt` and `max_steps` do not apply.
         Method::Exact => FrameGrid::try_frames(t_end, frames)?,
         _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
-        _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
+        _ => {
+            let dt = dt.ok_or_else(|| {
+                PyValueError::new_err("`dt` must be given for a fixed-step method (planned first)")
+            })?;
+            FrameGrid::try_new(t_end, frames, dt, max_steps)?
+        }
     };
     let method = method.with_adaptive(match method {
         Method::Dopri5(a) | Method::Dop853(a) => a.with_max_steps(max_steps),
@@ -517,7 +522,7 @@ fn simulate_batch<'py>(
     q0: PyReadonlyArray2<'py, f64>,
     t_end: f64,
     frames: usize,
-    dt: f64,
+    dt: Option<f64>,
     method: &str,
     max_steps: u64,
     keep_frames: bool,
@@ -565,7 +570,7 @@ fn sweep<'py>(
     q0: PyReadonlyArray2<'py, f64>,
     t_end: f64,
     frames: usize,
-    dt: f64,
+    dt: Option<f64>,
     method: &str,
     max_steps: u64,
     rtol: f64,
@@ -582,8 +587,17 @@ fn sweep<'py>(
     })?;
     let result = PyDict::new(py);
     let of = |f: fn(&RunSummary) -> f64| -> Vec<f64> { runs.iter().map(f).collect() };
-    let flips: Vec<i64> = runs.iter().map(|r| r.flips.count as i64).collect();
+    // a run that did not finish counts −1 flips: never mistaken for a stable one
+    let flips: Vec<i64> = runs
+        .iter()
+        .map(|r| match r.status {
+            RunStatus::Ok => r.flips.count as i64,
+            _ => -1,
+        })
+        .collect();
     result.set_item("flips", column(py, flips))?;
+    let status: Vec<u8> = runs.iter().map(|r| r.status as u8).collect();
+    result.set_item("status", column(py, status))?;
     result.set_item("first_flip", column(py, of(|r| r.flips.first)))?;
     result.set_item("period", column(py, of(|r| r.flips.mean_period())))?;
     result.set_item("exact_period", column(py, of(|r| r.exact_period)))?;
@@ -659,5 +673,10 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(step_plan_batch, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_sets, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // a sweep's `status` codes index this tuple
+    m.add(
+        "RUN_STATUSES",
+        PyTuple::new(m.py(), RunStatus::ALL.map(RunStatus::name))?,
+    )?;
     Ok(())
 }

@@ -39,6 +39,91 @@ pub struct RunSummary {
     pub stats: Stats,
     /// The step taken; for an adaptive method the mean accepted step, 0 for `exact`.
     pub dt: f64,
+    /// Whether the run finished; if not, its numbers are NaN (its flip count 0), all but
+    /// the exact period, which is the start's.
+    pub status: RunStatus,
+}
+
+/// How a run of a sweep ended. A sweep keeps going past runs that did not finish.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub enum RunStatus {
+    Ok = 0,
+    /// The state stopped being finite (a step beyond the method's stability limit), or an
+    /// adaptive step fell below round-off.
+    Diverged = 1,
+    /// An adaptive run needed more than `max_steps` step attempts.
+    TooManySteps = 2,
+    /// More flips than a run may return.
+    TooManyFlips = 3,
+}
+
+impl RunStatus {
+    /// Every status, by its code.
+    pub const ALL: [RunStatus; 4] = [
+        RunStatus::Ok,
+        RunStatus::Diverged,
+        RunStatus::TooManySteps,
+        RunStatus::TooManyFlips,
+    ];
+
+    /// The status in words, as Python shows it.
+    pub fn name(self) -> &'static str {
+        match self {
+            RunStatus::Ok => "ok",
+            RunStatus::Diverged => "diverged",
+            RunStatus::TooManySteps => "too many steps",
+            RunStatus::TooManyFlips => "too many flips",
+        }
+    }
+
+    /// The status of a run that failed with `error`; `None` for errors that stop the sweep
+    /// (bad input, an interruption).
+    fn of(error: &Error) -> Option<Self> {
+        match error {
+            Error::Row { error, .. } => Self::of(error),
+            Error::Diverged { .. } => Some(RunStatus::Diverged),
+            Error::TooLarge { what, .. } if what.contains("flip") => Some(RunStatus::TooManyFlips),
+            Error::TooLarge { .. } => Some(RunStatus::TooManySteps),
+            Error::InvalidArgument { .. } | Error::Interrupted => None,
+        }
+    }
+}
+
+impl RunSummary {
+    /// The summary of a run of `start` that ended with `status` before its end.
+    fn failed(start: &Start, status: RunStatus) -> Result<Self> {
+        Ok(Self {
+            flips: FlipTally {
+                count: 0,
+                first: f64::NAN,
+                last: f64::NAN,
+            },
+            tilt: f64::NAN,
+            exact_period: exact_period(start)?,
+            drift: Drift {
+                energy: f64::NAN,
+                momentum: f64::NAN,
+                momentum_world: f64::NAN,
+                q_norm: f64::NAN,
+            },
+            stats: Stats::default(),
+            dt: f64::NAN,
+            status,
+        })
+    }
+}
+
+/// `run`, or the summary of a run that ended early with a status the sweep records and
+/// goes on (naming the row for errors that stop it).
+fn kept(start: &Start, row: usize, run: Result<RunSummary>) -> Result<RunSummary> {
+    match run {
+        Ok(run) => Ok(run),
+        Err(e) => match RunStatus::of(&e) {
+            Some(status) => RunSummary::failed(start, status).map_err(|e| e.in_row(row)),
+            None => Err(e.in_row(row)),
+        },
+    }
 }
 
 /// Runs every start over `grid` and summarises each run, on all cores.
@@ -47,9 +132,12 @@ pub struct RunSummary {
 /// kept. With `method = Exact` the tilt is measured at the frames, the only states it
 /// evaluates.
 ///
+/// A run that diverges or needs too many steps does not stop the others: its summary has
+/// NaN numbers and a [`RunStatus`] saying why.
+///
 /// # Errors
-/// A row's error, naming the row ([`Error::Row`]); [`Error::Interrupted`] soon after
-/// `cancel` is set.
+/// A row's invalid input, naming the row ([`Error::Row`]); [`Error::Interrupted`] soon
+/// after `cancel` is set.
 ///
 /// # Example
 /// ```
@@ -87,7 +175,7 @@ pub fn sweep(
                 .enumerate()
                 .map(|(i, start)| {
                     stop.check()?;
-                    let run = single(start, grid, method, cancel).map_err(|e| e.in_row(i));
+                    let run = kept(start, i, single(start, grid, method, cancel));
                     stop.watch(run.map(|r| vec![r]))
                 })
                 .collect()
@@ -109,21 +197,28 @@ fn rk4_group(
         tilt: true,
         count_only: true,
     };
-    if group.iter().any(needs_scaling) {
-        // as a batch does: such rows run alone, in their own units
-        return group
+    let alone = || {
+        group
             .iter()
             .enumerate()
             .map(|(l, start)| {
                 stop.check()?;
-                stop.watch(
-                    single(start, grid, Method::Rk4, stop.cancel)
-                        .map_err(|e| e.in_row(first_row + l)),
-                )
+                let run = single(start, grid, Method::Rk4, stop.cancel);
+                stop.watch(kept(start, first_row + l, run))
             })
-            .collect();
+            .collect()
+    };
+    if group.iter().any(needs_scaling) {
+        // as a batch does: such rows run alone, in their own units
+        return alone();
     }
-    let runs = run_group(isa, group, first_row, grid, watch, None, stop)?;
+    let runs = match run_group(isa, group, first_row, grid, watch, None, stop) {
+        Ok(runs) => runs,
+        // A run of the group failed: each runs alone (bit for bit its lane), so that the
+        // others keep their numbers and the failed one gets its status.
+        Err(e) if RunStatus::of(&e).is_some() => return alone(),
+        Err(e) => return Err(e),
+    };
     let n_steps = grid.n_steps();
     group
         .iter()
@@ -141,6 +236,7 @@ fn rk4_group(
                     n_rejected: 0,
                 },
                 dt: grid.step_size(),
+                status: RunStatus::Ok,
             })
         })
         .collect()
@@ -230,6 +326,7 @@ fn single_unscaled(
         drift,
         stats,
         dt,
+        status: RunStatus::Ok,
     })
 }
 

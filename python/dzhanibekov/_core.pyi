@@ -6,6 +6,7 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "RUN_STATUSES",
     "RigidBody",
     "__version__",
     "ellipj",
@@ -22,6 +23,7 @@ __all__ = [
     "sweep",
 ]
 __version__: str
+RUN_STATUSES: tuple[str, ...]
 
 @final
 class RigidBody:
@@ -41,7 +43,7 @@ def simulate(
     q0: tuple[float, float, float, float],
     t_end: float,
     frames: int,
-    dt: float,
+    dt: float | None,
     method: str,
     max_steps: int,
     keep_frames: bool,
@@ -84,7 +86,7 @@ def simulate_batch(
     q0: npt.NDArray[np.float64],
     t_end: float,
     frames: int,
-    dt: float,
+    dt: float | None,
     method: str,
     max_steps: int,
     keep_frames: bool,
@@ -100,7 +102,7 @@ def sweep(
     q0: npt.NDArray[np.float64],
     t_end: float,
     frames: int,
-    dt: float,
+    dt: float | None,
     method: str,
     max_steps: int,
     rtol: float = 1e-9,

@@ -75,13 +75,20 @@ def plan_step(
     atol: Any,
     *,
     stacklevel: int = 3,
-) -> tuple[float, float, float]:
+) -> tuple[float | None, float, float]:
     """Resolves ``dt`` (None: from `rtol`) and the tolerances, and warns on a step that
     RK4 would silently dissipate. Returns ``(dt, rtol, atol)`` for the core."""
     dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
     plan = _core.step_plan(body, omega0, t_end, frames, dt_, method, rtol_, atol_)
     warn_step(plan, method, dt is not None, rtol_, stacklevel=stacklevel + 1)
-    return plan["dt"], rtol_, atol_
+    return core_step(plan["dt"], dt_, method), rtol_, atol_
+
+
+def core_step(planned: float, dt: float | None, method: str) -> float | None:
+    """The `dt` the core is given: None for an adaptive method without a `dt`, which then
+    picks its first step in the run itself (so each run of a batch or sweep picks its own,
+    as it would alone); otherwise the planned step."""
+    return None if dt is None and method in ADAPTIVE_METHODS else planned
 
 
 def check_tolerances(

@@ -20,13 +20,15 @@ import re
 import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
+from collections.abc import Callable
 from typing import Any, NamedTuple
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
-from .accuracy import check_tolerances, warn_step
+from .accuracy import ADAPTIVE_METHODS, check_tolerances, warn_step
 from .body import Body, InertiaWarning
 from .trajectory import Drift, Trajectory
 
@@ -251,11 +253,16 @@ def _check_moments(inertia: np.ndarray, shape: tuple[int, ...], *, stacklevel: i
 def plan_batch_step(
     inertia: np.ndarray, omega: np.ndarray, t_end: float, frames: int, dt: Any, method: str,
     rtol: Any, atol: Any, shape: tuple[int, ...], *, stacklevel: int,
-) -> tuple[float, float, float]:
+) -> tuple[float | None, float, float]:
     """One step for every run of a batch: `dt`, or with ``dt=None`` the smallest of the steps
-    the runs would pick alone; warns (once, naming the worst run) when RK4 would dissipate a
-    run. Returns ``(dt, rtol, atol)`` for the core."""
+    the runs would pick alone (an adaptive method's runs each pick their own: None); warns
+    (once, naming the worst run) when RK4 would dissipate a run. Returns ``(dt, rtol, atol)``
+    for the core."""
     dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
+    if dt_ is None and method in ADAPTIVE_METHODS:
+        if len(inertia):  # checks the runs' inputs as a single run would
+            _core.step_plan_batch(inertia, omega, t_end, frames, dt_, method, rtol_, atol_)
+        return None, rtol_, atol_
     if len(inertia) == 0:
         return (1.0 if dt_ is None else dt_), rtol_, atol_
     plans = _core.step_plan_batch(inertia, omega, t_end, frames, dt_, method, rtol_, atol_)
@@ -300,6 +307,7 @@ def simulate_batch(
     flips: bool,
     max_steps: Any,
     threads: Any,
+    progress: bool | None = None,
     stacklevel: int = 3,
 ) -> Batch:
     """`simulate` for a batch (see :func:`~dzhanibekov.simulate`, whose inputs have a
@@ -308,6 +316,8 @@ def simulate_batch(
     threads = checked_threads(threads)
     if not isinstance(flips, (bool, np.bool_)):
         raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
+    if progress is not None and not isinstance(progress, bool):
+        raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
     inertia, omega, q, shape = batch_rows(body, omega0, q0, max_batch_ndim=1,
                                           stacklevel=stacklevel + 1)
     m = len(omega)
@@ -319,8 +329,16 @@ def simulate_batch(
     )
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=stacklevel + 1)
-    out = _core.simulate_batch(inertia, omega, q, t_end, frames, step, method, max_steps, True,
-                               bool(flips), rtol_, atol_, threads)
+
+    def run(rows: slice) -> dict[str, Any]:
+        try:
+            return _core.simulate_batch(inertia[rows], omega[rows], q[rows], t_end, frames, step,
+                                        method, max_steps, True, bool(flips), rtol_, atol_,
+                                        threads)
+        except ValueError as exc:
+            raise row_error(exc, rows.start or 0, shape) from None
+
+    out = _in_blocks(run, m, progress)
     offsets, times = out["flip_offsets"], out["flip_times"]
     return Batch(
         t=t_end * (np.arange(frames) / (frames - 1)),
@@ -336,6 +354,48 @@ def simulate_batch(
         n_rejected=out["n_rejected"],
         drift=BatchDrift(**out["drift"]),
     )
+
+
+PROGRESS_BLOCK = 1024
+"""Rows per call to the core when a batch shows its progress (a multiple of the SIMD
+lanes' 16, so that the lanes are grouped as in one call; rows never depend on it)."""
+
+PROGRESS_DELAY = 1.0
+"""Seconds before a progress bar shows (``progress=None``): quick calls show none."""
+
+
+def _in_blocks(run: Callable[[slice], dict[str, Any]], m: int,
+               progress: bool | None) -> dict[str, Any]:
+    """`run` over all `m` rows in one call, or, when a progress bar may show, in blocks of
+    `PROGRESS_BLOCK` rows written into the whole batch's arrays as they come."""
+    if progress is False or m <= PROGRESS_BLOCK:
+        return run(slice(0, m))
+    bar = tqdm(total=m, desc="batch", unit="run", leave=False,
+               disable=None if progress is None else False,
+               delay=PROGRESS_DELAY if progress is None else 0.0)
+    whole: dict[str, Any] = {}
+    offsets, times = [np.zeros(1, dtype=np.int64)], []
+    with bar:
+        for start in range(0, m, PROGRESS_BLOCK):
+            rows = slice(start, min(start + PROGRESS_BLOCK, m))
+            part = run(rows)
+            for key, value in part.items():
+                if key == "drift":
+                    for name, column in value.items():
+                        whole.setdefault("drift", {}).setdefault(
+                            name, np.empty(m, dtype=column.dtype))[rows] = column
+                elif key == "flip_offsets":
+                    offsets.append(value[1:] + offsets[-1][-1])
+                elif key == "flip_times":
+                    times.append(value)
+                else:
+                    if key not in whole:
+                        whole[key] = np.empty((m,) + value.shape[1:], dtype=value.dtype)
+                    whole[key][rows] = value
+            bar.update(rows.stop - rows.start)
+    whole["flip_offsets"] = np.concatenate(offsets)
+    whole["flip_times"] = np.concatenate(times)
+    return whole
 
 
 def is_batch(body: Any, omega0: Any, q0: Any) -> bool:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from . import _core
+from ._swap import check_not_swapped
 from ._checks import as_array
 from .body import Body, as_body
 
@@ -44,7 +45,8 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     TypeError
         If `omega0` is not three real numbers.
     ValueError
-        If `omega0` is not finite.
+        If `omega0` is not finite, or the arguments look swapped: moments that no real body
+        has (one larger than the other two together) with rates that could be moments.
 
     References
     ----------
@@ -58,6 +60,7 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     >>> flip_period(dz.Body(dz.PAPER_INERTIA), (0.0, 0.0, 1.0))
     inf
     """
+    check_not_swapped(body, omega0, "flip_period")
     body = as_body(body)
     w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     return _core.flip_period(body._core, (float(w[0]), float(w[1]), float(w[2])))

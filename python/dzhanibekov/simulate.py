@@ -9,6 +9,7 @@ import numpy as np
 
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
+from ._swap import check_not_swapped
 from .accuracy import plan_step
 from .batch import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
@@ -42,6 +43,7 @@ def simulate(
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
+    progress: bool | None = ...,
 ) -> Trajectory: ...
 
 
@@ -60,6 +62,7 @@ def simulate(
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
+    progress: bool | None = ...,
 ) -> Trajectory | Batch: ...
 
 
@@ -69,7 +72,7 @@ def simulate(
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     t_end: float = 100.0,
     frames: int = 201,
-    dt: float | None = 1e-3,
+    dt: float | None = None,
     method: str = "rk4",
     *,
     rtol: float | None = None,
@@ -77,6 +80,7 @@ def simulate(
     flips: bool = True,
     max_steps: int = DEFAULT_MAX_STEPS,
     threads: int | None = None,
+    progress: bool | None = None,
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
@@ -107,7 +111,9 @@ def simulate(
         Frames stored, at least 2, at times ``t_end * i / (frames - 1)`` exactly.
     dt : float or None
         Fixed-step methods: the largest step; between frames the run takes equal substeps
-        no longer than `dt`. ``None`` picks the step predicted to meet `rtol` (see Notes).
+        no longer than `dt`. ``None`` (the default) picks the step predicted to meet `rtol`
+        (default 1e-9; see Notes), so that no time scale is assumed: a day of a body turning
+        at 0.2 rad/s takes as many steps as 100 s at 1 rad/s.
         Adaptive methods: the first step tried; ``None`` picks ``(rtol + atol)^(1/(q+1)) / Ω``
         for an error estimate of order ``q``.
         Ignored by ``method="exact"``, which takes no steps.
@@ -141,12 +147,19 @@ def simulate(
         Refuse runs needing more steps than this (default 10¹⁰).
     threads : int, optional
         A batch's threads (default: all cores). A single run uses one.
+    progress : bool, optional
+        A batch's progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter), advanced
+        per block of 1024 runs: None (default) shows it for batches of more than one block
+        when stderr is a terminal and the batch takes more than a second; True always;
+        False never. A single run shows none.
 
     Returns
     -------
     Trajectory or Batch
         A `Batch` when an input has a batch axis. With ``dt=None`` every run of a batch
-        takes the smallest of the steps its runs would pick alone.
+        of a fixed-step method takes the smallest of the steps its runs would pick alone;
+        with an adaptive method each run picks its own first step, so that every row
+        equals its single run.
 
     Warns
     -----
@@ -163,6 +176,8 @@ def simulate(
         An argument out of range, a run of more than `max_steps` steps, frames that would
         not fit in memory (say, of a batch: ask `sweep` for summaries instead), or a state
         that stopped being finite (`dt` far too large); for a batch, naming the run.
+        Arguments that look swapped: moments no real body has (one larger than the other
+        two together) with rates that could be moments (pass a `Body` to run them anyway).
     KeyboardInterrupt
         On Ctrl-C; the run stops within a fraction of a second.
 
@@ -184,10 +199,14 @@ def simulate(
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
     """
+    check_not_swapped(body, omega0, "simulate")
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
-                              flips=flips, max_steps=max_steps, threads=threads)
+                              flips=flips, max_steps=max_steps, threads=threads,
+                              progress=progress)
     checked_threads(threads)
+    if progress is not None and not isinstance(progress, bool):
+        raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
     body, omega0, q0, t_end, frames, max_steps = _checked(
         body, omega0, q0, t_end, frames, method, max_steps
     )

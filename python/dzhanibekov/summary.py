@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
+from ._swap import check_not_swapped
 from .accuracy import plan_step
 from .body import Body
 from .simulate import DEFAULT_MAX_STEPS, _checked
@@ -75,7 +76,7 @@ def summarize(
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     t_end: float = 100.0,
     frames: int = 201,
-    dt: float | None = 1e-3,
+    dt: float | None = None,
     method: str = "rk4",
     *,
     rtol: float | None = None,
@@ -111,6 +112,7 @@ def summarize(
     >>> s.flips, s.verdict
     (2, '2 flips in [0, 100]')
     """
+    check_not_swapped(body, omega0, "summarize")
     body, omega0, q0, t_end, frames, max_steps = _checked(
         body, omega0, q0, t_end, frames, method, max_steps
     )

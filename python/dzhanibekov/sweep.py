@@ -21,10 +21,11 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
+from tqdm.auto import tqdm
 
 from . import _core
 from ._checks import as_array, as_int, check_size
+from ._swap import check_not_swapped
 from .batch import (
     BatchDrift,
     batch_rows,
@@ -58,7 +59,8 @@ class Sweep:
     q0 : ndarray, shape S + (4,)
         Each run's initial attitude, as given.
     flips : ndarray of int64, shape S
-        How many times each run flipped (see :func:`~dzhanibekov.simulate`).
+        How many times each run flipped (see :func:`~dzhanibekov.simulate`); −1 for a run
+        that did not finish (see `status`).
     first_flip : ndarray, shape S
         The time of the first flip; NaN if none.
     period : ndarray, shape S
@@ -82,6 +84,12 @@ class Sweep:
     dt : ndarray, shape S
         The step each run took (its mean accepted step for an adaptive method).
     n_steps, nfev : ndarray of int64, shape S
+    status : ndarray of str, shape S
+        How each run ended: ``"ok"``, or why it did not finish — ``"diverged"`` (the state
+        stopped being finite: a step beyond the method's stability limit), ``"too many
+        steps"`` (an adaptive run needing more than `max_steps` attempts), ``"too many
+        flips"``. A sweep keeps going past such runs; their numbers are NaN (flips −1,
+        n_steps 0), all but `exact_period`, which is the start's.
     """
 
     inertia: np.ndarray
@@ -98,6 +106,13 @@ class Sweep:
     dt: np.ndarray
     n_steps: np.ndarray
     nfev: np.ndarray
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Which runs finished (`status` ``"ok"``)."""
+        finished: np.ndarray = self.status == "ok"
+        return finished
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -116,7 +131,8 @@ class Sweep:
     def __repr__(self) -> str:
         return (
             f"Sweep(shape={self.shape}, t_end={self.t_end:g}, method={self.method!r}, "
-            f"flipped={int(np.count_nonzero(self.flips))})"
+            f"flipped={int(np.count_nonzero(self.flips > 0))}"
+            + (f", not finished={int(np.count_nonzero(~self.ok))})" if not self.ok.all() else ")")
         )
 
 
@@ -190,7 +206,7 @@ def sweep(
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     t_end: float = 100.0,
     frames: int = 201,
-    dt: float | None = 1e-3,
+    dt: float | None = None,
     method: str = "rk4",
     *,
     rtol: float | None = None,
@@ -219,8 +235,9 @@ def sweep(
         Initial attitude, scalar first; shared or one per start.
     t_end, frames, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`: the frames only set the substeps and where
-        the drift is measured. With ``dt=None`` every run takes the smallest of the steps
-        its runs would pick alone.
+        the drift is measured. With ``dt=None`` every run of a fixed-step method takes
+        the smallest of the steps its runs would pick alone; the adaptive methods' runs each
+        pick their own first step, as alone.
     block : int
         Runs per block (default 4096): per call to the core, per task on a cluster.
     client : dask.distributed.Client, optional
@@ -243,7 +260,9 @@ def sweep(
     TypeError
         An argument of the wrong kind, or a `client` that is not a Dask client.
     ValueError
-        An argument out of range, mismatched leading axes, a run that diverged (naming it).
+        An argument out of range, mismatched leading axes, a start that no run can take
+        (naming it), arguments that look swapped. A run that diverges or needs too many
+        steps does not raise: the sweep goes on, and that run's `status` says why.
     ImportError
         `client` given but dask.distributed not installed.
     KeyboardInterrupt
@@ -265,6 +284,7 @@ def sweep(
     >>> bool(abs(s.period[1] - s.exact_period[1]) < 1e-6 * s.exact_period[1])
     True
     """
+    check_not_swapped(body, omega0, "sweep")
     t_end, frames, max_steps = checked_run(t_end, frames, method, max_steps)
     threads = checked_threads(threads)
     block = as_int("block", block, minimum=1)
@@ -310,11 +330,12 @@ def sweep(
         dt=columns["dt"].reshape(shape),
         n_steps=columns["n_steps"].reshape(shape),
         nfev=columns["nfev"].reshape(shape),
+        status=np.asarray(_core.RUN_STATUSES)[columns["status"]].reshape(shape),
     )
 
 
 def run_block(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, *, t_end: float,
-              frames: int, dt: float, method: str, max_steps: int, rtol: float, atol: float,
+              frames: int, dt: float | None, method: str, max_steps: int, rtol: float, atol: float,
               threads: int | None) -> dict[str, np.ndarray]:
     """One block of a sweep, in the core: flat columns of per-run values (also what a Dask
     task runs, on a worker, with arrays as its deserialiser left them)."""
@@ -328,9 +349,11 @@ def run_block(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, *, t_end: f
 
 def _concatenate(parts: list[dict[str, np.ndarray]], m: int) -> dict[str, np.ndarray]:
     if not parts:  # no runs: empty columns of the right kinds
-        return {k: np.empty(0, dtype=np.int64 if k in ("flips", "n_steps", "nfev") else float)
+        return {k: np.empty(0, dtype=np.int64 if k in ("flips", "n_steps", "nfev", "status")
+                            else float)
                 for k in ("flips", "first_flip", "period", "exact_period", "tilt", "dt",
-                          "n_steps", "nfev", *(f"drift.{k}" for k in BatchDrift._fields))}
+                          "n_steps", "nfev", "status",
+                          *(f"drift.{k}" for k in BatchDrift._fields))}
     columns = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
     assert all(len(v) == m for v in columns.values())
     return columns

@@ -128,3 +128,53 @@ def test_threads_get_the_same_results_as_serial_calls(rng):
         t.join()
     for a, b in zip(serial, results):
         np.testing.assert_array_equal(a, b)
+
+
+# --- traps a new user fell into (issue 11) --------------------------------------------------
+
+
+def test_dt_none_is_the_default_and_assumes_no_time_scale(paper_body):
+    # a tenth of a day at 0.2 rad/s: dt=1e-3 took 8.6e6 steps for an accuracy it did not
+    # need; the default step is the one picked for rtol, scaled with the rates
+    omega0 = (0.002, 0.002, 0.2)
+    run = dz.summarize(paper_body, omega0, t_end=8640.0)
+    assert run.n_steps == dz.summarize(paper_body, omega0, t_end=8640.0, dt=None).n_steps
+    fast = dz.summarize(paper_body, [10 * w for w in omega0], t_end=864.0)
+    assert fast.n_steps == run.n_steps  # (ω, t) → (sω, t/s): the same run
+    assert run.n_steps < 2e6 < 8640.0 / 1e-3
+    exact = dz.summarize(paper_body, omega0, t_end=8640.0, method="exact")
+    assert run.flips == exact.flips > 10
+    np.testing.assert_allclose(run.flip_times, exact.flip_times, rtol=0, atol=1e-3)
+    traj = dz.simulate(paper_body, omega0, t_end=864.0, frames=5)
+    same = dz.simulate(paper_body, omega0, t_end=864.0, frames=5, dt=None)
+    assert np.array_equal(traj.q, same.q) and traj.dt == same.dt
+    swept = dz.sweep(paper_body, [omega0], t_end=864.0, frames=5, progress=False)
+    assert swept.dt[0] == traj.dt
+    assert dz.simulate(paper_body, omega0, t_end=1.0, frames=2, dt=1e-3).dt == 1e-3
+
+
+PAPER_RATES = (0.01, 0.01, 1.0)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: dz.simulate(PAPER_RATES, dz.PAPER_INERTIA),
+    lambda: dz.summarize(PAPER_RATES, dz.PAPER_INERTIA),
+    lambda: dz.sweep(PAPER_RATES, dz.PAPER_INERTIA),
+    lambda: dz.flip_period((0.8660254037844394, 0.2, 0.5), (1.0, 2.0, 3.0)),
+    lambda: dz.simulate((1.0, -2.0, 3.0), (1.0, 2.0, 3.0)),  # "moments" not all positive
+])
+def test_swapped_arguments_are_named_as_such(call):
+    with pytest.raises(ValueError, match=r"look swapped: `body` .* could be; pass the moments "
+                                         r"first"):
+        call()
+
+
+def test_moments_no_body_has_still_run_when_asked_for_by_a_body():
+    with pytest.warns(dz.InertiaWarning):
+        body = dz.Body((0.5, 0.6, 2.0))
+    assert dz.flip_period(body, (1.0, 1.0, 1.0)) > 0  # no swap is suspected
+    traj = dz.simulate(body, (0.1, 1.0, 0.1), t_end=5.0, frames=3)
+    assert np.isfinite(traj.omega).all()
+    # rates that could not be moments: nothing is suspected either
+    with pytest.warns(dz.InertiaWarning):
+        dz.simulate((0.5, 0.6, 2.0), (0.1, 1.0, 0.1), t_end=5.0, frames=3)

@@ -58,15 +58,16 @@ def test_one_thread_and_two_give_the_same_bits(rng):
 def test_inputs_without_a_batch_axis_are_shared(paper_body):
     omega = np.array([[0.01, 0.01, 1.0], [0.1, 0.0, 1.0], [1.0, 0.1, 0.1]])
     q0 = (0.5, 0.5, 0.5, 0.5)
-    batch = dz.simulate(paper_body, omega, q0, t_end=50.0)
+    batch = dz.simulate(paper_body, omega, q0, t_end=50.0, dt=1e-3)
     assert np.array_equal(batch.inertia, np.tile(dz.PAPER_INERTIA, (3, 1)))
     for i in range(3):
-        assert_same_run(batch[i], dz.simulate(paper_body, omega[i], q0, t_end=50.0))
+        assert_same_run(batch[i], dz.simulate(paper_body, omega[i], q0, t_end=50.0, dt=1e-3))
     # one body per row, one rate for all
     bodies = np.array([dz.PAPER_INERTIA, [1.0, 2.0, 2.5]])
-    batch = dz.simulate(bodies, (0.01, 0.01, 1.0), t_end=50.0)
+    batch = dz.simulate(bodies, (0.01, 0.01, 1.0), t_end=50.0, dt=1e-3)
     assert len(batch) == 2
-    assert_same_run(batch[1], dz.simulate((1.0, 2.0, 2.5), (0.01, 0.01, 1.0), t_end=50.0))
+    assert_same_run(batch[1], dz.simulate((1.0, 2.0, 2.5), (0.01, 0.01, 1.0), t_end=50.0,
+                                          dt=1e-3))
 
 
 def test_a_batch_of_one_is_a_batch_and_one_dimensional_input_is_a_single_run(paper_body):
@@ -160,3 +161,36 @@ def test_a_diverging_row_is_named(paper_body):
         warnings.simplefilter("ignore", dz.StepSizeWarning)
         with pytest.raises(ValueError, match="row 1: the run diverged"):
             dz.simulate(paper_body, omega, t_end=100.0, dt=0.5, frames=2)
+
+
+@pytest.mark.parametrize("method", ["dopri5", "dop853"])
+def test_adaptive_rows_with_dt_none_equal_single_runs_bit_for_bit(rng, method):
+    # each row picks its own first step, as alone (every row took the smallest before)
+    inertia, omega, q = random_rows(rng, 9)
+    omega[::2] *= 40.0  # rates far apart: first steps far apart
+    kwargs = dict(t_end=20.0, frames=11, method=method, dt=None)
+    batch = dz.simulate(inertia, omega, q, **kwargs)
+    for i in range(len(omega)):
+        assert_same_run(batch[i], dz.simulate(inertia[i], omega[i], q[i], **kwargs))
+    swept = dz.sweep(inertia, omega, q, progress=False, **kwargs)
+    for i in range(len(omega)):
+        one = dz.summarize(inertia[i], omega[i], q[i], **kwargs)
+        assert swept.flips[i] == one.flips and swept.n_steps[i] == one.n_steps
+        assert swept.dt[i] == one.dt
+
+
+def test_a_large_batch_shows_its_progress_and_keeps_its_bits(rng, capsys):
+    inertia, omega, q = random_rows(rng, 2 * 1024 + 37)  # three blocks, the last a part
+    kwargs = dict(t_end=2.0, frames=3, dt=1e-2)
+    shown = dz.simulate(inertia, omega, q, progress=True, **kwargs)
+    assert "batch" in capsys.readouterr().err
+    whole = dz.simulate(inertia, omega, q, progress=False, **kwargs)
+    assert capsys.readouterr().err == ""
+    for name in ("omega", "q", "dt", "n_steps", "nfev"):
+        assert np.array_equal(getattr(shown, name), getattr(whole, name)), name
+    for a, b in zip(shown.drift, whole.drift):
+        assert np.array_equal(a, b)
+    for i in (0, 1023, 1024, 2084):
+        assert np.array_equal(shown[i].flip_times, whole[i].flip_times)
+    with pytest.raises(TypeError, match="`progress` must be True, False or None"):
+        dz.simulate(inertia[:2], omega[:2], progress="yes")

@@ -37,9 +37,14 @@ def test_cluster_sweep_equals_the_local_sweep_bit_for_bit(client):
     assert len(blocks) == 5, [t["key"] for t in tasks.data]
 
 
-def test_cluster_errors_name_the_run(client):
+def test_a_diverging_run_on_the_cluster_is_recorded_and_the_sweep_goes_on(client):
     omega = np.array([[0.0, 0.1, 1.0]] * 5 + [[0.0, 1e3, 1.0]])
+    kwargs = dict(t_end=100.0, dt=0.5, frames=2, block=2)
     with pytest.warns(dz.StepSizeWarning):
-        with pytest.raises(ValueError, match="row 5: the run diverged"):
-            dz.sweep(dz.PAPER_INERTIA, omega, t_end=100.0, dt=0.5, frames=2, block=2,
-                     client=client)
+        remote = dz.sweep(dz.PAPER_INERTIA, omega, client=client, **kwargs)
+    with pytest.warns(dz.StepSizeWarning):
+        local = dz.sweep(dz.PAPER_INERTIA, omega, progress=False, **kwargs)
+    assert remote.status.tolist() == ["ok"] * 5 + ["diverged"]
+    assert np.array_equal(remote.status, local.status)
+    assert np.array_equal(remote.flips, local.flips) and remote.flips[5] == -1
+    assert np.array_equal(remote.tilt, local.tilt, equal_nan=True)

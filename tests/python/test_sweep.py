@@ -5,6 +5,7 @@ no flips; blocks, threads and shapes change nothing; memory stays O(runs)."""
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
@@ -134,11 +135,38 @@ def test_bad_sweeps_are_refused(kwargs, error, match):
 
 
 @pytest.mark.parametrize("block", [1, 4096])
-def test_a_diverging_run_is_named(block):
+def test_a_diverging_run_is_recorded_and_the_sweep_goes_on(block):
+    # one run of the four is far beyond RK4's stability limit at dt = 0.5 (|ω| = 1000); the
+    # others run in the same group of SIMD lanes (block 4096) or alone (block 1)
     omega = np.array([[[0.0, 0.1, 1.0], [0.1, 0.0, 1.0]], [[0.1, 0.1, 1.0], [0.0, 1e3, 1.0]]])
+    kwargs = dict(t_end=100.0, dt=0.5, frames=2)
     with pytest.warns(dz.StepSizeWarning, match=r"index \(1, 1\)"):
-        with pytest.raises(ValueError, match=r"row 3 \(index \(1, 1\)\): the run diverged"):
-            dz.sweep(PAPER, omega, t_end=100.0, dt=0.5, frames=2, block=block)
+        swept = dz.sweep(PAPER, omega, block=block, progress=False, **kwargs)
+    warnings.simplefilter("ignore", dz.StepSizeWarning)  # for the single runs below
+    assert swept.status.tolist() == [["ok", "ok"], ["ok", "diverged"]]
+    assert swept.ok.tolist() == [[True, True], [True, False]]
+    assert swept.flips[1, 1] == -1 and swept.n_steps[1, 1] == 0
+    for name in ("first_flip", "period", "tilt", "dt"):
+        assert np.isnan(getattr(swept, name)[1, 1]), name
+    assert np.isnan(swept.drift.energy[1, 1])
+    assert swept.exact_period[1, 1] == dz.flip_period(PAPER, omega[1, 1])
+    with pytest.raises(ValueError, match="the run diverged"):  # as a single run says
+        dz.summarize(PAPER, omega[1, 1], **kwargs)
+    for index in [(0, 0), (0, 1), (1, 0)]:  # the others keep their numbers, bit for bit
+        one = dz.summarize(PAPER, omega[index], **kwargs)
+        assert swept.flips[index] == one.flips and swept.n_steps[index] == one.n_steps
+        assert swept.drift.energy[index] == one.drift.energy
+    assert "not finished=1" in repr(swept)
+
+
+def test_an_adaptive_run_over_max_steps_is_recorded_and_the_sweep_goes_on():
+    omega = np.array([[0.0, 0.1, 1.0], [0.0, 50.0, 1.0]])  # the second needs far more steps
+    kwargs = dict(t_end=100.0, frames=2, method="dopri5", max_steps=2000)
+    swept = dz.sweep(PAPER, omega, progress=False, **kwargs)
+    assert swept.status.tolist() == ["ok", "too many steps"]
+    with pytest.raises(ValueError, match="max_steps"):
+        dz.summarize(PAPER, omega[1], **kwargs)
+    assert swept.n_steps[0] == dz.summarize(PAPER, omega[0], **kwargs).n_steps
 
 
 def test_progress_bar_shows_when_asked(capsys):

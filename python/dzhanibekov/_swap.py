@@ -1,0 +1,63 @@
+"""Arguments passed in the wrong order: the moments where the rates belong and back.
+
+``simulate((0.01, 0.01, 1.0), (52.08, 27.08, 41.67))`` runs a body that no mass distribution
+has from rates that look like moments; it ends in a divergence, an endless run or an
+infinite flip period, with a message about the step. Caught before the run, it gets a
+message that says what happened.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .body import Body
+
+__all__ = ["check_not_swapped"]
+
+_SLACK = 1e-12
+"""Relative slack of the triangle inequality (the moments' own round-off)."""
+
+
+def _triple(value: Any) -> np.ndarray | None:
+    """`value` as three finite floats, or None if it is anything else (then the ordinary
+    checks speak)."""
+    try:
+        arr = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    if arr.shape != (3,) or not np.isfinite(arr).all():
+        return None
+    return arr
+
+
+def _could_be_moments(x: np.ndarray) -> bool:
+    """Positive and within the triangle inequality: the moments of some real body."""
+    total = float(x.sum())
+    return bool((x > 0).all() and 2 * x.max() <= total * (1 + _SLACK))
+
+
+def check_not_swapped(body: Any, omega0: Any, function: str) -> None:
+    """Raises ValueError when `body` cannot be a real body's moments (one not positive, or
+    one larger than the other two together) while `omega0` could be.
+
+    A :class:`~dzhanibekov.Body` is never questioned: building one is how to run such
+    moments on purpose.
+    """
+    if isinstance(body, Body):
+        return
+    moments, rates = _triple(body), _triple(omega0)
+    if moments is None or rates is None or _could_be_moments(moments):
+        return
+    if not _could_be_moments(rates):
+        return
+    why = ("a moment is not positive" if not (moments > 0).all() else
+           "one moment exceeds the sum of the other two")
+    raise ValueError(
+        f"the arguments of `{function}` look swapped: `body` {tuple(moments.tolist())} "
+        f"cannot be the principal moments of a real body ({why}), while `omega0` "
+        f"{tuple(rates.tolist())} could be; pass the moments first, "
+        f"{function}(body, omega0), or pass Body({tuple(moments.tolist())}) to run these "
+        "moments anyway"
+    )
