@@ -23,6 +23,7 @@ import numpy as np
 
 from .plan import SceneResult
 from .scene import SCENES, SceneError, load_scene
+from .simulate import METHODS
 
 __all__ = ["main"]
 
@@ -40,6 +41,16 @@ def _table(results: Sequence[SceneResult], seconds: float) -> None:
         print(f"{r.scene.name:<16} {run.n_steps:>9} {count:>5}  {flips:<28}"
               f" {d.energy:>8.1e} {d.momentum:>8.1e} {d.momentum_world:>8.1e} {d.q_norm:>8.1e}")
     print(f"rendered in {seconds:.1f} s")
+
+
+def _step(text: str) -> float | str:
+    """`--dt`: a number, or "none" (the step picked for an accuracy)."""
+    if text.strip().lower() == "none":
+        return "none"
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number or 'none', got {text!r}") from None
 
 
 def _progress(args: argparse.Namespace) -> bool | None:
@@ -62,8 +73,10 @@ def _run(args: argparse.Namespace) -> int:
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
-    if args.dt is not None:
-        scene = scene.replace(dt=args.dt)
+    overrides = {key: getattr(args, key) for key in ("method", "t_end", "frames", "dt")
+                 if getattr(args, key) is not None}
+    if overrides:
+        scene = scene.replace(**overrides)
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
@@ -125,7 +138,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     paper.add_argument("--out", required=True, type=Path, metavar="DIR",
                        help="folder to write into (created; files of the same name replaced)")
     paper.add_argument("--dt", type=float, default=None,
-                       help="step for every scene (default: each scene's own, 1e-3)")
+                       help="step for every scene (default: each scene's own)")
     paper.add_argument("--no-progress", action="store_true", help="no progress bar")
     paper.set_defaults(run=_paper)
 
@@ -140,7 +153,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
     run.add_argument("--out", required=True, type=Path, metavar="DIR",
                      help="folder to write into (created; files of the same name replaced)")
-    run.add_argument("--dt", type=float, default=None, help="override the scene's step")
+    run.add_argument("--method", choices=METHODS, default=None,
+                     help="override the scene's method")
+    run.add_argument("--t-end", type=float, default=None, dest="t_end", metavar="T",
+                     help="override the scene's end time (phases after it are dropped)")
+    run.add_argument("--frames", type=int, default=None, metavar="N",
+                     help="override the scene's number of frames")
+    run.add_argument("--dt", type=_step, default=None, metavar="DT",
+                     help="override the scene's step: a number, or 'none' for the step picked "
+                     "for the scene's rtol")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(run=_run)
 

@@ -18,8 +18,10 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     [run]
     t_end = 100.0
     frames = 201
-    dt = 1e-3
+    dt = 1e-3                              # or "none" (the default): the step for `rtol`
     method = "rk4"                         # one of dzhanibekov.METHODS
+    # rtol = 1e-9                          # accuracy of dt = "none", or an adaptive method's
+    # atol = 1e-12                         # adaptive methods only
 
     [ask]
     flips = true                           # flip times and the stability verdict
@@ -49,6 +51,7 @@ import numpy as np
 import tomli_w
 
 from ._checks import as_array, as_float, as_int
+from .accuracy import check_tolerances
 from .body import Body
 from .ellipsoid import CONVENTIONS
 from .simulate import METHODS, simulate
@@ -156,7 +159,8 @@ class Scene:
     t_end: float
     frames: int
     q0: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
-    dt: float = 1e-3
+    dt: float | None = None
+    """The step; None (``dt = "none"`` in a file, or no `dt`): picked for `rtol`."""
     method: str = "rk4"
     box: tuple[float, float, float] | None = None
     """Edges of the box drawn (along x, y, z); None: the uniform box with these moments."""
@@ -168,6 +172,12 @@ class Scene:
     about: str = ""
     source: str = field(default="", compare=False, repr=False)
     """Where the scene came from, for messages."""
+    rtol: float | None = None
+    """The accuracy `dt` = None is picked for, or an adaptive method's relative tolerance
+    (default `dzhanibekov.accuracy.DEFAULT_RTOL`)."""
+    atol: float | None = None
+    """An adaptive method's absolute tolerance (default
+    `dzhanibekov.accuracy.DEFAULT_ATOL`)."""
 
     def __post_init__(self) -> None:
         _validate(self)
@@ -181,9 +191,7 @@ class Scene:
 
     def run(self, **overrides: Any) -> Trajectory:
         """Simulates the scene, keeping every frame; keywords override :func:`simulate`'s."""
-        kwargs: dict[str, Any] = dict(
-            q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt, method=self.method
-        )
+        kwargs = self._run_arguments()
         kwargs.update(overrides)
         traj = simulate(self.body, self.omega0, **kwargs)
         assert isinstance(traj, Trajectory), "a scene is one run"
@@ -191,14 +199,33 @@ class Scene:
 
     def summarize(self, **overrides: Any) -> Summary:
         """Simulates the scene keeping no frames (:func:`summarize`): flip times only."""
-        kwargs: dict[str, Any] = dict(
-            q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt, method=self.method
-        )
+        kwargs = self._run_arguments()
         kwargs.update(overrides)
         return summarize(self.body, self.omega0, **kwargs)
 
+    def _run_arguments(self) -> dict[str, Any]:
+        return dict(q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt,
+                    method=self.method, rtol=self.rtol, atol=self.atol)
+
     def replace(self, **changes: Any) -> Scene:
-        """A copy with some fields changed (checked again)."""
+        """A copy with some fields changed (checked again).
+
+        The copy no longer comes from the original's file: its messages name it as
+        ``<scene NAME, modified>``, not the file (unless `source` is among the changes).
+        A shorter `t_end` drops the phases drawn after it.
+
+        Examples
+        --------
+        >>> SCENES["fig3a"].replace(t_end=50.0).t_end
+        50.0
+        """
+        changes.setdefault("source", f"<scene {changes.get('name', self.name)}, modified>")
+        if "t_end" in changes and "draw" not in changes and self.draw.phases:
+            # the phases drawn beyond a shortened run are dropped, not an error
+            t_end = changes["t_end"]
+            if isinstance(t_end, (int, float)) and not isinstance(t_end, bool):
+                kept = tuple(t for t in self.draw.phases if t <= t_end)
+                changes["draw"] = dataclasses.replace(self.draw, phases=kept)
         return dataclasses.replace(self, **changes)
 
     # -- drawing helpers ----------------------------------------------------------------
@@ -237,8 +264,9 @@ class Scene:
         out |= {
             "body": body,
             "start": {"omega": list(self.omega0), "q": list(self.q0)},
-            "run": {"t_end": self.t_end, "frames": self.frames, "dt": self.dt,
-                    "method": self.method},
+            "run": {"t_end": self.t_end, "frames": self.frames,
+                    "dt": "none" if self.dt is None else self.dt, "method": self.method}
+            | {k: v for k, v in (("rtol", self.rtol), ("atol", self.atol)) if v is not None},
             "ask": {"flips": self.flips},
             "draw": {n: getattr(d, n) for n in
                      ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum",
@@ -286,7 +314,7 @@ class Scene:
 _TABLES: dict[str, tuple[str, ...]] = {
     "body": ("inertia", "box", "mass", "signal_point"),
     "start": ("omega", "q"),
-    "run": ("t_end", "frames", "dt", "method"),
+    "run": ("t_end", "frames", "dt", "method", "rtol", "atol"),
     "ask": ("flips",),
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
              "animation", "phases"),
@@ -345,6 +373,8 @@ def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: s
         ("start", "q"): "q0",
         ("run", "dt"): "dt",
         ("run", "method"): "method",
+        ("run", "rtol"): "rtol",
+        ("run", "atol"): "atol",
         ("body", "box"): "box",
         ("body", "signal_point"): "signal_point",
         ("ask", "flips"): "flips",
@@ -465,9 +495,22 @@ def _validate(s: Scene) -> None:
     _set(s, "q0", q0)
     _set(s, "t_end", _number(src, "run.t_end", s.t_end, positive=True))
     _set(s, "frames", _integer(src, "run.frames", s.frames, 2))
-    _set(s, "dt", _number(src, "run.dt", s.dt, positive=True))
+    if s.dt is None or (isinstance(s.dt, str) and s.dt.lower() == "none"):
+        _set(s, "dt", None)
+    elif isinstance(s.dt, str):
+        raise SceneError(src, "run.dt", f'must be a positive number or "none", got {s.dt!r}')
+    else:
+        _set(s, "dt", _number(src, "run.dt", s.dt, positive=True))
     if s.method not in METHODS:
         raise SceneError(src, "run.method", f"must be one of {list(METHODS)}, got {s.method!r}")
+    for key in ("rtol", "atol"):
+        value = getattr(s, key)
+        if value is not None:
+            _set(s, key, _number(src, f"run.{key}", value, positive=True))
+    try:
+        check_tolerances(s.method, s.dt, s.rtol, s.atol)
+    except (TypeError, ValueError) as exc:
+        raise SceneError(src, "run", str(exc)) from None
     if s.box is not None:
         _set(s, "box", _triple(src, "body.box", s.box, positive=True))
     _set(s, "signal_point", _triple(src, "body.signal_point", s.signal_point))

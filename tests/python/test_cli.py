@@ -135,3 +135,25 @@ def test_the_module_and_the_script_run(tmp_path):
     done = subprocess.run([sys.executable, "-m", "dzhanibekov", "run"], capture_output=True,
                           text=True)
     assert done.returncode == 2 and "required: SCENE, --out" in done.stderr
+
+
+def test_run_overrides_the_scenes_method_end_frames_and_step(tmp_path, capsys):
+    out = tmp_path / "out"
+    argv = ["run", "fig3a", "--out", str(out), "--no-progress", "--t-end", "40",
+            "--frames", "41", "--method", "dop853", "--dt", "none"]
+    assert main(argv) == 0
+    report = json.loads((out / "fig3a.json").read_text())
+    one = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=40.0, frames=41,
+                      method="dop853", dt=None)
+    assert report["method"] == "dop853" and report["n_steps"] == one.n_steps
+    assert report["flip_times"] == one.flip_times.tolist()
+    assert main(["run", "example", "--out", str(out), "--t-end", "50", "--dt", "0.01",
+                 "--method", "splitting", "--frames", "21", "--no-progress"]) == 0
+    # (its phases after t = 50 are dropped)
+    report = json.loads((out / "example.json").read_text())
+    assert (report["method"], report["dt"], report["n_steps"]) == ("splitting", 0.01, 5000)
+    capsys.readouterr()
+    assert main(["run", "fig3a", "--out", str(out), "--frames", "1"]) == 2
+    assert "run.frames" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["run", "fig3a", "--out", str(out), "--dt", "soon"])

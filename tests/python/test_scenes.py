@@ -109,8 +109,9 @@ def test_defaults_of_the_optional_keys():
         t_end = 10
         frames = 3
     """, "minimal")
-    assert (s.q0, s.dt, s.method, s.flips, s.draw) == ((1.0, 0.0, 0.0, 0.0), 1e-3, "rk4", True,
+    assert (s.q0, s.dt, s.method, s.flips, s.draw) == ((1.0, 0.0, 0.0, 0.0), None, "rk4", True,
                                                       Draw())
+    assert (s.rtol, s.atol) == (None, None)
     assert s.inertia == (1.0, 2.0, 3.0) and isinstance(s.t_end, float)
     # six evenly spread instants when the phases panel names none
     assert s.phase_times == (0.0, 2.0, 4.0, 6.0, 8.0, 10.0)
@@ -229,3 +230,58 @@ def test_the_readmes_example_scene_is_valid_and_means_what_it_says():
     block = text.split("```toml\n", 1)[1].split("```", 1)[0]
     scene = dz.Scene.from_toml(block, "mine", "README.md")
     assert scene == dz.SCENES["fig3a"].replace(name="mine", about="", source="README.md")
+
+
+def test_a_scene_sets_rtol_atol_and_dt_none():
+    text = """
+        title = "tolerances"
+        [body]
+        inertia = [1, 2, 3]
+        [start]
+        omega = [0.05, 1, 0.3]
+        [run]
+        t_end = 20
+        frames = 3
+        dt = "none"
+        method = "METHOD"
+        rtol = 1e-6
+        ATOL
+    """
+    fixed = dz.Scene.from_toml(text.replace("METHOD", "rk4").replace("ATOL", ""), "fixed")
+    assert (fixed.dt, fixed.rtol, fixed.atol) == (None, 1e-6, None)
+    run = fixed.run()
+    same = dz.simulate((1, 2, 3), (0.05, 1, 0.3), t_end=20.0, frames=3, dt=None, rtol=1e-6)
+    assert np.array_equal(run.q, same.q) and run.dt == same.dt
+    assert dz.Scene.from_toml(fixed.to_toml(), "fixed") == fixed  # round trip, "none" kept
+    adaptive = dz.Scene.from_toml(text.replace("METHOD", "dop853").replace("ATOL", "atol = 1e-9"),
+                                  "adaptive")
+    assert (adaptive.dt, adaptive.rtol, adaptive.atol) == (None, 1e-6, 1e-9)
+    assert adaptive.summarize().n_steps == dz.summarize(
+        (1, 2, 3), (0.05, 1, 0.3), t_end=20.0, frames=3, method="dop853", rtol=1e-6,
+        atol=1e-9).n_steps
+    assert dz.Scene.from_toml(adaptive.to_toml(), "adaptive") == adaptive
+
+
+@pytest.mark.parametrize("change, key, match", [
+    ('dt = "sometimes"', "run.dt", 'must be a positive number or "none"'),
+    ("rtol = -1.0", "run.rtol", "must be positive"),
+    ('atol = 1e-9', "run", "`atol` applies to the adaptive methods"),
+])
+def test_bad_tolerances_in_a_scene_name_the_key(tmp_path, change, key, match):
+    path = tmp_path / "bad.toml"
+    path.write_text(dz.SCENES["fig3a"].to_toml().replace("dt = 0.001", change))
+    with pytest.raises(dz.SceneError, match=match) as info:
+        dz.load_scene(path)
+    assert info.value.key == key and str(path) in str(info.value)
+
+
+def test_a_shipped_scene_can_be_shortened_and_its_copy_is_not_the_file():
+    example = dz.SCENES["example"]  # its phases run to t = 100
+    short = example.replace(t_end=50.0)
+    assert short.t_end == 50.0 and short.draw.phases == (0.0, 36.0, 40.0, 43.0, 46.0, 49.0)
+    assert short.run(frames=3).t[-1] == 50.0
+    with pytest.raises(dz.SceneError) as info:
+        example.replace(frames=1)
+    assert "<scene example, modified>" in str(info.value)
+    assert "scenes/example.toml" not in str(info.value)
+    assert example.replace(dt=None).dt is None
