@@ -5,8 +5,8 @@ from __future__ import annotations
 from typing import Any
 
 from . import _core
+from ._args import as_array
 from ._swap import check_not_swapped
-from ._checks import as_array
 from .body import Body, as_body
 
 __all__ = ["flip_period"]
