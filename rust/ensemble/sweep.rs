@@ -339,6 +339,37 @@ mod tests {
     use crate::run::integrate;
 
     #[test]
+    fn a_run_that_diverges_gets_its_status_and_the_others_their_numbers() {
+        let paper = [52.0833, 27.0833, 41.6666];
+        let rates = [[0.0, 0.1, 1.0], [0.0, 1e3, 1.0], [0.1, 0.0, 1.0]];
+        let starts: Vec<Start> = rates
+            .iter()
+            .map(|w| Start::try_new(paper, *w, [1.0, 0.0, 0.0, 0.0]).unwrap())
+            .collect();
+        // dt = 0.5 is far beyond RK4's stability limit for |ω| = 1000 only
+        let grid = FrameGrid::try_new(100.0, 2, 0.5, u64::MAX).unwrap();
+        let cancel = AtomicBool::new(false);
+        let runs = sweep(&starts, &grid, Method::Rk4, &Options::default(), &cancel).unwrap();
+        let status: Vec<_> = runs.iter().map(|r| r.status).collect();
+        assert_eq!(
+            status,
+            [RunStatus::Ok, RunStatus::Diverged, RunStatus::Ok],
+            "{runs:?}"
+        );
+        assert!(runs[1].tilt.is_nan() && runs[1].drift.energy.is_nan() && runs[1].dt.is_nan());
+        for i in [0, 2] {
+            let alone = sweep(
+                &starts[i..=i],
+                &grid,
+                Method::Rk4,
+                &Options::default(),
+                &cancel,
+            );
+            assert_eq!(alone.unwrap()[0], runs[i]);
+        }
+    }
+
+    #[test]
     fn tilt_in_lanes_is_that_of_a_monitor_shown_every_step() {
         let bodies = [
             [52.0833, 27.0833, 41.6666],

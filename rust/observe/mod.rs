@@ -231,9 +231,11 @@ impl Observer for DriftMonitor {
 /// on one side (`|L_mid| > |L|/√2`, which no other axis can then match), becomes the nearest
 /// on the other side. Its time is the sign change of the intermediate-axis rate in between,
 /// located inside the step by cubic Hermite interpolation (error O(h⁴)), or on the method's
-/// own continuous extension when it has one (the adaptive methods), not on the frame grid. Small wobbles about a stable axis also change that rate's sign but never bring the
-/// intermediate axis near `L`, so they are not flips. A symmetric top has no intermediate
-/// axis and no flips.
+/// own continuous extension when it has one (the adaptive methods), not on the frame grid.
+/// Dominance is seen at the step ends and, on a continuous extension, also at the peak of
+/// `ω_mid` inside a step, whose long steps can hold a whole stretch of it. Small wobbles about
+/// a stable axis also change that rate's sign but never bring the intermediate axis near
+/// `L`, so they are not flips. A symmetric top has no intermediate axis and no flips.
 #[derive(Debug, Clone)]
 pub struct FlipDetector {
     axis: Option<usize>,
