@@ -14,7 +14,7 @@ import numpy as np
 
 from .body import Body
 
-__all__ = ["check_not_swapped"]
+__all__ = ["check_not_swapped", "swapped_error"]
 
 _SLACK = 1e-12
 """Relative slack of the triangle inequality (the moments' own round-off)."""
@@ -24,12 +24,13 @@ def _triple(value: Any) -> np.ndarray | None:
     """`value` as three finite floats, or None if it is anything else (then the ordinary
     checks speak)."""
     try:
-        arr = np.asarray(value, dtype=np.float64)
+        arr = np.asarray(value)
     except (TypeError, ValueError):
         return None
-    if arr.shape != (3,) or not np.isfinite(arr).all():
+    if arr.dtype.kind not in "iuf" or arr.shape != (3,):
         return None
-    return arr
+    arr = arr.astype(np.float64)
+    return arr if np.isfinite(arr).all() else None
 
 
 def _could_be_moments(x: np.ndarray) -> bool:
@@ -38,26 +39,34 @@ def _could_be_moments(x: np.ndarray) -> bool:
     return bool((x > 0).all() and 2 * x.max() <= total * (1 + _SLACK))
 
 
-def check_not_swapped(body: Any, omega0: Any, function: str) -> None:
-    """Raises ValueError when `body` cannot be a real body's moments (one not positive, or
-    one larger than the other two together) while `omega0` could be.
+def swapped_error(body: Any, omega0: Any, function: str) -> ValueError | None:
+    """The error for a `body` that cannot be a real body's moments (one not positive, or one
+    larger than the other two together) while `omega0` could be; None if they do not look
+    swapped.
 
     A :class:`~dzhanibekov.Body` is never questioned: building one is how to run such
     moments on purpose.
     """
     if isinstance(body, Body):
-        return
+        return None
     moments, rates = _triple(body), _triple(omega0)
     if moments is None or rates is None or _could_be_moments(moments):
-        return
+        return None
     if not _could_be_moments(rates):
-        return
+        return None
     why = ("a moment is not positive" if not (moments > 0).all() else
            "one moment exceeds the sum of the other two")
-    raise ValueError(
+    return ValueError(
         f"the arguments of `{function}` look swapped: `body` {tuple(moments.tolist())} "
         f"cannot be the principal moments of a real body ({why}), while `omega0` "
         f"{tuple(rates.tolist())} could be; pass the moments first, "
         f"{function}(body, omega0), or pass Body({tuple(moments.tolist())}) to run these "
         "moments anyway"
     )
+
+
+def check_not_swapped(body: Any, omega0: Any, function: str) -> None:
+    """Raises the `swapped_error` of these arguments, if any."""
+    error = swapped_error(body, omega0, function)
+    if error is not None:
+        raise error

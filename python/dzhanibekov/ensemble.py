@@ -42,7 +42,7 @@ from tqdm.auto import tqdm
 
 from . import _core
 from ._args import as_array, as_float, as_int, check_size
-from ._swap import check_not_swapped
+from ._swap import swapped_error
 from .accuracy import ADAPTIVE_METHODS, DEFAULT_MAX_STEPS, check_tolerances, warn_step
 from .body import Body, InertiaWarning
 from .results import Drift, Trajectory
@@ -671,14 +671,21 @@ def sweep(
     >>> bool(abs(s.period[1] - s.exact_period[1]) < 1e-6 * s.exact_period[1])
     True
     """
-    check_not_swapped(body, omega0, "sweep")
+    swapped = swapped_error(body, omega0, "sweep")
     t_end, frames, max_steps = checked_run(t_end, frames, method, max_steps)
     threads = checked_threads(threads)
     block = as_int("block", block, minimum=1)
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
     submit = _dask_runner(client) if client is not None else None
-    inertia, omega, q, shape = batch_rows(body, omega0, q0, max_batch_ndim=None, stacklevel=3)
+    with warnings.catch_warnings():
+        if swapped is not None:  # the error says more than the warning about the moments
+            warnings.simplefilter("ignore", InertiaWarning)
+        inertia, omega, q, shape = batch_rows(body, omega0, q0, max_batch_ndim=None,
+                                              stacklevel=3)
+    check_tolerances(method, dt, rtol, atol)
+    if swapped is not None:  # refused once every other argument passed
+        raise swapped
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=3)
     m = len(omega)

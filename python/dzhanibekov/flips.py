@@ -60,7 +60,7 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     >>> flip_period(dz.Body(dz.PAPER_INERTIA), (0.0, 0.0, 1.0))
     inf
     """
-    check_not_swapped(body, omega0, "flip_period")
-    body = as_body(body)
     w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
+    check_not_swapped(body, w, "flip_period")
+    body = as_body(body)
     return _core.flip_period(body._core, (float(w[0]), float(w[1]), float(w[2])))

@@ -10,7 +10,7 @@ import numpy as np
 from . import _core
 from ._args import as_array, as_float, as_int, check_size
 from ._swap import check_not_swapped
-from .accuracy import DEFAULT_MAX_STEPS, plan_step
+from .accuracy import DEFAULT_MAX_STEPS, check_tolerances, plan_step
 from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .results import Drift, Trajectory
@@ -195,7 +195,6 @@ def simulate(
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
     """
-    check_not_swapped(body, omega0, "simulate")
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
                               flips=flips, max_steps=max_steps, threads=threads,
@@ -203,11 +202,11 @@ def simulate(
     checked_threads(threads)
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
-    body, omega0, q0, t_end, frames, max_steps = _checked(
-        body, omega0, q0, t_end, frames, method, max_steps
-    )
     if not isinstance(flips, (bool, np.bool_)):
         raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
+    body, omega0, q0, t_end, frames, max_steps = _checked(
+        body, omega0, q0, t_end, frames, method, max_steps, "simulate", dt, rtol, atol
+    )
     check_size(frames * 8 * 8, f"frames={frames}", "ask for fewer frames")
     omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
     dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)
@@ -241,11 +240,13 @@ def simulate(
 
 
 def _checked(
-    body: Any, omega0: Any, q0: Any, t_end: Any, frames: Any, method: Any, max_steps: Any
+    body: Any, omega0: Any, q0: Any, t_end: Any, frames: Any, method: Any, max_steps: Any,
+    function: str, dt: Any, rtol: Any, atol: Any,
 ) -> tuple[Body, np.ndarray, np.ndarray, float, int, int]:
     """The arguments of a run but its step, coerced and checked (shared by `simulate` and
-    `summarize`; `accuracy.plan_step` settles the step and tolerances)."""
-    body = as_body(body)
+    `summarize`, named `function` in messages; `accuracy.plan_step` settles the step and
+    tolerances). Arguments that look swapped are refused once everything else passed."""
+    omega0_given = omega0
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
     if not np.any(q0):
@@ -255,7 +256,9 @@ def _checked(
     max_steps = as_int("max_steps", max_steps, minimum=1)
     if method not in METHODS:
         raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
-    return body, omega0, q0, t_end, frames, max_steps
+    check_tolerances(method, dt, rtol, atol)
+    check_not_swapped(body, omega0_given, function)
+    return as_body(body), omega0, q0, t_end, frames, max_steps
 
 
 def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:

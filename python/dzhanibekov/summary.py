@@ -13,7 +13,6 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._swap import check_not_swapped
 from .accuracy import DEFAULT_MAX_STEPS, plan_step
 from .body import Body
 from .simulate import _checked
@@ -112,9 +111,8 @@ def summarize(
     >>> s.flips, s.verdict
     (2, '2 flips in [0, 100]')
     """
-    check_not_swapped(body, omega0, "summarize")
     body, omega0, q0, t_end, frames, max_steps = _checked(
-        body, omega0, q0, t_end, frames, method, max_steps
+        body, omega0, q0, t_end, frames, method, max_steps, "summarize", dt, rtol, atol
     )
     omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
     dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)

@@ -157,27 +157,45 @@ def sweep_hostile() -> dict[str, st.SearchStrategy[Any]]:
 
 
 def check_sweep(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
-    """Per-run numbers in range, NaN only where documented (no flip, fewer than two), and
-    each row the summary of its run alone when the step is given."""
+    """Per-run numbers in range, NaN only where documented (no flip, fewer than two, a run
+    that did not finish), and each row the summary of its run alone when the step is given
+    (or, for a run that did not finish, the error of its run alone)."""
     assert isinstance(result, dz.Sweep)
     m = len(result)
     t_end = float(kwargs["t_end"])
+    ok = result.ok
+    assert set(result.status.ravel()) <= {"ok", "diverged", "too many steps", "too many flips"}
+    assert (ok == (result.status == "ok")).all()
     flips, first, period = result.flips, result.first_flip, result.period
-    assert flips.dtype == np.int64 and (flips >= 0).all()
+    assert flips.dtype == np.int64 and (flips[ok] >= 0).all() and (flips[~ok] == -1).all()
+    for name in ("first_flip", "period", "tilt", "dt"):  # a run that did not finish: NaN
+        assert np.isnan(getattr(result, name)[~ok]).all(), name
+    assert (result.n_steps[~ok] == 0).all()
+    flips, first, period = flips[ok], first[ok], period[ok]
     assert (np.isnan(first) == (flips == 0)).all() and (np.isnan(period) == (flips < 2)).all()
     assert ((first[flips > 0] >= 0) & (first[flips > 0] <= t_end)).all()
     assert (period[flips > 1] > 0).all() and np.isfinite(period[flips > 1]).all()
     assert not np.isnan(result.exact_period).any() and (result.exact_period > 0).all()
-    assert np.isfinite(result.tilt).all() and ((result.tilt >= 0) & (result.tilt <= math.pi)).all()
+    tilt = result.tilt[ok]
+    assert np.isfinite(tilt).all() and ((tilt >= 0) & (tilt <= math.pi)).all()
     for d in result.drift:
-        assert np.isfinite(d).all() and (d >= 0).all()
-    assert np.isfinite(result.dt).all() and (result.n_steps >= 0).all()
+        assert np.isfinite(d[ok]).all() and (d[ok] >= 0).all() and np.isnan(d[~ok]).all()
+    assert np.isfinite(result.dt[ok]).all() and (result.n_steps >= 0).all()
     for i in range(m):
         if kwargs.get("dt") is None:
             continue
         one = row_kwargs(kwargs, i, m)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
+            if not ok.flat[i]:
+                try:
+                    dz.summarize(**one)
+                except ValueError as exc:  # the run alone fails as the sweep says
+                    why = {"diverged": "diverged", "too many steps": "max_steps",
+                           "too many flips": "flip"}[str(result.status.flat[i])]
+                    assert why in str(exc), (i, str(exc))
+                    continue
+                raise AssertionError(f"row {i} did not finish in the sweep but does alone")
             alone = dz.summarize(**one)
         times = alone.flip_times
         assert result.flips.flat[i] == len(times), i
