@@ -42,15 +42,15 @@ def workload(i: int) -> None:
     would be 100 kB a call), the other public functions, and errors raised in Python and in
     the core."""
     method = dz.METHODS[i % len(dz.METHODS)]
-    traj = dz.simulate(BODY, W, t_end=5.0, frames=2001, method=method)
+    traj = dz.simulate(BODY, W, t_end=5.0, frames=2001, method=method, dt=1e-3)
     traj.invariants()
-    dz.summarize(BODY, W, t_end=5.0, method=method)
+    dz.summarize(BODY, W, t_end=5.0, method=method, dt=1e-3)
     dz.rotate(traj.q[:200], dz.box_vertices())
     out = np.empty((50, 8, 3))
     dz.rotate(traj.q[:50], dz.box_vertices(), out=out)
-    batch = dz.simulate(BODY, BATCH, t_end=5.0, frames=201, method=method)
+    batch = dz.simulate(BODY, BATCH, t_end=5.0, frames=201, method=method, dt=1e-3)
     batch[1].invariants()
-    dz.sweep(BODY, BATCH, t_end=5.0, frames=11, method=method, progress=False)
+    dz.sweep(BODY, BATCH, t_end=5.0, frames=11, method=method, dt=1e-3, progress=False)
     dz.flip_period(BODY, W)
     dz.ellipsoid_mesh((1.0, 2.0, 3.0), 24, 12)
     dz.Body.box(20, 10, 15)
