@@ -255,9 +255,10 @@ def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:
         Quaternions, scalar first; non-zero and finite.
     points : array_like, shape (P, 3) or (3,)
         Body-frame points, finite, of magnitude at most `MAX_COORDINATE` (f64 max / 4).
-    out : ndarray, shape (N, P, 3), float64, C-contiguous, optional
+    out : ndarray, shape (N, P, 3), float64, C-contiguous, aligned, optional
         Where to write the result, for callers that rotate repeatedly: reusing a buffer
         avoids the page faults of fresh memory, which cost more than the rotation itself.
+        It must not share memory with `q` or `points`.
 
     Returns
     -------
@@ -269,7 +270,8 @@ def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:
     TypeError
         Non-numeric input, or `out` not a float64 ndarray.
     ValueError
-        Wrong shapes, non-finite values, a zero quaternion, or an output larger than memory.
+        Wrong shapes, non-finite values, a zero quaternion, an `out` overlapping the
+        inputs, or an output larger than memory.
 
     Examples
     --------
@@ -292,8 +294,12 @@ def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:
             raise TypeError("`out` must be a float64 numpy array")
         if out.shape != kept:
             raise ValueError(f"`out` must have shape {kept}, got {out.shape}")
-        if not out.flags.c_contiguous or not out.flags.writeable:
-            raise ValueError("`out` must be C-contiguous and writeable")
+        if not (out.flags.c_contiguous and out.flags.aligned and out.flags.writeable):
+            raise ValueError("`out` must be C-contiguous, aligned and writeable")
+        if np.may_share_memory(out, qa) or np.may_share_memory(out, pa):
+            raise ValueError("`out` must not share memory with `q` or `points` (each output "
+                             "row would overwrite inputs still to be read); pass a separate "
+                             "array")
         _core.rotate(q2, p2, out.reshape(shape))
         return out
     check_size(
