@@ -600,16 +600,21 @@ impl ExactMotion {
         }
         let two_k = 2.0 * motion.jacobi.quarter_period();
         let to_time = motion.lambda * motion.time_scale;
-        Ok((0..count as u64)
-            .map(|i| {
-                let j = first + i as f64;
-                if motion.separatrix {
-                    -motion.u0 / to_time
-                } else {
-                    two_k.mul_add(j, -motion.u0) / to_time
-                }
-            })
-            .collect())
+        // counted from the period above, allocated fallibly: never an abort
+        let times = (0..count as u64).map(|i| {
+            let j = first + i as f64;
+            if motion.separatrix {
+                -motion.u0 / to_time
+            } else {
+                two_k.mul_add(j, -motion.u0) / to_time
+            }
+        });
+        crate::buffer::try_collect(
+            times,
+            count as usize,
+            "the flip times",
+            "take a shorter t_end, or do not ask for the flips (`flips=False`)",
+        )
     }
 
     /// The elliptic parameter and its complement `(m, 1 − m)` of an asymmetric top's motion;

@@ -4,7 +4,8 @@
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::{mpsc, OnceLock};
+use std::thread::ThreadId;
 use std::time::Duration;
 
 use numpy::ndarray::{Array1, Array2, Array3};
@@ -19,6 +20,7 @@ use pyo3::types::PyDict;
 use crate::adaptive::Adaptive;
 use crate::batch::{simulate_batch as core_simulate_batch, Options as BatchOptions, Start};
 use crate::body::RigidBody;
+use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
 use crate::elliptic::Jacobi;
 use crate::error::Error;
@@ -41,11 +43,44 @@ impl From<Error> for PyErr {
 /// How often a long run looks for Ctrl-C.
 const SIGNAL_POLL: Duration = Duration::from_millis(50);
 
+/// Set by an `atexit` hook (registered when the module loads) once the interpreter begins to
+/// shut down, with the id of the thread shutting it down.
+static FINALIZING: AtomicBool = AtomicBool::new(false);
+static FINALIZING_THREAD: OnceLock<ThreadId> = OnceLock::new();
+
+/// The `atexit` hook: from now on no call of another thread touches the interpreter again.
+#[pyfunction]
+fn _finalizing() {
+    let _ = FINALIZING_THREAD.set(std::thread::current().id());
+    FINALIZING.store(true, Ordering::SeqCst);
+}
+
+/// Whether this thread must keep away from the interpreter: it is shutting down, and this is
+/// not the thread doing it (a daemon thread still in a long call).
+fn shut_out() -> bool {
+    FINALIZING.load(Ordering::SeqCst)
+        && FINALIZING_THREAD.get() != Some(&std::thread::current().id())
+}
+
+/// Blocks this thread for good: a daemon thread whose call ends while the interpreter shuts
+/// down must not take the GIL again (CPython then ends or hangs it, and objects its call
+/// would touch are being freed); the process exits around it.
+fn park_forever() -> ! {
+    loop {
+        std::thread::park();
+    }
+}
+
 /// Runs `work` without the GIL. Long work runs on a scoped helper thread while this thread
 /// polls for signals, so Ctrl-C sets `cancel` and surfaces as `KeyboardInterrupt` within a
-/// poll interval. Short work runs inline, sparing the thread start.
+/// poll interval. Short work runs inline, sparing the thread start. A signal that arrived
+/// during the call is raised before anything else touches Python (converting the result
+/// could run Python code, e.g. NumPy's first import of its C API, where it would surface
+/// as a panic).
 ///
 /// Inputs borrowed by `work` must not be mutated by another Python thread during the call.
+/// If the interpreter starts to shut down during the call, this thread never takes the GIL
+/// again (see [`park_forever`]).
 fn detach<T: Send>(
     py: Python<'_>,
     long: bool,
@@ -53,11 +88,19 @@ fn detach<T: Send>(
 ) -> PyResult<T> {
     let cancel = AtomicBool::new(false);
     if !long {
-        return py.detach(|| work(&cancel)).map_err(PyErr::from);
+        let result = py.detach(|| {
+            let result = work(&cancel);
+            if shut_out() {
+                park_forever();
+            }
+            result
+        });
+        py.check_signals()?;
+        return result.map_err(PyErr::from);
     }
     let mut interrupt: Option<PyErr> = None;
     let outcome = py.detach(|| {
-        std::thread::scope(|scope| {
+        let outcome = std::thread::scope(|scope| {
             let (done_tx, done_rx) = mpsc::channel::<()>();
             let cancel = &cancel;
             let handle = scope.spawn(move || {
@@ -66,6 +109,10 @@ fn detach<T: Send>(
                 result
             });
             while let Err(mpsc::RecvTimeoutError::Timeout) = done_rx.recv_timeout(SIGNAL_POLL) {
+                if shut_out() {
+                    cancel.store(true, Ordering::Relaxed);
+                    continue;
+                }
                 if interrupt.is_none() {
                     if let Err(e) = Python::attach(|py| py.check_signals()) {
                         interrupt = Some(e);
@@ -74,8 +121,13 @@ fn detach<T: Send>(
                 }
             }
             handle.join()
-        })
+        });
+        if shut_out() {
+            park_forever();
+        }
+        outcome
     });
+    py.check_signals()?;
     match (outcome, interrupt) {
         (_, Some(e)) => Err(e),
         (Ok(result), None) => result.map_err(PyErr::from),
@@ -160,7 +212,14 @@ fn simulate<'py>(
     };
     let body = body.inner;
     let long = match method {
-        Method::Exact => frames > LONG_EXACT_FRAMES,
+        // the flip times of a long run are work too (one per period)
+        Method::Exact => {
+            let flips = match keep_flips {
+                true => t_end / exact::flip_period(&body, omega0).unwrap_or(f64::INFINITY),
+                false => 0.0,
+            };
+            frames > LONG_EXACT_FRAMES || flips > LONG_EXACT_FRAMES as f64
+        }
         _ => method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS,
     };
     let out = detach(py, long, |cancel| {
@@ -293,8 +352,12 @@ fn rotate<'py>(
         }
         None => {
             // NumPy allocates the output (its allocator asks for huge pages, so fresh memory
-            // faults in far fewer, larger pieces); the core fills it without the GIL.
-            let array = unsafe { PyArray3::<f64>::new(py, [n, p, 3], false) };
+            // faults in far fewer, larger pieces); the core fills it without the GIL. Through
+            // `numpy.empty`, whose failure is a MemoryError, not a null pointer.
+            let array = py
+                .import("numpy")?
+                .call_method1("empty", ((n, p, 3),))?
+                .cast_into::<PyArray3<f64>>()?;
             // SAFETY: the array is new, C-contiguous and not yet shared with Python code.
             let dst = unsafe { array.as_slice_mut() }.map_err(internal)?;
             detach(py, long, |cancel| {
@@ -330,11 +393,12 @@ fn invariants<'py>(
     }
     let inertia = body.inner.inertia_body();
     let (energy, l_body, l_world, q_norm) = detach(py, n > LONG_INVARIANTS, |_| {
+        const HINT: &str = "compute them over fewer frames at a time";
         let (mut energy, mut l_body, mut l_world, mut q_norm) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(3 * n),
-            Vec::with_capacity(3 * n),
-            Vec::with_capacity(n),
+            try_with_capacity(n, "the energies", HINT)?,
+            try_with_capacity(3 * n, "the angular momenta", HINT)?,
+            try_with_capacity(3 * n, "the angular momenta in space", HINT)?,
+            try_with_capacity(n, "the quaternion norms", HINT)?,
         );
         for (w, c) in omega.chunks_exact(3).zip(q.chunks_exact(4)) {
             let x = state_from([w[0], w[1], w[2]], [c[0], c[1], c[2], c[3]]);
@@ -618,6 +682,11 @@ fn step_plan_batch<'py>(
         values("omega0", &omega0)?,
         &identity,
     )?;
+    ensure_room(
+        starts.len() as f64 * (std::mem::size_of::<crate::step_size::StepPlan>() + 32) as f64,
+        "the step plans",
+        "plan fewer starts at a time",
+    )?;
     let plans = py.detach(|| {
         starts
             .iter()
@@ -645,6 +714,13 @@ fn instruction_sets() -> Vec<&'static str> {
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    // NumPy's C API is loaded now, at import, not at a call's first array: loading it runs
+    // Python code, where a pending Ctrl-C would surface as a panic.
+    PyArray1::<f64>::zeros(py, 0, false);
+    m.add_function(wrap_pyfunction!(_finalizing, m)?)?;
+    py.import("atexit")?
+        .call_method1("register", (m.getattr("_finalizing")?,))?;
     m.add_class::<PyRigidBody>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;

@@ -378,7 +378,7 @@ pub fn simulate(
     let (stats, flip_times) = if keep.flips {
         let mut flips = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
         let stats = run_method(method, &sys, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
-        (stats, flips.flip_times)
+        (stats, flips.into_flip_times()?)
     } else {
         (
             run_method(method, &sys, x0, grid, &mut obs, cancel)?,

@@ -73,8 +73,15 @@ pub fn sweep(
     cancel: &AtomicBool,
 ) -> Result<Vec<RunSummary>> {
     let isa = options.isa()?;
+    // the summaries, held twice (per block, then in order), and the columns made from them
+    let per_run = 2 * std::mem::size_of::<RunSummary>() + 16 * std::mem::size_of::<f64>();
+    crate::buffer::ensure_room(
+        starts.len() as f64 * per_run as f64,
+        "the sweep's results",
+        "sweep fewer starts at a time",
+    )?;
     let stop = Stop::new(cancel);
-    options.install(|| {
+    options.install(starts.len(), || {
         let parts: Vec<Result<Vec<RunSummary>>> = if method == Method::Rk4 {
             starts
                 .par_chunks(LANES)

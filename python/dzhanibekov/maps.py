@@ -61,7 +61,7 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     -------
     ndarray, shape (...)
     """
-    from ._checks import as_array
+    from ._checks import as_array, check_size
 
     inertia = as_array("inertia", inertia, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
     omega = as_array("omega", omega, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
@@ -72,6 +72,9 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     except ValueError:
         raise ValueError(f"`inertia` and `omega` must broadcast together, got shapes "
                          f"{inertia.shape} and {omega.shape}") from None
+    # about ten temporaries of the broadcast shape
+    check_size(10 * inertia.size * 8, f"the separatrix gap of {inertia.size // 3} starts",
+               "ask for fewer starts at a time")
     # Σ x_k² (I_k − I_mid) / I_k over Σ x_k², x = I ω in units of a power of two near the
     # row's largest |I_k ω_k| (from the exponents of I and ω apart, so no product over- or
     # underflows before the scaling); I_k − I_mid is exact for nearly equal moments.

@@ -8,6 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _core
+from ._checks import check_size
 from .body import Body
 
 __all__ = ["Drift", "Trajectory"]
@@ -81,6 +82,8 @@ class Trajectory:
             (frames, 3) and ``q_norm`` (frames,).
         """
         if not self._invariants:
+            check_size(len(self.t) * 8 * 8, f"the invariants at {len(self.t)} frames",
+                       "compute them over fewer frames (a slice of the run)")
             self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
         return self._invariants
 
