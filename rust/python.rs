@@ -261,9 +261,10 @@ fn method_and_grid(
 ) -> PyResult<(Method, FrameGrid)> {
     let method = adaptive_method(method, rtol, atol, Some(dt))?;
     let grid = match method {
-        // The exact solution takes no steps: `dt` and `max_steps` do not apply.
-        Method::Exact => FrameGrid::try_frames(t_end, frames)?,
-        _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
+        // The exact solution takes no steps and an adaptive method its own: their frames
+        // count toward `max_steps`.
+        Method::Exact => FrameGrid::try_frames_within(t_end, frames, max_steps, false)?,
+        _ if method.is_adaptive() => FrameGrid::try_frames_within(t_end, frames, max_steps, true)?,
         _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
     };
     let method = method.with_adaptive(match method {

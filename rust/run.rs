@@ -27,6 +27,14 @@ pub(crate) const DIVERGED_HINT: &str =
 /// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
 pub(crate) const CHECK_EVERY: u64 = 1 << 14;
 
+/// `max_steps` for a message: its value, unless it is the unlimited `u64::MAX`.
+pub(crate) fn max_steps_limit(max_steps: u64) -> String {
+    match max_steps {
+        u64::MAX => "the most steps a run can count (2^64 - 1)".into(),
+        n => format!("max_steps = {n}"),
+    }
+}
+
 /// The frame times of a run and the substeps between them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrameGrid {
@@ -69,7 +77,7 @@ impl FrameGrid {
             return Err(Error::TooLarge {
                 what: "the run",
                 needed: format!("{total:.3e} steps (t_end / dt)"),
-                limit: format!("max_steps = {max_steps}"),
+                limit: max_steps_limit(max_steps),
                 hint: "raise max_steps, or take a larger dt",
             });
         }
@@ -78,6 +86,33 @@ impl FrameGrid {
             frames,
             substeps: substeps as u64,
         })
+    }
+
+    /// [`FrameGrid::try_frames`] or [`FrameGrid::frames_only`] with the frames counted toward
+    /// `max_steps`: each frame is work (an evaluation of the closed form, or of an adaptive
+    /// method's interpolant), so a frame grid of 2^62 is refused up front like 2^62 steps.
+    ///
+    /// # Errors
+    /// As those, and more than `max_steps` frames.
+    pub fn try_frames_within(
+        t_end: f64,
+        frames: usize,
+        max_steps: u64,
+        adaptive: bool,
+    ) -> Result<Self> {
+        let grid = match adaptive {
+            true => Self::frames_only(t_end, frames)?,
+            false => Self::try_frames(t_end, frames)?,
+        };
+        if frames as u64 > max_steps {
+            return Err(Error::TooLarge {
+                what: "the run",
+                needed: format!("{frames} frames (each is evaluated)"),
+                limit: max_steps_limit(max_steps),
+                hint: "ask for fewer frames, or raise max_steps",
+            });
+        }
+        Ok(grid)
     }
 
     /// Frames only, for a method that takes no steps (`method = "exact"`).
@@ -466,6 +501,18 @@ pub(crate) fn time_from_unit(scale: RateScale, t: f64, t_end: f64) -> f64 {
     }
 }
 
+/// `error` of a run integrated in the units of `scale`, with a divergence time back in the
+/// user's units (within the user's span).
+pub(crate) fn error_from_unit(error: Error, scale: RateScale, t_end: f64) -> Error {
+    match error {
+        Error::Diverged { t, hint } => Error::Diverged {
+            t: time_from_unit(scale, t, t_end),
+            hint,
+        },
+        other => other,
+    }
+}
+
 /// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
 #[allow(clippy::too_many_arguments)]
 fn simulate_scaled(
@@ -487,7 +534,8 @@ fn simulate_scaled(
         method,
         keep,
         cancel,
-    )?;
+    )
+    .map_err(|e| error_from_unit(e, scale, grid.t_end))?;
     for w in &mut out.omega {
         *w = scale.rate_from_unit(*w);
     }
@@ -610,4 +658,19 @@ pub fn normalized(q: [f64; 4]) -> Result<[f64; 4]> {
     let s = q.map(|c| c / largest);
     let n = s.iter().map(|c| c * c).sum::<f64>().sqrt();
     Ok(s.map(|c| c / n))
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+
+    #[test]
+    fn an_unlimited_max_steps_is_not_shown_as_a_number() {
+        assert_eq!(max_steps_limit(10), "max_steps = 10");
+        assert!(!max_steps_limit(u64::MAX).contains("18446744073709551615"));
+        let err = FrameGrid::try_frames_within(1.0, 1 << 40, u64::MAX - 1, false);
+        assert!(err.is_ok());
+        let err = FrameGrid::try_frames_within(1.0, 1 << 40, 1 << 20, true).unwrap_err();
+        assert!(err.to_string().contains("1099511627776 frames"), "{err}");
+    }
 }

@@ -19,7 +19,8 @@ use crate::exact::{flip_period, flip_period_of_rates, representable_period, Exac
 use crate::integrators::Stats;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::run::{
-    finite_drift, normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
+    error_from_unit, finite_drift, normalized, run_method, time_from_unit, to_unit, FrameGrid,
+    Method, CHECK_EVERY,
 };
 use crate::scale::RateScale;
 use crate::tilt::TiltMonitor;
@@ -184,7 +185,8 @@ fn single(
         omega0: start.omega0.map(|w| scale.rate_to_unit(w)),
         ..*start
     };
-    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)?;
+    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)
+        .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     run.flips.first = time_from_unit(scale, run.flips.first, grid.t_end());
     run.flips.last = time_from_unit(scale, run.flips.last, grid.t_end());
     run.exact_period = exact_period(start)?;
