@@ -17,10 +17,10 @@ from typing import Any
 
 import numpy as np
 
-from .animation import animate
-from .plan import SceneResult
-from .plotting import FIGURE_FUNCTIONS, compute, fig3_figure
-from .scene import PAPER_SCENES, SCENES, Scene
+from .plotting.animation import animate
+from .scenes.plan import SceneResult
+from .plotting.figures import FIGURE_FUNCTIONS, compute, fig3_figure
+from .scenes.scene import PAPER_SCENES, SCENES, Scene
 
 __all__ = ["render_scene", "render_paper", "output_folder", "OutputError", "MAX_JSON_FLIP_TIMES"]
 

@@ -16,7 +16,7 @@ import pytest
 import dzhanibekov as dz
 from dzhanibekov.cli import main
 from dzhanibekov.render import MAX_JSON_FLIP_TIMES, output_folder
-from dzhanibekov.scene import Draw
+from dzhanibekov.scenes.scene import Draw
 
 
 def tiny_scene(folder: Path, name: str = "mine") -> Path:

@@ -121,7 +121,7 @@ def test_grid_batch_rows_and_separatrix_gap_are_refused_with_their_size():
         # moments along one axis, rates along the other: side² rows once broadcast
         (f"dz.sweep(np.ones(({side}, 1, 3)) + [0, 1, 2], np.ones((1, {side}, 3)), "
          "frames=2, t_end=1.0, progress=False)", ("starts",)),
-        (f"from dzhanibekov.maps import separatrix_gap\n"
+        (f"from dzhanibekov.plotting.maps import separatrix_gap\n"
          f"separatrix_gap(np.ones(3) + [0, 1, 2], np.ones(({side} * 1000, 3)))",
          ("separatrix gap",)),
     ]:

@@ -18,8 +18,8 @@ import pytest
 import tomli_w
 
 import dzhanibekov as dz
-from dzhanibekov import scene as scene_module
-from dzhanibekov.scene import (MAX_ANIMATION_FRAMES, MAX_DRAWN_SIZE, MAX_PHASES, Draw,
+from dzhanibekov.scenes import scene as scene_module
+from dzhanibekov.scenes.scene import (MAX_ANIMATION_FRAMES, MAX_DRAWN_SIZE, MAX_PHASES, Draw,
                                MAX_SCENE_BYTES, SceneError)
 
 

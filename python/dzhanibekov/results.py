@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _core
-from ._checks import check_size
+from ._args import check_size
 from .body import Body
 
 __all__ = ["Drift", "Trajectory"]
