@@ -78,10 +78,8 @@ def test_exact_refuses_a_body_with_a_vanishing_moment():
         with pytest.raises(ValueError, match=r"`inertia` must have moments the closed form "
                                              r"resolves for method='exact'"):
             dz.simulate((1.0, 2.0, 1e-30), (0.3, 0.2, 0.1), method="exact", t_end=10.0)
-        # an integrator solves it, starting at the start
-        traj = dz.simulate((1.0, 2.0, 1e-30), (0.3, 0.2, 0.1), method="dop853", t_end=1.0,
-                           dt=None)
-    np.testing.assert_array_equal(traj.omega[0], (0.3, 0.2, 0.1))
+        with pytest.raises(ValueError, match=r"`inertia` must have moments"):
+            dz.flip_period((1.0, 2.0, 1e-30), (0.3, 0.2, 0.1))
 
 
 def test_every_exact_start_of_a_sample_begins_at_the_start(rng):
