@@ -8,6 +8,7 @@ import numpy.typing as npt
 __all__ = [
     "RigidBody",
     "__version__",
+    "_finalizing",
     "ellipj",
     "ellipk",
     "ellipsoid_mesh",
@@ -22,6 +23,9 @@ __all__ = [
     "sweep",
 ]
 __version__: str
+
+def _finalizing() -> None:
+    """The `atexit` hook that keeps daemon threads' calls out of a finalising interpreter."""
 
 @final
 class RigidBody:
