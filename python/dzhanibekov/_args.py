@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import TooLargeError
+
 if sys.platform != "win32":
     import resource
 
@@ -149,7 +151,7 @@ def check_size(nbytes: int, what: str, hint: str) -> None:
         return
     room = memory_available()
     if room is not None and nbytes > room[0]:
-        raise ValueError(
+        raise TooLargeError(
             f"{what} would need {nbytes / 1e9:.3g} GB ({nbytes} bytes), more than this "
             f"machine's {room[0] / 1e9:.3g} GB of {room[1]}; {hint}"
         )
