@@ -34,3 +34,66 @@ pub fn zeroed_for(len: usize, what: &'static str, hint: &'static str) -> Result<
         Ok(Vec::from_raw_parts(ptr, len, len))
     }
 }
+
+/// An empty `Vec` with room for `len` items, or [`Error::TooLarge`] saying how much was asked
+/// if it cannot be had (under an address-space limit, say), instead of aborting the process.
+pub fn try_with_capacity<T>(len: usize, what: &'static str, hint: &'static str) -> Result<Vec<T>> {
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| Error::TooLarge {
+        what,
+        needed: format!(
+            "{len} values ({:.3e} bytes)",
+            len as f64 * std::mem::size_of::<T>() as f64
+        ),
+        limit: "the memory this process can allocate".into(),
+        hint,
+    })?;
+    Ok(v)
+}
+
+/// The items of `iter` (of exactly `len` items) in a `Vec` allocated fallibly, see
+/// [`try_with_capacity`].
+pub fn try_collect<T>(
+    iter: impl IntoIterator<Item = T>,
+    len: usize,
+    what: &'static str,
+    hint: &'static str,
+) -> Result<Vec<T>> {
+    let mut v = try_with_capacity(len, what, hint)?;
+    v.extend(iter.into_iter().take(len));
+    Ok(v)
+}
+
+/// As [`try_collect`] for fallible items: the first error, or every item.
+pub fn try_collect_results<T>(
+    iter: impl IntoIterator<Item = Result<T>>,
+    len: usize,
+    what: &'static str,
+    hint: &'static str,
+) -> Result<Vec<T>> {
+    let mut v = try_with_capacity(len, what, hint)?;
+    for item in iter.into_iter().take(len) {
+        v.push(item?);
+    }
+    Ok(v)
+}
+
+/// Checks, before a computation whose many small allocations add up to about `bytes`, that
+/// the process can have that much now: a failed reservation is [`Error::TooLarge`] saying
+/// how much was asked, where the allocations themselves would abort the process. The
+/// reservation is released at once (it never touches its pages).
+pub fn ensure_room(bytes: f64, what: &'static str, hint: &'static str) -> Result<()> {
+    let too_large = || Error::TooLarge {
+        what,
+        needed: format!("about {bytes:.3e} bytes"),
+        limit: "the memory this process can allocate".into(),
+        hint,
+    };
+    if bytes.is_nan() || bytes >= isize::MAX as f64 {
+        return Err(too_large());
+    }
+    let mut probe: Vec<u8> = Vec::new();
+    probe
+        .try_reserve_exact(bytes as usize)
+        .map_err(|_| too_large())
+}

@@ -86,7 +86,9 @@ pub fn ellipsoid(semi_axes: [f64; 3], n_around: usize, n_along: usize) -> Result
         })?;
     let [a, b, c] = semi_axes;
     let n_vertices = n_around * (n_along - 1) + 2;
-    let mut vertices = Vec::with_capacity(3 * n_vertices);
+    const HINT: &str = "ask for fewer cells";
+    let mut vertices =
+        crate::buffer::try_with_capacity(3 * n_vertices, "the mesh's vertices", HINT)?;
     vertices.extend_from_slice(&[0.0, 0.0, c]);
     for i in 1..n_along {
         let theta = std::f64::consts::PI * i as f64 / n_along as f64;
@@ -108,7 +110,7 @@ pub fn ellipsoid(semi_axes: [f64; 3], n_around: usize, n_along: usize) -> Result
             i => (1 + (i - 1) * n_around + j % n_around) as u32,
         }
     };
-    let mut quads = Vec::with_capacity(4 * cells);
+    let mut quads = crate::buffer::try_with_capacity(4 * cells, "the mesh's cells", HINT)?;
     for i in 0..n_along {
         for j in 0..n_around {
             // Down the meridian first, then east: e_θ × e_φ points outward.

@@ -3,7 +3,9 @@
 //! again in the core, whose errors become `ValueError`.
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+use std::thread::ThreadId;
 
 use numpy::ndarray::{Array2, Array3};
 use numpy::{
@@ -15,6 +17,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 
 use crate::body::RigidBody;
+use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
 use crate::ensemble::batch::{
     plan_rows, simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
@@ -65,11 +68,44 @@ fn python_error(py: Python<'_>, e: Error) -> PyErr {
     }
 }
 
+/// Set by an `atexit` hook (registered when the module loads) once the interpreter begins to
+/// shut down, with the id of the thread shutting it down.
+static FINALIZING: AtomicBool = AtomicBool::new(false);
+static FINALIZING_THREAD: OnceLock<ThreadId> = OnceLock::new();
+
+/// The `atexit` hook: from now on no call of another thread touches the interpreter again.
+#[pyfunction]
+fn _finalizing() {
+    let _ = FINALIZING_THREAD.set(std::thread::current().id());
+    FINALIZING.store(true, Ordering::SeqCst);
+}
+
+/// Whether this thread must keep away from the interpreter: it is shutting down, and this is
+/// not the thread doing it (a daemon thread still in a long call).
+fn shut_out() -> bool {
+    FINALIZING.load(Ordering::SeqCst)
+        && FINALIZING_THREAD.get() != Some(&std::thread::current().id())
+}
+
+/// Blocks this thread for good: a daemon thread whose call ends while the interpreter shuts
+/// down must not take the GIL again (CPython then ends or hangs it, and objects its call
+/// would touch are being freed); the process exits around it.
+fn park_forever() -> ! {
+    loop {
+        std::thread::park();
+    }
+}
+
 /// Runs `work` without the GIL. Long work runs on a helper thread while this thread polls for
 /// signals (see [`watchdog::watch`]), so Ctrl-C sets `cancel` and surfaces as
 /// `KeyboardInterrupt` within a poll interval. Short work runs inline, sparing the thread start.
+/// A signal that arrived during the call is raised before anything else touches Python
+/// (converting the result could run Python code, e.g. NumPy's first import of its C API,
+/// where it would surface as a panic).
 ///
 /// Inputs borrowed by `work` must not be mutated by another Python thread during the call.
+/// If the interpreter starts to shut down during the call, this thread never takes the GIL
+/// again (see [`park_forever`]).
 fn detach<T: Send>(
     py: Python<'_>,
     long: bool,
@@ -77,18 +113,37 @@ fn detach<T: Send>(
 ) -> PyResult<T> {
     if !long {
         let cancel = AtomicBool::new(false);
-        return py.detach(|| work(&cancel)).map_err(PyErr::from);
+        let result = py.detach(|| {
+            let result = work(&cancel);
+            if shut_out() {
+                park_forever();
+            }
+            result
+        });
+        py.check_signals()?;
+        return result.map_err(PyErr::from);
     }
     let mut interrupt: Option<PyErr> = None;
     let outcome = py.detach(|| {
-        watchdog::watch(work, || match Python::attach(|py| py.check_signals()) {
-            Err(e) => {
-                interrupt = Some(e);
-                true
+        let outcome = watchdog::watch(work, || {
+            // a daemon thread's call while the interpreter shuts down: stop, never attach
+            if shut_out() {
+                return true;
             }
-            Ok(()) => false,
-        })
+            match Python::attach(|py| py.check_signals()) {
+                Err(e) => {
+                    interrupt = Some(e);
+                    true
+                }
+                Ok(()) => false,
+            }
+        });
+        if shut_out() {
+            park_forever();
+        }
+        outcome
     });
+    py.check_signals()?;
     match (outcome, interrupt) {
         (_, Some(e)) => Err(e),
         (Ok(result), None) => result.map_err(PyErr::from),
@@ -96,6 +151,22 @@ fn detach<T: Send>(
             "internal error in the dzhanibekov core (a bug; please report it)",
         )),
     }
+}
+
+/// Whether locating the flips of an exact run is long work: one flip per period, so a long
+/// `t_end` can mean 10⁸ of them however few frames are kept.
+fn long_flip_search(
+    method: &Method,
+    body: &RigidBody,
+    omega0: [f64; 3],
+    t_end: f64,
+    flips: bool,
+) -> bool {
+    if !flips || method.info().takes_steps() {
+        return false;
+    }
+    let period = exact::flip_period(body, omega0).unwrap_or(f64::INFINITY);
+    t_end / period > watchdog::LONG_EXACT_FRAMES as f64
 }
 
 /// A body's principal moments, validated.
@@ -281,7 +352,8 @@ fn simulate<'py>(
         flips: keep_flips,
     };
     let body = body.inner;
-    let long = watchdog::is_long(&method, &grid, 1);
+    let long = watchdog::is_long(&method, &grid, 1)
+        || long_flip_search(&method, &body, omega0, t_end, keep_flips);
     let out = detach(py, long, |cancel| {
         core_simulate(&body, omega0, q0, &grid, method, keep, cancel)
     })?;
@@ -386,8 +458,12 @@ fn rotate<'py>(
         }
         None => {
             // NumPy allocates the output (its allocator asks for huge pages, so fresh memory
-            // faults in far fewer, larger pieces); the core fills it without the GIL.
-            let array = unsafe { PyArray3::<f64>::new(py, [n, p, 3], false) };
+            // faults in far fewer, larger pieces); the core fills it without the GIL. Through
+            // `numpy.empty`, whose failure is a MemoryError, not a null pointer.
+            let array = py
+                .import("numpy")?
+                .call_method1("empty", ((n, p, 3),))?
+                .cast_into::<PyArray3<f64>>()?;
             // SAFETY: the array is new, C-contiguous and not yet shared with Python code.
             let dst = unsafe { array.as_slice_mut() }.map_err(internal)?;
             detach(py, long, |cancel| {
@@ -420,11 +496,12 @@ fn invariants<'py>(
     }
     let inertia = body.inner.inertia_body();
     let (energy, l_body, l_world, q_norm) = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
+        const HINT: &str = "compute them over fewer frames at a time";
         let (mut energy, mut l_body, mut l_world, mut q_norm) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(3 * n),
-            Vec::with_capacity(3 * n),
-            Vec::with_capacity(n),
+            try_with_capacity(n, "the energies", HINT)?,
+            try_with_capacity(3 * n, "the angular momenta", HINT)?,
+            try_with_capacity(3 * n, "the angular momenta in space", HINT)?,
+            try_with_capacity(n, "the quaternion norms", HINT)?,
         );
         for (w, c) in omega.chunks_exact(3).zip(q.chunks_exact(4)) {
             let x = state_from([w[0], w[1], w[2]], [c[0], c[1], c[2], c[3]]);
@@ -708,6 +785,11 @@ fn step_plan_batch<'py>(
         values("omega0", &omega0)?,
         &identity,
     )?;
+    ensure_room(
+        starts.len() as f64 * (std::mem::size_of::<crate::run::step_size::StepPlan>() + 32) as f64,
+        "the step plans",
+        "plan fewer starts at a time",
+    )?;
     let plans = py.detach(|| plan_rows(&starts, t_end, frames, method, dt, rtol))?;
     let result = PyDict::new(py);
     let of = |f: fn(&crate::run::step_size::StepPlan) -> f64| -> Vec<f64> {
@@ -728,6 +810,13 @@ fn instruction_sets() -> Vec<&'static str> {
 
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    // NumPy's C API is loaded now, at import, not at a call's first array: loading it runs
+    // Python code, where a pending Ctrl-C would surface as a panic.
+    PyArray1::<f64>::zeros(py, 0, false);
+    m.add_function(wrap_pyfunction!(_finalizing, m)?)?;
+    py.import("atexit")?
+        .call_method1("register", (m.getattr("_finalizing")?,))?;
     m.add_class::<PyRigidBody>()?;
     m.add_class::<PyMethodInfo>()?;
     m.add_class::<PyRunResult>()?;

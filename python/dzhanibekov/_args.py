@@ -8,11 +8,15 @@ from __future__ import annotations
 
 import numbers
 import os
+import sys
 from typing import Any
 
 import numpy as np
 
 from .errors import TooLargeError
+
+if sys.platform != "win32":
+    import resource
 
 __all__ = ["as_float", "as_int", "as_array", "check_size", "MAX_INT"]
 
@@ -55,10 +59,12 @@ def as_int(name: str, value: Any, *, minimum: int, maximum: int = MAX_INT) -> in
 
 
 def as_array(name: str, value: Any, shape: str, *, last: int, ndim: tuple[int, ...]) -> np.ndarray:
-    """A C-contiguous float64 array of finite values whose last axis has length `last`.
+    """A C-contiguous, aligned float64 array of finite values whose last axis has length
+    `last`.
 
     `shape` is the human-readable shape for messages, e.g. "(N, 4)". No copy is made when
-    `value` is already a C-contiguous float64 array.
+    `value` is already a C-contiguous, aligned float64 array; any other layout (strided,
+    Fortran-ordered, unaligned, e.g. ``np.frombuffer(..., offset=1)``) is copied.
     """
     try:
         arr = np.asarray(value)
@@ -68,7 +74,7 @@ def as_array(name: str, value: Any, shape: str, *, last: int, ndim: tuple[int, .
         raise TypeError(f"`{name}` must hold real numbers, got dtype {arr.dtype}")
     if arr.ndim not in ndim or arr.shape[-1:] != (last,):
         raise ValueError(f"`{name}` must have shape {shape}, got {arr.shape}")
-    arr = np.ascontiguousarray(arr, dtype=np.float64)
+    arr = np.require(arr, dtype=np.float64, requirements=["C", "A"])
     if not np.isfinite(arr).all():
         raise ValueError(f"`{name}` must be finite, got non-finite values")
     return arr
@@ -92,10 +98,23 @@ def _read_int(path: str, field: str | None = None) -> int | None:
     return None
 
 
+def _address_space_room() -> int | None:
+    """Bytes of address space left under the process's ``RLIMIT_AS`` (``ulimit -v``,
+    ``prlimit --as``, as batch schedulers set), or None without such a limit."""
+    if sys.platform == "win32":  # pragma: no cover - no such limit there
+        return None
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft == resource.RLIM_INFINITY:
+        return None
+    used = _read_int("/proc/self/status", "VmSize")
+    return max(soft - (used or 0), 0)
+
+
 def memory_available() -> tuple[int, str] | None:
     """The memory a new allocation can still get, in bytes, and what bounds it: on Linux the
     kernel's estimate of available memory (free plus reclaimable) or the room left under the
-    process's cgroup limit, whichever is smaller; elsewhere the physical memory."""
+    process's cgroup limit or under its address-space limit (``RLIMIT_AS``), whichever is
+    smallest; elsewhere the physical memory."""
     limits: list[tuple[int, str]] = []
     available = _read_int("/proc/meminfo", "MemAvailable")
     if available is not None:
@@ -107,6 +126,9 @@ def memory_available() -> tuple[int, str] | None:
         if limit is not None and usage is not None and limit < 2**60:
             limits.append((max(limit - usage, 0), "room under the memory limit (cgroup)"))
             break
+    address_space = _address_space_room()
+    if address_space is not None:
+        limits.append((address_space, "room under the address-space limit (ulimit -v)"))
     if not limits:
         try:
             limits.append((os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"),

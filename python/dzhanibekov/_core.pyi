@@ -16,6 +16,7 @@ __all__ = [
     "RigidBody",
     "RunResult",
     "__version__",
+    "_finalizing",
     "ellipj",
     "ellipk",
     "ellipsoid_mesh",
@@ -80,6 +81,9 @@ class RunResult:
     @property
     def dt(self) -> float: ...
 RUN_STATUSES: tuple[str, ...]
+
+def _finalizing() -> None:
+    """The `atexit` hook that keeps daemon threads' calls out of a finalising interpreter."""
 
 @final
 class RigidBody:

@@ -7,7 +7,9 @@
 - ``dzhanibekov map --out DIR``: stability maps (flip period and tilt over a grid of starts,
   with the separatrix) and their sweeps' numbers.
 
-Output is all or nothing: files are drawn beside DIR and moved in when all are done.
+Output is all or nothing: files are drawn in a temporary folder inside DIR and moved in
+when all are done; any error (a bad scene, a folder that cannot be written, a full disk)
+is one line on stderr with exit code 2, and DIR is left as it was.
 """
 
 from __future__ import annotations
@@ -80,7 +82,7 @@ def _run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
-        files = render_scene(result, tmp, progress=_progress(args))
+        files = render_scene(result, tmp, progress=_progress(args), flip_times=args.flip_times)
     _table([result], time.perf_counter() - start)
     print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
     return 0
@@ -162,6 +164,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("--dt", type=_step, default=None, metavar="DT",
                      help="override the scene's step: a number, or 'none' for the step picked "
                      "for the scene's rtol")
+    run.add_argument("--flip-times", action="store_true", dest="flip_times",
+                     help="also write every flip time to NAME-flip-times.npy (the JSON lists "
+                     "at most 1000 and summarises longer lists)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(run=_run)
 
@@ -198,8 +203,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))
-    except (SceneError, ValueError, TypeError) as exc:
+    except (SceneError, ValueError, TypeError, OSError) as exc:
+        # OSError: the output folder cannot be written (render.OutputError names the path)
         print(f"dzhanibekov: error: {exc}", file=sys.stderr)
+        return 2
+    except MemoryError as exc:
+        print(f"dzhanibekov: error: out of memory{f': {exc}' if str(exc) else ''}; nothing "
+              "written", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("dzhanibekov: interrupted; nothing written", file=sys.stderr)

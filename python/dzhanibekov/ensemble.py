@@ -78,6 +78,9 @@ def batch_rows(
             f"{_at(int(np.argmax(zero)), q.shape[:-1])}"
         )
     m = math.prod(shape)
+    # the rows, the core's starts and its per-run results: about 40 float64 values a run
+    check_size(m * 40 * 8, f"a batch of {m} starts",
+               "run fewer starts at a time (split the batch)")
     rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, a.shape[-1]))
             for a in (inertia, omega, q)]
     return rows[0], rows[1], rows[2], shape

@@ -18,6 +18,7 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 
 from . import _core
+from ._args import check_size
 from .body import Body
 
 __all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "verdict"]
@@ -98,6 +99,8 @@ class Trajectory:
             (frames, 3) and ``q_norm`` (frames,).
         """
         if not self._invariants:
+            check_size(len(self.t) * 8 * 8, f"the invariants at {len(self.t)} frames",
+                       "compute them over fewer frames (a slice of the run)")
             self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
         return self._invariants
 

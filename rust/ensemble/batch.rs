@@ -8,12 +8,13 @@
 //! bit, and no result depends on the number of threads or on how rows fall into groups.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, PoisonError};
 
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
 use crate::body::RigidBody;
-use crate::buffer::zeroed_for;
+use crate::buffer::{try_collect_results, try_with_capacity, zeroed_for};
 use crate::dynamics::{state_from, FreeRigidBody, State};
 use crate::ensemble::lanes::{advance, Isa, Lanes, Span};
 use crate::error::{Error, Result};
@@ -81,17 +82,16 @@ impl Start {
             });
         }
         let row = |v: &[f64], w: usize, i: usize| if v.len() == w { 0 } else { i * w };
-        (0..m)
-            .map(|i| {
-                let (a, b, c) = (row(inertia, 3, i), 3 * i, row(q0, 4, i));
-                Start::try_new(
-                    [inertia[a], inertia[a + 1], inertia[a + 2]],
-                    [omega0[b], omega0[b + 1], omega0[b + 2]],
-                    [q0[c], q0[c + 1], q0[c + 2], q0[c + 3]],
-                )
-                .map_err(|e| e.in_row(i))
-            })
-            .collect()
+        let starts = (0..m).map(|i| {
+            let (a, b, c) = (row(inertia, 3, i), 3 * i, row(q0, 4, i));
+            Start::try_new(
+                [inertia[a], inertia[a + 1], inertia[a + 2]],
+                [omega0[b], omega0[b + 1], omega0[b + 2]],
+                [q0[c], q0[c + 1], q0[c + 2], q0[c + 3]],
+            )
+            .map_err(|e| e.in_row(i))
+        });
+        try_collect_results(starts, m, "the starts", "run fewer starts at a time")
     }
 
     fn omega(&self) -> Vector3<f64> {
@@ -109,22 +109,24 @@ pub struct Options {
 }
 
 impl Options {
-    /// Runs `work` on the threads asked for.
+    /// Runs `work` on the threads asked for, at most one per run and at most
+    /// [`MAX_THREADS`]. Pools are kept and reused: building one costs a thread start per
+    /// thread.
     ///
     /// # Errors
     /// `threads` zero, or a pool that cannot be built; the errors of `work`.
-    pub(crate) fn install<T: Send>(&self, work: impl FnOnce() -> Result<T> + Send) -> Result<T> {
+    pub(crate) fn install<T: Send>(
+        &self,
+        runs: usize,
+        work: impl FnOnce() -> Result<T> + Send,
+    ) -> Result<T> {
         let Some(n) = self.threads else {
             return crate::pool::install(work)?;
         };
         if n == 0 {
             return Err(Error::invalid("threads", "must be at least 1", n));
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| Error::invalid("threads", "must give a thread pool", e.to_string()))?;
-        pool.install(work)
+        pool(n.min(runs.max(1)).min(MAX_THREADS))?.install(work)
     }
 
     /// The instruction set to run.
@@ -142,6 +144,44 @@ impl Options {
             )),
         }
     }
+}
+
+/// The most threads a batch or sweep runs on; `threads` beyond it (or beyond the number of
+/// runs) are capped.
+pub const MAX_THREADS: usize = 256;
+
+/// Pools kept for reuse, by size (the few last used), with the process they belong to: a
+/// child made by `fork` has none of its parent's threads, so it builds its own.
+static POOLS: Mutex<(u32, Vec<SizedPool>)> = Mutex::new((0, Vec::new()));
+
+/// A pool and its number of threads.
+type SizedPool = (usize, Arc<rayon::ThreadPool>);
+
+/// Pools of as many sizes as are kept.
+const POOLS_KEPT: usize = 4;
+
+/// A pool of `n` threads, reused if one was built before in this process.
+fn pool(n: usize) -> Result<Arc<rayon::ThreadPool>> {
+    let mut guard = POOLS.lock().unwrap_or_else(PoisonError::into_inner);
+    let (pid, pools) = &mut *guard;
+    if *pid != std::process::id() {
+        // the parent's pools have no threads here: forget them (dropping would wait on them)
+        std::mem::forget(std::mem::take(pools));
+        *pid = std::process::id();
+    }
+    if let Some((_, found)) = pools.iter().find(|(size, _)| *size == n) {
+        return Ok(Arc::clone(found));
+    }
+    let built = rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .map_err(|e| Error::invalid("threads", "must give a thread pool", e.to_string()))?;
+    let built = Arc::new(built);
+    if pools.len() == POOLS_KEPT {
+        pools.remove(0);
+    }
+    pools.push((n, Arc::clone(&built)));
+    Ok(built)
 }
 
 /// The user's cancel flag, and the batch's own, set when a run fails so that the others stop.
@@ -388,6 +428,9 @@ pub(crate) fn run_group(
     // as a single run: invariants that overflow mean the run diverged
     for (l, monitor) in drift.iter().enumerate() {
         finite_drift(monitor.drift, grid.t_end()).map_err(|e| e.in_row(first_row + l))?;
+        if let Some(d) = detectors.get(l) {
+            d.check_kept().map_err(|e| e.in_row(first_row + l))?;
+        }
     }
     Ok((0..real)
         .map(|l| {
@@ -473,6 +516,13 @@ pub fn simulate_batch(
 ) -> Result<BatchOutput> {
     let m = starts.len();
     let isa = options.isa()?;
+    // each row's output, held twice (per group, then in order), and the columns made from it
+    let per_row = 2 * std::mem::size_of::<RowOutput>() + 16 * std::mem::size_of::<f64>();
+    crate::buffer::ensure_room(
+        m as f64 * per_row as f64,
+        "the batch's rows",
+        "run fewer starts at a time",
+    )?;
     let (mut omega, mut q) = match keep.frames {
         true => {
             let values = |width: usize| m.checked_mul(grid.frames())?.checked_mul(width);
@@ -498,7 +548,7 @@ pub fn simulate_batch(
         false => (Vec::new(), Vec::new()),
     };
     let stop = Stop::new(cancel);
-    let rows: Vec<RowOutput> = options.install(|| {
+    let rows: Vec<RowOutput> = options.install(m, || {
         let parts = if method.info().batch {
             lane_rows(isa, method, starts, grid, keep, &mut omega, &mut q, &stop)
         } else {
@@ -507,11 +557,17 @@ pub fn simulate_batch(
         stop.gather(parts)
             .map(|p| p.into_iter().flatten().collect())
     })?;
+    let total_flips = rows.iter().map(|r| r.flip_times.len()).sum();
+    const FLIPS_HINT: &str = "take a shorter t_end, or do not ask for the flips (`flips=False`)";
+    const ROWS_HINT: &str = "run fewer starts at a time";
     let mut out = BatchOutput {
         omega,
         q,
-        flip_offsets: Vec::with_capacity(m + 1),
-        ..BatchOutput::default()
+        flip_offsets: try_with_capacity(m + 1, "the batch's flip offsets", FLIPS_HINT)?,
+        flip_times: try_with_capacity(total_flips, "the batch's flip times", FLIPS_HINT)?,
+        drift: try_with_capacity(m, "the batch's drifts", ROWS_HINT)?,
+        stats: try_with_capacity(m, "the batch's statistics", ROWS_HINT)?,
+        dt: try_with_capacity(m, "the batch's steps", ROWS_HINT)?,
     };
     out.flip_offsets.push(0);
     for row in rows {

@@ -24,7 +24,8 @@ use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::ode::Stats;
 use crate::run::{
-    finite_drift, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
+    error_from_unit, finite_drift, run_method, time_from_unit, to_unit, FrameGrid, Method,
+    CHECK_EVERY,
 };
 
 /// What one run of a sweep measured.
@@ -164,8 +165,15 @@ pub fn sweep(
     cancel: &AtomicBool,
 ) -> Result<Vec<RunSummary>> {
     let isa = options.isa()?;
+    // the summaries, held twice (per block, then in order), and the columns made from them
+    let per_run = 2 * std::mem::size_of::<RunSummary>() + 16 * std::mem::size_of::<f64>();
+    crate::buffer::ensure_room(
+        starts.len() as f64 * per_run as f64,
+        "the sweep's results",
+        "sweep fewer starts at a time",
+    )?;
     let stop = Stop::new(cancel);
-    options.install(|| {
+    options.install(starts.len(), || {
         let parts: Vec<Result<Vec<RunSummary>>> = if method.info().batch {
             starts
                 .par_chunks(LANES)
@@ -279,7 +287,8 @@ fn single(
         omega0: start.omega0.map(|w| scale.rate_to_unit(w)),
         ..*start
     };
-    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)?;
+    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)
+        .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     run.flips.first = time_from_unit(scale, run.flips.first, grid.t_end());
     run.flips.last = time_from_unit(scale, run.flips.last, grid.t_end());
     run.exact_period = exact_period(start)?;

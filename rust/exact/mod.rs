@@ -214,17 +214,55 @@ impl ExactMotion {
             symmetric(inertia, omega, q0)
         } else {
             let motion = Asymmetric::new(inertia, omega, q0);
-            if !motion.is_finite() {
+            if motion.is_finite() {
+                Kind::Asymmetric(Box::new(motion))
+            } else if near_axis(&omega) {
+                // so close to an axis that float64 holds no wobble: a steady spin, as
+                // `flip_period_of_rates` (sweeps) says too
+                Kind::Steady { omega, q0 }
+            } else {
                 return Err(Error::invalid(
                     "omega0",
                     "must give an exact solution with finite parameters",
                     omega0,
                 ));
             }
-            Kind::Asymmetric(Box::new(motion))
         };
-        Ok(Self { kind })
+        let motion = Self { kind };
+        motion.starts_at(&omega, body)?;
+        Ok(motion)
     }
+
+    /// [`Error::InvalidArgument`] unless the solution's state at `t = 0` is the start: moments
+    /// so far apart (one vanishing beside the others, e.g. `(1, 2, 1e-30)`) that the closed
+    /// form cannot resolve them give another frame 0, and such a body is refused.
+    fn starts_at(&self, omega0: &Vector3<f64>, body: &RigidBody) -> Result<()> {
+        let x = self.state_at(0.0);
+        let largest = omega0.amax();
+        let off = (0..3).fold(0.0_f64, |m, k| m.max((x[k] - omega0[k]).abs()));
+        match off <= START_TOLERANCE * largest {
+            true => Ok(()),
+            false => Err(Error::invalid(
+                "inertia",
+                "must have moments the closed form resolves for method='exact' (its state \
+                 at t = 0 is not the start for these: a moment vanishes beside the others); \
+                 use an integrator such as 'dop853'",
+                body.inertia_body().as_slice(),
+            )),
+        }
+    }
+}
+
+/// The largest distance of the closed form's rates at `t = 0` from the start, relative to the
+/// largest rate, that [`ExactMotion::try_new`] accepts (round-off is ~1e-15).
+const START_TOLERANCE: f64 = 1e-9;
+
+/// Whether `omega` is so close to a principal axis (the other rates below 1e-150 of the
+/// largest) that the squares of the deviation, which set the elliptic parameter's
+/// complement, underflow.
+fn near_axis(omega: &Vector3<f64>) -> bool {
+    let largest = omega.amax();
+    omega.iter().filter(|w| w.abs() > 1e-150 * largest).count() <= 1
 }
 
 fn symmetric(inertia: Vector3<f64>, omega: Vector3<f64>, q0: UnitQuaternion<f64>) -> Kind {
@@ -631,16 +669,21 @@ impl ExactMotion {
         }
         let two_k = 2.0 * motion.jacobi.quarter_period();
         let to_time = motion.lambda * motion.time_scale;
-        Ok((0..count as u64)
-            .map(|i| {
-                let j = first + i as f64;
-                if motion.separatrix {
-                    -motion.u0 / to_time
-                } else {
-                    two_k.mul_add(j, -motion.u0) / to_time
-                }
-            })
-            .collect())
+        // counted from the period above, allocated fallibly: never an abort
+        let times = (0..count as u64).map(|i| {
+            let j = first + i as f64;
+            if motion.separatrix {
+                -motion.u0 / to_time
+            } else {
+                two_k.mul_add(j, -motion.u0) / to_time
+            }
+        });
+        crate::buffer::try_collect(
+            times,
+            count as usize,
+            "the flip times",
+            "take a shorter t_end, or do not ask for the flips (`flips=False`)",
+        )
     }
 
     /// The elliptic parameter and its complement `(m, 1 − m)` of an asymmetric top's motion;

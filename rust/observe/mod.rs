@@ -245,6 +245,8 @@ pub struct FlipDetector {
     side: i8,
     candidate: Option<f64>,
     pub flip_times: Vec<f64>,
+    /// Flips found but not kept: the memory for their times could not be had.
+    lost: u64,
 }
 
 impl FlipDetector {
@@ -264,6 +266,7 @@ impl FlipDetector {
             side: 0,
             candidate: None,
             flip_times: Vec::new(),
+            lost: 0,
         }
     }
 
@@ -370,7 +373,12 @@ impl FlipDetector {
         if side != 0 {
             if side == -self.side {
                 if let Some(tc) = self.candidate {
-                    self.flip_times.push(tc);
+                    // grown fallibly: a run of 10¹⁰ steps can find more flips than memory
+                    // holds, and that is an error at the end of the run, not an abort
+                    match self.flip_times.try_reserve(1) {
+                        Ok(()) => self.flip_times.push(tc),
+                        Err(_) => self.lost += 1,
+                    }
                 }
             }
             self.side = side;
@@ -399,6 +407,28 @@ impl FlipDetector {
     /// Moves the flip times found so far out of the detector (for runs that count them).
     pub(crate) fn take_flip_times(&mut self) -> Vec<f64> {
         std::mem::take(&mut self.flip_times)
+    }
+
+    /// The flip times, or [`Error::TooLarge`] if memory ran out for some of them.
+    ///
+    /// # Errors
+    /// Flips whose times could not be stored.
+    pub fn into_flip_times(mut self) -> crate::error::Result<Vec<f64>> {
+        self.check_kept()?;
+        Ok(std::mem::take(&mut self.flip_times))
+    }
+
+    /// [`Error::TooLarge`] if some flip times could not be stored.
+    pub(crate) fn check_kept(&self) -> crate::error::Result<()> {
+        match self.lost {
+            0 => Ok(()),
+            lost => Err(crate::error::Error::TooLarge {
+                what: "the flip times",
+                needed: format!("{} values", self.flip_times.len() as u64 + lost),
+                limit: "the memory this process can allocate".into(),
+                hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",
+            }),
+        }
     }
 }
 

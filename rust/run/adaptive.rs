@@ -101,7 +101,7 @@ where
             return Err(Error::TooLarge {
                 what: "the adaptive run",
                 needed: format!("more than {} step attempts (at t = {t:.6e})", stats.n_steps),
-                limit: format!("max_steps = {}", settings.max_steps),
+                limit: crate::run::max_steps_limit(settings.max_steps),
                 hint: "raise max_steps, or loosen rtol and atol",
             });
         }

@@ -46,7 +46,7 @@ impl FrameGrid {
             return Err(Error::TooLarge {
                 what: "the run",
                 needed: format!("{total:.3e} steps (t_end / dt)"),
-                limit: format!("max_steps = {max_steps}"),
+                limit: max_steps_limit(max_steps),
                 hint: "raise max_steps, or take a larger dt",
             });
         }
@@ -55,6 +55,33 @@ impl FrameGrid {
             frames,
             substeps: substeps as u64,
         })
+    }
+
+    /// [`FrameGrid::try_frames`] or [`FrameGrid::frames_only`] with the frames counted toward
+    /// `max_steps`: each frame is work (an evaluation of the closed form, or of an adaptive
+    /// method's interpolant), so a frame grid of 2^62 is refused up front like 2^62 steps.
+    ///
+    /// # Errors
+    /// As those, and more than `max_steps` frames.
+    pub fn try_frames_within(
+        t_end: f64,
+        frames: usize,
+        max_steps: u64,
+        adaptive: bool,
+    ) -> Result<Self> {
+        let grid = match adaptive {
+            true => Self::frames_only(t_end, frames)?,
+            false => Self::try_frames(t_end, frames)?,
+        };
+        if frames as u64 > max_steps {
+            return Err(Error::TooLarge {
+                what: "the run",
+                needed: format!("{frames} frames (each is evaluated)"),
+                limit: max_steps_limit(max_steps),
+                hint: "ask for fewer frames, or raise max_steps",
+            });
+        }
+        Ok(grid)
     }
 
     /// Frames only, for a method that takes no steps (`method = "exact"`).
@@ -109,5 +136,28 @@ impl FrameGrid {
     /// The same frames and substeps over a span of `t_end` (a span in other units).
     pub(crate) fn with_t_end(&self, t_end: f64) -> Self {
         Self { t_end, ..*self }
+    }
+}
+
+/// `max_steps` for a message: its value, unless it is the unlimited `u64::MAX`.
+pub(crate) fn max_steps_limit(max_steps: u64) -> String {
+    match max_steps {
+        u64::MAX => "the most steps a run can count (2^64 - 1)".into(),
+        n => format!("max_steps = {n}"),
+    }
+}
+
+#[cfg(test)]
+mod limits {
+    use super::*;
+
+    #[test]
+    fn an_unlimited_max_steps_is_not_shown_as_a_number() {
+        assert_eq!(max_steps_limit(10), "max_steps = 10");
+        assert!(!max_steps_limit(u64::MAX).contains("18446744073709551615"));
+        let grid = FrameGrid::try_frames_within(1.0, 1 << 40, u64::MAX - 1, false);
+        assert!(grid.is_ok());
+        let err = FrameGrid::try_frames_within(1.0, 1 << 40, 1 << 20, true).unwrap_err();
+        assert!(err.to_string().contains("1099511627776 frames"), "{err}");
     }
 }

@@ -25,6 +25,7 @@ use crate::ode::Stats;
 
 pub use fixed::integrate;
 pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
+pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
 pub(crate) use registry::run_method;
 pub use registry::{Method, MethodInfo, METHODS};
@@ -149,7 +150,7 @@ pub fn simulate(
     let (stats, flip_times) = if keep.flips {
         let mut flips = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
         let stats = run_method(method, &sys, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
-        (stats, flips.flip_times)
+        (stats, flips.into_flip_times()?)
     } else {
         (
             run_method(method, &sys, x0, grid, &mut obs, cancel)?,
@@ -234,6 +235,18 @@ pub(crate) fn time_from_unit(scale: RateScale, t: f64, t_end: f64) -> f64 {
     }
 }
 
+/// `error` of a run integrated in the units of `scale`, with a divergence time back in the
+/// user's units (within the user's span).
+pub(crate) fn error_from_unit(error: Error, scale: RateScale, t_end: f64) -> Error {
+    match error {
+        Error::Diverged { t, hint } => Error::Diverged {
+            t: time_from_unit(scale, t, t_end),
+            hint,
+        },
+        other => other,
+    }
+}
+
 /// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
 #[allow(clippy::too_many_arguments)]
 fn simulate_scaled(
@@ -255,7 +268,8 @@ fn simulate_scaled(
         method,
         keep,
         cancel,
-    )?;
+    )
+    .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     for w in &mut out.omega {
         *w = scale.rate_from_unit(*w);
     }

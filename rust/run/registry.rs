@@ -321,8 +321,8 @@ impl FromStr for Method {
 impl FrameGrid {
     /// The grid of a run of `method`: frames and substeps no longer than `dt` for a fixed step,
     /// the frames alone for a method that chooses its own steps or takes none (`dt` and
-    /// `max_steps` do not apply to the exact solution; `max_steps` caps an adaptive method's
-    /// attempts, see [`Method::with_max_steps`]).
+    /// does not apply to the exact solution; `max_steps` caps an adaptive method's attempts,
+    /// see [`Method::with_max_steps`], and both methods' frames, which are their work).
     ///
     /// # Errors
     /// As [`FrameGrid::try_new`].
@@ -333,9 +333,11 @@ impl FrameGrid {
         dt: f64,
         max_steps: u64,
     ) -> Result<Self> {
+        // the exact solution's and an adaptive method's frames are their work: they count
+        // toward `max_steps`
         match method.info().step_rule {
-            StepRule::NoSteps => Self::try_frames(t_end, frames),
-            StepRule::Adaptive { .. } => Self::frames_only(t_end, frames),
+            StepRule::NoSteps => Self::try_frames_within(t_end, frames, max_steps, false),
+            StepRule::Adaptive { .. } => Self::try_frames_within(t_end, frames, max_steps, true),
             StepRule::Accuracy { .. } => Self::try_new(t_end, frames, dt, max_steps),
         }
     }

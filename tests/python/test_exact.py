@@ -288,10 +288,14 @@ def test_flip_period_matches_mpmath_and_the_near_axis_asymptote(eps):
     assert abs(period - asymptote) <= 2 * bound * float(2 / lam) + 1e-13 * period
 
 
-def test_exact_ignores_dt_and_max_steps_but_checks_its_input():
+def test_exact_ignores_dt_counts_its_frames_toward_max_steps_and_checks_its_input():
     body = dz.Body(dz.PAPER_INERTIA)
-    traj = dz.simulate(body, (0.01, 0.01, 1.0), t_end=1e9, frames=5, max_steps=1, method="exact")
+    # no steps: t_end = 1e9 costs nothing; its frames are its work (issue 16)
+    traj = dz.simulate(body, (0.01, 0.01, 1.0), t_end=1e9, frames=5, max_steps=5, dt=1e-9,
+                       method="exact")
     assert traj.t[-1] == 1e9 and np.all(np.isfinite(traj.q))
+    with pytest.raises(ValueError, match="needs 5 frames"):
+        dz.simulate(body, (0.01, 0.01, 1.0), t_end=1e9, frames=5, max_steps=1, method="exact")
     with pytest.raises(ValueError, match="omega0"):
         dz.simulate(body, (np.nan, 0.0, 1.0), method="exact")
     with pytest.raises(ValueError, match="flip"):

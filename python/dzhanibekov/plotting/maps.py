@@ -26,7 +26,7 @@ from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
 from matplotlib.figure import Figure
 
-from .._args import as_array, as_int
+from .._args import as_array, as_int, check_size
 from ..body import PAPER_INERTIA
 from ..ensemble import Sweep, grid, sweep
 from .figures import _figure_of
@@ -73,6 +73,9 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     except ValueError:
         raise ValueError(f"`inertia` and `omega` must broadcast together, got shapes "
                          f"{inertia.shape} and {omega.shape}") from None
+    # about ten temporaries of the broadcast shape
+    check_size(10 * inertia.size * 8, f"the separatrix gap of {inertia.size // 3} starts",
+               "ask for fewer starts at a time")
     # Σ x_k² (I_k − I_mid) / I_k over Σ x_k², x = I ω in units of a power of two near the
     # row's largest |I_k ω_k| (from the exponents of I and ω apart, so no product over- or
     # underflows before the scaling); I_k − I_mid is exact for nearly equal moments.

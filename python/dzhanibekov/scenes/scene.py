@@ -39,6 +39,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import re
+import stat
 import sys
 import warnings
 from collections.abc import Mapping
@@ -53,7 +54,7 @@ import tomli_w
 from .._args import as_array, as_float, as_int
 from ..accuracy import check_tolerances
 from ..body import Body
-from ..geometry import CONVENTIONS
+from ..geometry import CONVENTIONS, ellipsoid_semi_axes
 from ..methods import DEFAULT_METHOD, METHODS
 from ..simulate import simulate
 from ..summary import Summary, summarize
@@ -67,6 +68,10 @@ else:  # pragma: no cover - Python 3.10
 __all__ = [
     "CONVENTIONS",
     "FIGURES",
+    "MAX_ANIMATION_FRAMES",
+    "MAX_DRAWN_SIZE",
+    "MAX_PHASES",
+    "MAX_SCENE_BYTES",
     "PAPER_SCENES",
     "SCENES",
     "Draw",
@@ -84,6 +89,17 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
 """Most cells of the ellipsoid mesh along either direction, for a drawing."""
 _DEFAULT_PHASES = 6
+
+MAX_SCENE_BYTES = 1 << 20
+"""The largest scene file :func:`load_scene` reads (1 MiB); scenes are a few hundred bytes."""
+MAX_ANIMATION_FRAMES = 2000
+"""Most frames (`run.frames`) of a scene that draws an animation: each frame is drawn and
+kept (about 0.3 MB) until the GIF is written. For longer runs, store fewer frames."""
+MAX_PHASES = 24
+"""Most instants (`draw.phases`) of the phases panel: each is one 3-D panel of the figure."""
+MAX_DRAWN_SIZE = 1e100
+"""The largest size a scene draws (|`body.signal_point`|, `body.box` edges, the inertia
+ellipsoid's semi-axes): drawing squares lengths and view limits, which must stay finite."""
 
 
 class SceneError(ValueError):
@@ -300,6 +316,9 @@ class Scene:
             data = tomllib.loads(text)
         except tomllib.TOMLDecodeError as exc:
             raise SceneError(source, None, f"is not valid TOML: {exc}") from None
+        except RecursionError:
+            raise SceneError(source, None, "is not a scene: its arrays or tables nest too "
+                             "deeply to read (a scene nests at most two levels)") from None
         return cls.from_dict(data, name, source)
 
     @classmethod
@@ -517,6 +536,9 @@ def _validate(s: Scene) -> None:
     if s.box is not None:
         _set(s, "box", _triple(src, "body.box", s.box, positive=True))
     _set(s, "signal_point", _triple(src, "body.signal_point", s.signal_point))
+    _drawable(src, "body.signal_point", float(np.hypot.reduce(s.signal_point)))
+    if s.box is not None:
+        _drawable(src, "body.box", max(s.box))
     _set(s, "flips", _flag(src, "ask.flips", s.flips))
 
     draw = s.draw.table if isinstance(s.draw, _Raw) else dataclasses.asdict(s.draw)
@@ -529,6 +551,9 @@ def _validate(s: Scene) -> None:
     phases = draw.get("phases", ())
     if isinstance(phases, str) or not isinstance(phases, (list, tuple)):
         raise SceneError(src, "draw.phases", f"must be a list of times, got {phases!r}")
+    if len(phases) > MAX_PHASES:
+        raise SceneError(src, "draw.phases", f"must list at most {MAX_PHASES} instants (one "
+                         f"3-D panel each), got {len(phases)}")
     times = tuple(_number(src, "draw.phases", t) for t in phases)
     if any(not 0.0 <= t <= s.t_end for t in times):
         raise SceneError(src, "draw.phases", f"must be times in [0, run.t_end = {s.t_end:g}], "
@@ -550,9 +575,28 @@ def _validate(s: Scene) -> None:
     e_m = _integer(src, "ellipsoid.mesh[1]", mesh[1], 2, _MAX_CELLS)  # eM, pole to pole
     _set(s, "ellipsoid", EllipsoidStyle(convention, (e_n, e_m)))
 
-    if flags["box"] and s.box is None and _uniform_box(inertia) is None:
-        raise SceneError(src, "body.box", "is needed to draw the box: no uniform box has the "
-                         "moments of `body.inertia`")
+    if flags["box"] and s.box is None:
+        derived = _uniform_box(inertia)
+        if derived is None:
+            raise SceneError(src, "body.box", "is needed to draw the box: no uniform box has "
+                             "the moments of `body.inertia`")
+        _drawable(src, "body.inertia", max(derived), "the box these moments give")
+    if flags["ellipsoid"]:
+        semi_axes = ellipsoid_semi_axes(inertia, convention)
+        _drawable(src, "body.inertia", float(semi_axes.max()),
+                  f"the {convention} ellipsoid's largest semi-axis")
+    if flags["animation"] and s.frames > MAX_ANIMATION_FRAMES:
+        raise SceneError(src, "run.frames", f"must be at most {MAX_ANIMATION_FRAMES} for an "
+                         f"animation (each frame is drawn and kept until the GIF is written), "
+                         f"got {s.frames}; store fewer frames or set `draw.animation = false`")
+
+
+def _drawable(source: str, key: str, size: float, what: str = "") -> None:
+    """Refuses a size too large to draw (see :data:`MAX_DRAWN_SIZE`)."""
+    if not size <= MAX_DRAWN_SIZE:
+        of = f" ({what})" if what else ""
+        raise SceneError(source, key, f"gives a size{of} of {size:.3g}, more than the "
+                         f"{MAX_DRAWN_SIZE:.0e} a drawing can hold; scale the scene down")
 
 
 def _uniform_box(inertia: tuple[float, ...]) -> tuple[float, float, float] | None:
@@ -583,8 +627,10 @@ def load_scene(path: str | Path) -> Scene:
     Raises
     ------
     SceneError
-        The file is missing, not UTF-8 TOML, or has a key that is unknown, missing, of the
-        wrong type or out of range; the message names the file, the key and what is allowed.
+        The file is missing, not a regular file, larger than :data:`MAX_SCENE_BYTES`, not
+        UTF-8 TOML (or nested too deeply to read), or has a key that is unknown, missing, of
+        the wrong type or out of range; the message names the file, the key and what is
+        allowed.
     TypeError
         `path` is neither a str nor a path.
     """
@@ -599,7 +645,7 @@ def load_scene(path: str | Path) -> Scene:
     try:
         if not p.exists() and isinstance(path, str) and path in SCENES:
             return SCENES[path]
-        text = p.read_text(encoding="utf-8")
+        text = _read_scene_file(p)
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path, or not UTF-8
         why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         if isinstance(exc, UnicodeDecodeError):
@@ -607,6 +653,21 @@ def load_scene(path: str | Path) -> Scene:
         raise SceneError(str(p), None, f"cannot be read ({why}); give a scene file or one of "
                          f"the shipped scenes: {shipped}") from None
     return Scene.from_toml(text, p.stem, str(p))
+
+
+def _read_scene_file(path: Path) -> str:
+    """The text of a scene file: a regular file of at most :data:`MAX_SCENE_BYTES`, read
+    without ever holding more (a device or a FIFO could give bytes for ever)."""
+    # non-blocking: opening a FIFO must not wait for a writer (no effect on regular files)
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    with os.fdopen(fd, "rb") as f:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise ValueError("not a regular file")
+        data = f.read(MAX_SCENE_BYTES + 1)
+    if len(data) > MAX_SCENE_BYTES:
+        raise ValueError(f"larger than {MAX_SCENE_BYTES} bytes, the most a scene file may "
+                         "hold")
+    return data.decode("utf-8")
 
 
 def _shipped() -> dict[str, Scene]:

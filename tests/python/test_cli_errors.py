@@ -1,0 +1,225 @@
+"""The command line where its output cannot be written: one line on stderr naming the path and
+the cause, exit code 2, and the destination exactly as it was (issues 11, 15 and 16)."""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import dzhanibekov as dz
+from dzhanibekov.cli import main
+from dzhanibekov.render import MAX_JSON_FLIP_TIMES, output_folder
+from dzhanibekov.scenes.scene import Draw
+
+
+def tiny_scene(folder: Path, name: str = "mine") -> Path:
+    """A scene that renders fast: a short run drawing one figure."""
+    scene = dz.SCENES["fig3a"].replace(t_end=10.0, frames=21,
+                                       draw=Draw(figures=("omega",)))
+    return scene.save(folder / f"{name}.toml")
+
+
+def snapshot(folder: Path) -> dict[str, bytes | None]:
+    """Every entry below `folder` with its bytes (None for folders)."""
+    return {str(p.relative_to(folder)): None if p.is_dir() else p.read_bytes()
+            for p in sorted(folder.rglob("*"))}
+
+
+def one_line_error(err: str, *fragments: str) -> None:
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, f"not one line: {err!r}"
+    assert lines[0].startswith("dzhanibekov: error: "), err
+    assert "Traceback" not in err
+    for fragment in fragments:
+        assert fragment in lines[0], (fragment, err)
+
+
+def run_cli(argv: list[str], **kwargs) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "dzhanibekov", *argv], capture_output=True,
+                          text=True, timeout=120, **kwargs)
+
+
+def test_out_below_a_file_is_one_line(tmp_path, capsys):
+    scene = tiny_scene(tmp_path)
+    (tmp_path / "plain").write_text("x")
+    out = tmp_path / "plain" / "figures"
+    assert main(["run", str(scene), "--out", str(out), "--no-progress"]) == 2
+    one_line_error(capsys.readouterr().err, str(tmp_path / "plain"), "is a file")
+    assert (tmp_path / "plain").read_text() == "x"
+
+
+def test_out_as_a_dangling_symlink_is_one_line(tmp_path, capsys):
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "link"
+    out.symlink_to(tmp_path / "gone")
+    assert main(["run", str(scene), "--out", str(out), "--no-progress"]) == 2
+    one_line_error(capsys.readouterr().err, str(out), "does not exist")
+    assert out.is_symlink() and not (tmp_path / "gone").exists()
+
+
+def test_out_as_a_file_is_one_line_and_the_file_is_kept(tmp_path, capsys):
+    scene = tiny_scene(tmp_path)
+    (tmp_path / "file").write_text("mine")
+    assert main(["run", str(scene), "--out", str(tmp_path / "file"), "--no-progress"]) == 2
+    one_line_error(capsys.readouterr().err, str(tmp_path / "file"), "must be a folder")
+    assert (tmp_path / "file").read_text() == "mine"
+
+
+def test_a_folder_named_like_an_output_leaves_every_file_as_it_was(tmp_path, capsys):
+    """The old behaviour: earlier outputs were replaced, then the folder made a traceback."""
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine-omega.png").write_bytes(b"old")   # replaced first, alphabetically
+    (out / "mine.json").mkdir()                    # in the way of the last output
+    (out / "mine.json" / "inner.txt").write_text("keep")
+    before = snapshot(out)
+    assert main(["run", str(scene), "--out", str(out), "--no-progress"]) == 2
+    one_line_error(capsys.readouterr().err, str(out / "mine.json"), "folder")
+    assert snapshot(out) == before
+
+
+def test_the_temporary_folder_is_inside_the_destination(tmp_path):
+    """So it is on the destination's filesystem: a mount point as `--out` works."""
+    out = tmp_path / "out"
+    with output_folder(out) as tmp:
+        assert tmp.parent == out
+        (tmp / "a.txt").write_text("a")
+    assert [p.name for p in out.iterdir()] == ["a.txt"]
+    with pytest.raises(KeyError):
+        with output_folder(tmp_path / "new" / "deeper") as tmp:
+            (tmp / "a.txt").write_text("a")
+            raise KeyError("stop")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"], "created folders stay"
+
+
+@pytest.fixture
+def tiny_filesystem(tmp_path):
+    """A 2 MiB tmpfs mounted at `tmp_path / "mnt"` (root only; skipped elsewhere)."""
+    mnt = tmp_path / "mnt"
+    mnt.mkdir()
+    done = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=2m", "tmpfs", str(mnt)],
+                          capture_output=True)
+    if done.returncode != 0:
+        pytest.skip("cannot mount a tmpfs here (needs root)")
+    try:
+        yield mnt
+    finally:
+        subprocess.run(["umount", "-l", str(mnt)], check=False)
+
+
+def test_a_mount_point_as_out_is_written(tiny_filesystem, tmp_path):
+    scene = tiny_scene(tmp_path)
+    done = run_cli(["run", str(scene), "--out", str(tiny_filesystem), "--no-progress"])
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in tiny_filesystem.iterdir()) == ["mine-omega.png", "mine.json"]
+
+
+def test_a_full_disk_is_one_line_and_the_old_files_are_kept(tiny_filesystem, tmp_path):
+    scene = tiny_scene(tmp_path)
+    out = tiny_filesystem / "out"
+    out.mkdir()
+    (out / "mine.json").write_text("old")
+    (tiny_filesystem / "filler").write_bytes(b"\0" * (2 * 1024 * 1024 - 64 * 1024))
+    with open(tiny_filesystem / "filler", "ab") as f:  # fill the last pages
+        try:
+            f.write(b"\0" * (1 << 20))
+        except OSError:
+            pass
+    before = snapshot(out)
+    done = run_cli(["run", str(scene), "--out", str(out), "--no-progress"])
+    assert done.returncode == 2
+    one_line_error(done.stderr, str(out), "No space left on device")
+    assert snapshot(out) == before
+
+
+def limit_file_size() -> None:
+    resource.setrlimit(resource.RLIMIT_FSIZE, (1500, 1500))
+
+
+def test_a_file_size_limit_is_one_line_and_the_old_files_are_kept(tmp_path):
+    """`ulimit -f`: the figure (~50 kB) cannot be written; Python ignores SIGXFSZ, so the
+    write fails with EFBIG."""
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine-omega.png").write_bytes(b"old")
+    before = snapshot(out)
+    done = run_cli(["run", str(scene), "--out", str(out), "--no-progress"],
+                   preexec_fn=limit_file_size)
+    assert done.returncode == 2, done.stderr
+    one_line_error(done.stderr, str(out / "mine-omega.png"), "File too large")
+    assert snapshot(out) == before
+
+
+def test_a_read_only_out_is_one_line_and_nothing_is_written(tmp_path):
+    """Root ignores permissions: it gets a read-only filesystem instead (a tmpfs remounted
+    read-only); anyone else a folder without write permission."""
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "mine.json").write_text("old")
+    if os.geteuid() == 0:
+        if subprocess.run(["mount", "-t", "tmpfs", "-o", "size=1m", "tmpfs", str(out)],
+                          capture_output=True).returncode != 0:
+            pytest.skip("cannot mount a tmpfs here")
+        (out / "mine.json").write_text("old")
+        subprocess.run(["mount", "-o", "remount,ro", str(out)], check=True)
+        cause = "Read-only file system"
+    else:
+        os.chmod(out, 0o555)
+        cause = "Permission denied"
+    try:
+        before = snapshot(out)
+        done = run_cli(["run", str(scene), "--out", str(out), "--no-progress"])
+        assert done.returncode == 2, done.stderr
+        one_line_error(done.stderr, str(out), cause)
+        assert snapshot(out) == before
+    finally:
+        if os.geteuid() == 0:
+            subprocess.run(["umount", "-l", str(out)], check=False)
+        else:
+            os.chmod(out, 0o755)
+
+
+def test_a_long_flip_list_is_summarised_and_written_in_full_only_when_asked(tmp_path, capsys):
+    """A long exact run (more flips than the JSON lists): count, first, last and mean
+    spacing in the JSON; every flip time in the .npy with `--flip-times`."""
+    scene = dz.SCENES["fig3a"].replace(method="exact", t_end=2e5, frames=2,
+                                       draw=Draw())
+    path = scene.save(tmp_path / "long.toml")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--no-progress"]) == 0
+    about = json.loads((out / "long.json").read_text())
+    assert about["flip_times"] is None and "flip_times_file" not in about
+    flips = about["flips"]
+    period = dz.flip_period(scene.inertia, scene.omega0)  # a flip (over and back) a period
+    n = flips["count"]
+    assert n > MAX_JSON_FLIP_TIMES
+    assert abs(n - scene.t_end / period) <= 2
+    assert flips["mean_spacing"] == pytest.approx(period, rel=1e-6)
+    assert 0 < flips["first"] <= period and scene.t_end - period <= flips["last"]
+    assert sorted(p.name for p in out.iterdir()) == ["long.json"]
+
+    assert main(["run", str(path), "--out", str(out), "--no-progress", "--flip-times"]) == 0
+    about = json.loads((out / "long.json").read_text())
+    assert about["flip_times_file"] == "long-flip-times.npy"
+    times = np.load(out / "long-flip-times.npy")
+    assert len(times) == n and times[0] == flips["first"] and times[-1] == flips["last"]
+    assert np.all(np.diff(times) > 0)
+    capsys.readouterr()
+
+
+def test_a_short_flip_list_is_listed_in_full(tmp_path):
+    path = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out), "--no-progress"]) == 0
+    about = json.loads((out / "mine.json").read_text())
+    assert about["flips"]["count"] == len(about["flip_times"])

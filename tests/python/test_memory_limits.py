@@ -1,0 +1,139 @@
+"""Under an address-space limit (`ulimit -v`, `prlimit --as`, as cluster schedulers set), every
+request whose memory follows from its input ends in a Python error that says how much was
+asked — never an abort of the interpreter (SIGABRT, exit 134) or a panic.
+
+Each case runs in a child process with `RLIMIT_AS` set before the package is imported; the
+child prints the exception's type and message."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+pytestmark = pytest.mark.skipif(sys.platform != "linux", reason="RLIMIT_AS as on Linux")
+
+PRELUDE = """
+import resource, sys
+limit = int(sys.argv[1])
+resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+import numpy as np
+import dzhanibekov as dz
+try:
+{body}
+except BaseException as exc:
+    print("RAISED", type(exc).__name__, "|", *[c.__name__ for c in type(exc).__mro__], "|",
+          str(exc).replace(chr(10), " ")[:400])
+else:
+    print("RETURNED")
+"""
+
+
+def under_limit(body: str, limit: int, timeout: float = 120.0) -> str:
+    """The child's report of `body` (indented into a try block) under `limit` bytes."""
+    code = PRELUDE.format(body=textwrap.indent(textwrap.dedent(body).strip(), "    "))
+    done = subprocess.run([sys.executable, "-c", code, str(limit)], capture_output=True,
+                          text=True, timeout=timeout)
+    assert done.returncode == 0, (
+        f"the child died with exit code {done.returncode} (134 is an abort):\n"
+        f"{done.stdout}\n{done.stderr[-2000:]}")
+    return done.stdout.strip().splitlines()[-1]
+
+
+def assert_refused_with_size(report: str, *words: str) -> None:
+    """A refusal (ValueError or MemoryError, not PanicException) naming the bytes asked."""
+    assert report.startswith("RAISED"), report
+    _, kind, rest = report.split(" ", 2)
+    mro, message = rest.split("|", 2)[1:]
+    assert "PanicException" not in mro, report
+    assert "ValueError" in mro or "MemoryError" in mro, report
+    assert "byte" in message or "GB" in message or "GiB" in message, report
+    for word in words:
+        assert word in message, (word, report)
+
+
+GB = 1 << 30
+
+
+def test_exact_flip_times_of_a_long_batch():
+    """~9e7 flips per run (720 MB each), three runs, under 2 GB."""
+    report = under_limit("""
+        dz.simulate(dz.PAPER_INERTIA, np.tile([0.01, 0.01, 1.0], (3, 1)), t_end=3.5e9,
+                    frames=2, method="exact")
+    """, 2 * GB)
+    assert_refused_with_size(report, "flip times")
+
+
+def test_a_sweep_of_ten_million_starts():
+    report = under_limit("""
+        omega = np.tile([0.01, 0.01, 1.0], (10**7, 1))
+        dz.sweep(dz.PAPER_INERTIA, omega, t_end=1.0, frames=2, progress=False)
+    """, 2 * GB)
+    assert_refused_with_size(report)
+
+
+def test_the_invariants_of_twenty_million_frames():
+    """The frames of a 2e7-frame run (1.1 GB, made here as zeros rather than computed, to
+    keep the test short), then their invariants (1.3 GB more) under 2 GB: refused in Python
+    with the size, and by the core's own fallible allocation below that check."""
+    frames = """
+        from dzhanibekov.results import Drift, Trajectory
+        n = 2 * 10**7
+        traj = Trajectory(t=np.zeros(n), omega=np.zeros((n, 3)), q=np.zeros((n, 4)),
+                          flip_times=None, body=dz.Body(dz.PAPER_INERTIA), method="exact",
+                          dt=0.0, n_steps=0, nfev=0, drift=Drift(0.0, 0.0, 0.0, 0.0))
+    """
+    frames = textwrap.dedent(frames).strip() + "\n"
+    report = under_limit(frames + "traj.invariants()", 2 * GB)
+    assert_refused_with_size(report, "invariants")
+    core = "from dzhanibekov import _core\n_core.invariants(traj.body._core, traj.omega, traj.q)"
+    report = under_limit(frames + core, 2 * GB)
+    assert_refused_with_size(report)
+
+
+def test_planning_the_steps_of_twenty_million_rows():
+    report = under_limit("""
+        omega = np.tile([0.01, 0.01, 1.0], (2 * 10**7, 1))
+        dz.simulate(dz.PAPER_INERTIA, omega, t_end=1.0, frames=2, dt=None)
+    """, 2 * GB)
+    assert_refused_with_size(report)
+
+
+def test_an_ellipsoid_mesh_of_4096_squared_cells():
+    report = under_limit("dz.ellipsoid_mesh((1.0, 2.0, 3.0), 4096, 4096)", 700 << 20)
+    assert_refused_with_size(report)
+
+
+def test_rotate_into_more_than_the_limit():
+    """20000 × 10000 points: 4.8 GB, under 2 GB: refused up front, never a PanicException
+    (NumPy's failed allocation used to reach the core as a null pointer)."""
+    report = under_limit("""
+        dz.rotate(np.tile([1.0, 0.0, 0.0, 0.0], (20000, 1)), np.ones((10000, 3)))
+    """, 2 * GB)
+    assert_refused_with_size(report, "rotating")
+
+
+def test_the_core_rotate_itself_raises_memory_error():
+    """The core's own allocation of the output, below the Python check."""
+    report = under_limit("""
+        from dzhanibekov import _core
+        _core.rotate(np.tile([1.0, 0.0, 0.0, 0.0], (20000, 1)), np.ones((10000, 3)))
+    """, 2 * GB)
+    assert_refused_with_size(report)
+
+
+def test_grid_batch_rows_and_separatrix_gap_are_refused_with_their_size():
+    side = 12000  # 1.4e8 starts: 3.5 GB of rows
+    for call, words in [
+        (f"dz.grid(np.arange({side}.0), np.arange({side}.0), 1.0)", ("grid",)),
+        # moments along one axis, rates along the other: side² rows once broadcast
+        (f"dz.sweep(np.ones(({side}, 1, 3)) + [0, 1, 2], np.ones((1, {side}, 3)), "
+         "frames=2, t_end=1.0, progress=False)", ("starts",)),
+        (f"from dzhanibekov.plotting.maps import separatrix_gap\n"
+         f"separatrix_gap(np.ones(3) + [0, 1, 2], np.ones(({side} * 1000, 3)))",
+         ("separatrix gap",)),
+    ]:
+        report = under_limit(call, 2 * GB)
+        assert_refused_with_size(report, *words)

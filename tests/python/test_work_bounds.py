@@ -1,0 +1,94 @@
+"""Work the package refuses before it starts, and edge starts it solves under one rule:
+frames count toward `max_steps`; divergence is reported in the user's time; a start within
+1e-150 of an axis is a steady spin for every method and function; a body whose closed form
+cannot reproduce its start is refused by `method="exact"`."""
+
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+import pytest
+
+import dzhanibekov as dz
+
+BODY = dz.Body(dz.PAPER_INERTIA)
+
+
+@pytest.mark.parametrize("method", ["exact", "dop853", "dopri5"])
+def test_a_huge_frame_grid_is_refused_up_front_with_its_count(method):
+    """These used to run until interrupted: frames were not counted as work."""
+    start = time.perf_counter()
+    with pytest.raises(ValueError, match=rf"needs {2**62} frames \(each is evaluated\), more "
+                                         r"than the limit max_steps = 10000000000"):
+        dz.summarize(BODY, (0.01, 0.01, 1.0), frames=2**62, method=method, dt=None)
+    assert time.perf_counter() - start < 1.0
+    # within the limit it runs; raising the limit is the way to more frames
+    with pytest.raises(ValueError, match=r"needs 1001 frames"):
+        dz.summarize(BODY, (0.01, 0.01, 1.0), t_end=1.0, frames=1001, method=method,
+                     dt=None, max_steps=1000)
+    assert dz.summarize(BODY, (0.01, 0.01, 1.0), t_end=1.0, frames=1001, method=method,
+                        dt=None, max_steps=100_000).n_steps >= 0
+
+
+def test_divergence_is_reported_in_the_users_time():
+    """Rates of 4e6 are integrated in units of 2^22; the divergence time came back in them
+    (6.9e6, beyond t_end = 100). The check falls every 16384 steps: t = 1.6384."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for call in (lambda: dz.simulate(BODY, (3e5, 5e5, 4e6), t_end=100.0, frames=2,
+                                         dt=1e-4),
+                     lambda: dz.sweep(BODY, [[3e5, 5e5, 4e6]], t_end=100.0, frames=2,
+                                      dt=1e-4, progress=False)):
+            with pytest.raises(ValueError, match=r"diverged \(non-finite state\) at "
+                                                 r"t = 1.6384:"):
+                call()
+
+
+@pytest.mark.parametrize("omega0", [(1e-170, 0.0, 1.0), (0.0, 1e-200, -2.0),
+                                    (1.0, 1e-160, 1e-170)])
+def test_a_start_this_close_to_an_axis_is_one_motion_everywhere(omega0):
+    """`flip_period` and `exact` refused these while sweep's exact_period said inf."""
+    period = dz.flip_period(BODY, omega0)
+    swept = dz.sweep(BODY, np.array([omega0]), t_end=10.0, frames=2, progress=False)
+    assert period == swept.exact_period[0] == np.inf
+    traj = dz.simulate(BODY, omega0, t_end=10.0, frames=5, method="exact")
+    np.testing.assert_allclose(traj.omega[0], omega0, rtol=0,
+                               atol=1e-15 * np.abs(omega0).max())
+    if omega0 == (1e-170, 0.0, 1.0):
+        # no wobble float64 can hold: a steady spin, the attitude turning about ω0 at |ω0|
+        # (the formula of a rotation about a fixed axis)
+        np.testing.assert_array_equal(traj.omega, np.tile(omega0, (5, 1)))
+        w = np.asarray(omega0)
+        angle = np.linalg.norm(w) * traj.t
+        axis = w / np.linalg.norm(w)
+        expected = np.column_stack([np.cos(angle / 2), np.sin(angle / 2)[:, None] * axis])
+        np.testing.assert_allclose(traj.q, expected, atol=1e-15)
+    # RK4 agrees (a wobble of 1e-150 or less grows by e^(λt) < 1e10 by t = 10)
+    rk4 = dz.simulate(BODY, omega0, t_end=10.0, frames=5)
+    np.testing.assert_allclose(rk4.omega, traj.omega, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(rk4.q, traj.q, rtol=0, atol=1e-6)
+
+
+def test_exact_refuses_a_body_with_a_vanishing_moment():
+    """(1, 2, 1e-30): the closed form's frame 0 was (0.3, 0.2, -0.0), not the start."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ValueError, match=r"`inertia` must have moments the closed form "
+                                             r"resolves for method='exact'"):
+            dz.simulate((1.0, 2.0, 1e-30), (0.3, 0.2, 0.1), method="exact", t_end=10.0)
+        with pytest.raises(ValueError, match=r"`inertia` must have moments"):
+            dz.flip_period((1.0, 2.0, 1e-30), (0.3, 0.2, 0.1))
+
+
+def test_every_exact_start_of_a_sample_begins_at_the_start(rng):
+    """The refusal never fires on ordinary bodies and starts: frame 0 is the start."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for _ in range(200):
+            inertia = np.sort(rng.uniform(0.1, 10.0, 3))
+            omega = rng.normal(size=3) * 10.0 ** rng.uniform(-3, 3)
+            traj = dz.simulate(inertia, omega, t_end=1.0, frames=2, method="exact")
+            np.testing.assert_allclose(traj.omega[0], omega, rtol=1e-12,
+                                       atol=1e-12 * np.abs(omega).max())
