@@ -11,7 +11,7 @@ point arrays without trigonometry; this package is the thin Python side.
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .batch import Batch, BatchDrift
-from .body import Body, InertiaWarning
+from .body import Body, InertiaWarning, MeshError
 from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
 from .flips import flip_period
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
@@ -27,6 +27,7 @@ __all__ = [
     "__version__",
     "Body",
     "InertiaWarning",
+    "MeshError",
     "Trajectory",
     "Drift",
     "simulate",

@@ -27,7 +27,7 @@ import numpy as np
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import check_tolerances, warn_step
-from .body import Body, InertiaWarning
+from .body import TENSOR_HINT, Body, InertiaWarning, principal_body
 from .trajectory import Drift, Trajectory
 
 __all__ = ["Batch", "BatchDrift", "simulate_batch"]
@@ -92,6 +92,9 @@ class Batch:
     nfev: np.ndarray
     n_rejected: np.ndarray
     drift: BatchDrift
+    body: Body | tuple[Body, ...] | None = field(default=None, repr=False)
+    """The body shared by every run, or one per run, when given as Bodies (their axes are
+    the ones `omega` and `q` are in); None for moments."""
 
     def __len__(self) -> int:
         return len(self.omega)
@@ -115,7 +118,7 @@ class Batch:
             omega=self.omega[i],
             q=self.q[i],
             flip_times=self._run_flip_times(i),
-            body=_body(self.inertia[i]),
+            body=self._row_body(i),
             method=self.method,
             dt=float(self.dt[i]),
             n_steps=int(self.n_steps[i]),
@@ -123,6 +126,13 @@ class Batch:
             drift=Drift(*(float(d[i]) for d in self.drift)),
             n_rejected=int(self.n_rejected[i]),
         )
+
+    def _row_body(self, i: int) -> Body:
+        if isinstance(self.body, Body):
+            return self.body
+        if self.body is not None:
+            return self.body[i]
+        return principal_body(self.inertia[i])
 
     def _run_flip_times(self, i: int) -> np.ndarray | None:
         if self._flip_times is None or self._flip_offsets is None:
@@ -144,14 +154,6 @@ class Batch:
         )
 
 
-def _body(inertia: np.ndarray) -> Body:
-    """A Body of moments the core has already accepted (no second warning)."""
-    body = Body.__new__(Body)
-    ix, iy, iz = (float(i) for i in inertia)
-    body._core = _core.RigidBody((ix, iy, iz))
-    return body
-
-
 def batch_rows(
     body: Any, omega0: Any, q0: Any, *, max_batch_ndim: int | None, stacklevel: int
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[int, ...]]:
@@ -160,7 +162,12 @@ def batch_rows(
     inputs' leading axes, broadcast together; at most `max_batch_ndim` of them)."""
     if isinstance(body, Body):
         inertia = np.array(body.inertia, dtype=np.float64)
+    elif is_body_list(body):
+        inertia = np.array([b.inertia for b in body], dtype=np.float64)
     else:
+        if np.shape(body) == (3, 3):
+            raise ValueError("`body` of shape (3, 3) is ambiguous: one body's inertia tensor "
+                             f"or three bodies' principal moments? {TENSOR_HINT}")
         inertia = _array("body", body, 3, max_batch_ndim)
     omega = _array("omega0", omega0, 3, max_batch_ndim)
     q = _array("q0", q0, 4, max_batch_ndim)
@@ -184,6 +191,39 @@ def batch_rows(
     rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, a.shape[-1]))
             for a in (inertia, omega, q)]
     return rows[0], rows[1], rows[2], shape
+
+
+def is_body_list(body: Any) -> bool:
+    """Whether `body` is a list (or tuple) of Bodies, one per run."""
+    return isinstance(body, (list, tuple)) and len(body) > 0 and \
+        all(isinstance(b, Body) for b in body)
+
+
+def principal_rows(body: Any, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray,
+                                                                           np.ndarray]:
+    """Rows of starts in the user's axes turned into principal axes (see
+    :meth:`Body.to_principal`): once, at the edge of the run; unchanged for moments."""
+    return _change_axes(body, omega, q, Body.to_principal)
+
+
+def user_rows(body: Any, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A batch's frames (M, frames, 3|4) turned back into the user's axes."""
+    return _change_axes(body, omega, q, Body.to_user)
+
+
+def _change_axes(body: Any, omega: np.ndarray, q: np.ndarray, how: Any) -> tuple[np.ndarray,
+                                                                                  np.ndarray]:
+    if isinstance(body, Body):
+        if body.is_principal:
+            return omega, q
+        omega, q = how(body, omega, q)
+        return np.ascontiguousarray(omega), np.ascontiguousarray(q)
+    if not is_body_list(body) or all(b.is_principal for b in body):
+        return omega, q
+    omega, q = omega.copy(), q.copy()
+    for i, b in enumerate(body):  # one row per body: a list is short
+        omega[i], q[i] = how(b, omega[i], q[i])
+    return omega, q
 
 
 def _array(name: str, value: Any, width: int, max_batch_ndim: int | None) -> np.ndarray:
@@ -317,15 +357,17 @@ def simulate_batch(
         "ask for fewer runs or frames, or use `dz.sweep` (or `dz.summarize`) for per-run "
         "summaries, which keep no frames",
     )
+    omega, q = principal_rows(body, omega, q)
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=stacklevel + 1)
     out = _core.simulate_batch(inertia, omega, q, t_end, frames, step, method, max_steps, True,
                                bool(flips), rtol_, atol_, threads)
+    omega_out, q_out = user_rows(body, out["omega"], out["q"])
     offsets, times = out["flip_offsets"], out["flip_times"]
     return Batch(
         t=t_end * (np.arange(frames) / (frames - 1)),
-        omega=out["omega"],
-        q=out["q"],
+        omega=omega_out,
+        q=q_out,
         _flip_times=times if flips else None,
         _flip_offsets=offsets if flips else None,
         inertia=inertia,
@@ -335,6 +377,7 @@ def simulate_batch(
         nfev=out["nfev"],
         n_rejected=out["n_rejected"],
         drift=BatchDrift(**out["drift"]),
+        body=body if isinstance(body, Body) else tuple(body) if is_body_list(body) else None,
     )
 
 
@@ -346,4 +389,5 @@ def is_batch(body: Any, omega0: Any, q0: Any) -> bool:
         except Exception:  # ragged, or no array at all: the checks will say so
             return 0
 
-    return ndim(omega0) >= 2 or ndim(q0) >= 2 or (not isinstance(body, Body) and ndim(body) >= 2)
+    return ndim(omega0) >= 2 or ndim(q0) >= 2 or is_body_list(body) or (
+        not isinstance(body, Body) and ndim(body) >= 2)

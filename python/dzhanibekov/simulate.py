@@ -210,10 +210,11 @@ def simulate(
         rtol_,
         atol_,
     )
+    omega_out, q_out = body.to_user(out["omega"], out["q"])
     return Trajectory(
         t=t_end * (np.arange(frames) / (frames - 1)),
-        omega=out["omega"],
-        q=out["q"],
+        omega=omega_out,
+        q=q_out,
         flip_times=out["flip_times"] if flips else None,
         body=body,
         method=method,
@@ -229,7 +230,8 @@ def _checked(
     body: Any, omega0: Any, q0: Any, t_end: Any, frames: Any, method: Any, max_steps: Any
 ) -> tuple[Body, np.ndarray, np.ndarray, float, int, int]:
     """The arguments of a run but its step, coerced and checked (shared by `simulate` and
-    `summarize`; `accuracy.plan_step` settles the step and tolerances)."""
+    `summarize`; `accuracy.plan_step` settles the step and tolerances), with the start in
+    the body's principal axes."""
     body = as_body(body)
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
@@ -240,6 +242,7 @@ def _checked(
     max_steps = as_int("max_steps", max_steps, minimum=1)
     if method not in METHODS:
         raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    omega0, q0 = body.to_principal(omega0, q0)  # the run's one change of axes, at its start
     return body, omega0, q0, t_end, frames, max_steps
 
 

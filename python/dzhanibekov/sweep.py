@@ -28,6 +28,7 @@ from ._checks import as_array, as_int, check_size
 from .batch import (
     BatchDrift,
     batch_rows,
+    principal_rows,
     checked_run,
     checked_threads,
     plan_batch_step,
@@ -272,12 +273,13 @@ def sweep(
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
     submit = _dask_runner(client) if client is not None else None
     inertia, omega, q, shape = batch_rows(body, omega0, q0, max_batch_ndim=None, stacklevel=3)
-    step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
+    omega_p, q_p = principal_rows(body, omega, q)
+    step, rtol_, atol_ = plan_batch_step(inertia, omega_p, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=3)
     m = len(omega)
     run: dict[str, Any] = dict(t_end=t_end, frames=frames, dt=step, method=method,
                                max_steps=max_steps, rtol=rtol_, atol=atol_, threads=threads)
-    blocks = [(inertia[a:a + block], omega[a:a + block], q[a:a + block])
+    blocks = [(inertia[a:a + block], omega_p[a:a + block], q_p[a:a + block])
               for a in range(0, m, block)]
     bar = tqdm(total=m, desc="sweep", unit="run", leave=False,
                disable=None if progress is None else not progress,

@@ -77,11 +77,16 @@ class Trajectory:
         Returns
         -------
         dict
-            ``energy`` (frames,), ``momentum_body`` (frames, 3), ``momentum_world``
-            (frames, 3) and ``q_norm`` (frames,).
+            ``energy`` (frames,), ``momentum_body`` (frames, 3) (``T ω``, in the body's own
+            axes), ``momentum_world`` (frames, 3) and ``q_norm`` (frames,).
         """
         if not self._invariants:
-            self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
+            omega, q = self.body.to_principal(self.omega, self.q)
+            values = dict(_core.invariants(self.body._core, np.ascontiguousarray(omega),
+                                           np.ascontiguousarray(q)))
+            if not self.body.is_principal:  # L = T ω in the user's axes
+                values["momentum_body"] = self.body.to_user(values["momentum_body"], q)[0]
+            self._invariants.update(values)
         return self._invariants
 
     @property
