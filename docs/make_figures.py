@@ -20,6 +20,8 @@ KEEP = {
     "example-polhode.png": "fig2-polhode.png",
     "example-invariants.png": "fig2-invariants.png",
     "stable.png": "stable-paths.png",
+    "wing-nut-phases.png": "wing-nut-phases.png",
+    "wing-nut-omega.png": "wing-nut-omega.png",
 }
 MAPS = {"map-rates.png": "stability-map.png"}
 

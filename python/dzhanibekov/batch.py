@@ -27,7 +27,7 @@ import numpy as np
 from . import _core
 from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import check_tolerances, warn_step
-from .body import TENSOR_HINT, Body, InertiaWarning, principal_body
+from .body import TENSOR_HINT, Body, InertiaWarning, _is_square, principal_body
 from .trajectory import Drift, Trajectory
 
 __all__ = ["Batch", "BatchDrift", "simulate_batch"]
@@ -165,7 +165,7 @@ def batch_rows(
     elif is_body_list(body):
         inertia = np.array([b.inertia for b in body], dtype=np.float64)
     else:
-        if np.shape(body) == (3, 3):
+        if _is_square(body):
             raise ValueError("`body` of shape (3, 3) is ambiguous: one body's inertia tensor "
                              f"or three bodies' principal moments? {TENSOR_HINT}")
         inertia = _array("body", body, 3, max_batch_ndim)

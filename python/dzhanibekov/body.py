@@ -88,7 +88,7 @@ class Body:
     __slots__ = ("_core", "_axes", "_q_axes", "_tensor", "_mass", "_com", "_shape", "_parts")
 
     def __init__(self, inertia: Any) -> None:
-        if np.shape(inertia) == (3, 3):
+        if _is_square(inertia):
             raise ValueError(f"`inertia` must be three principal moments, got a 3×3 array; "
                              f"{TENSOR_HINT}")
         ix, iy, iz = as_array("inertia", inertia, "(3,)", last=3, ndim=(1,)).tolist()
@@ -144,7 +144,8 @@ class Body:
         r = as_float("radius", radius, positive=True)
         h = as_float("height", height, positive=True)
         m = as_float("mass", mass, positive=True)
-        return cls._solid(np.diag(cylinder_tensor(r, h, m)), m, cylinder_shape(r, h))
+        return cls._solid(np.diag(cylinder_tensor(r, h, m)), m, cylinder_shape(r, h),
+                          "`radius`, `height` and `mass`")
 
     @classmethod
     def sphere(cls, radius: float, mass: float = 1.0) -> Body:
@@ -172,16 +173,16 @@ class Body:
         m = as_float("mass", mass, positive=True)
         sa, sb, sc = semi
         return cls._solid(np.diag(ellipsoid_tensor(sa, sb, sc, m)), m,
-                          ellipsoid_shape(sa, sb, sc))
+                          ellipsoid_shape(sa, sb, sc), "`a`, `b`, `c` and `mass`")
 
     @classmethod
-    def _solid(cls, moments: np.ndarray, mass: float, shape: Shape) -> Body:
+    def _solid(cls, moments: np.ndarray, mass: float, shape: Shape, names: str) -> Body:
         body = cls.__new__(cls)
         ix, iy, iz = (float(x) for x in moments)
         try:
             core = _core.RigidBody((ix, iy, iz))
         except ValueError as exc:
-            raise ValueError(f"the solid's moments {(ix, iy, iz)} are out of range: "
+            raise ValueError(f"{names} give principal moments {(ix, iy, iz)} out of range: "
                              f"{exc}") from None
         body._fill(core, mass=mass, shape=shape)
         return body
@@ -224,10 +225,9 @@ class Body:
         >>> round(float(np.linalg.det(body.principal_axes)), 12)
         1.0
         """
-        t = np.asarray(tensor) if not isinstance(tensor, np.ndarray) else tensor
+        t = as_array("tensor", tensor, "(3, 3)", last=3, ndim=(2,))
         if t.shape != (3, 3):
             raise ValueError(f"`tensor` must have shape (3, 3), got {t.shape}")
-        t = as_array("tensor", t, "(3, 3)", last=3, ndim=(2,))
         m = None if mass is None else as_float("mass", mass, positive=True)
         return cls._of_tensor(t, m, None, None, (), "tensor")
 
@@ -350,10 +350,13 @@ class Body:
         0.166666666667
         """
         v = as_array("vertices", vertices, "(V, 3)", last=3, ndim=(2,))
-        f = np.asarray(faces)
+        try:
+            f = np.asarray(faces)
+        except Exception as exc:  # ragged lists and the like
+            raise TypeError(f"`faces` must be an integer array of shape (F, 3): {exc}") from None
         if f.dtype.kind not in "iu" or f.ndim != 2 or f.shape[1] != 3:
-            raise ValueError(f"`faces` must be integers of shape (F, 3), got {f.dtype} "
-                             f"{f.shape}")
+            raise TypeError(f"`faces` must be integers of shape (F, 3), got {f.dtype} "
+                            f"{f.shape}")
         f = f.astype(np.int64)
         if mass is not None and density is not None:
             raise ValueError("give `mass` or `density`, not both")
@@ -531,7 +534,7 @@ def as_body(value: Any, name: str = "body") -> Body:
     `name` as well as the moments."""
     if isinstance(value, Body):
         return value
-    if np.shape(value) == (3, 3):
+    if _is_square(value):
         raise ValueError(f"`{name}` must be a Body or its principal moments (Ix, Iy, Iz), "
                          f"got a 3×3 array; {TENSOR_HINT}")
     try:
@@ -539,6 +542,14 @@ def as_body(value: Any, name: str = "body") -> Body:
     except (TypeError, ValueError) as exc:
         raise type(exc)(f"`{name}` must be a Body or its principal moments (Ix, Iy, Iz): "
                         f"{exc}") from None
+
+
+def _is_square(value: Any) -> bool:
+    """Whether `value` is a 3×3 array (a tensor where moments were expected)."""
+    try:
+        return np.shape(value) == (3, 3)
+    except Exception:  # ragged lists and the like: the checks will say so
+        return False
 
 
 def _warn_if_unphysical(core: _core.RigidBody) -> None:

@@ -94,7 +94,7 @@ def check_mesh(faces: np.ndarray, n_vertices: int) -> None:
     if np.any(counts > 1):
         k = int(unique[np.argmax(counts > 1)])
         raise MeshError(
-            f"the mesh is non-manifold or inconsistently oriented: the edge {k // n_vertices}"
+            f"`faces` make a mesh that is non-manifold or inconsistently oriented: the edge {k // n_vertices}"
             f" -> {k % n_vertices} is traversed in the same direction by "
             f"{int(counts.max())} faces (each edge must join two faces, traversed once each "
             "way)")
@@ -102,7 +102,7 @@ def check_mesh(faces: np.ndarray, n_vertices: int) -> None:
     if np.any(missing):
         i = int(np.argmax(missing))
         raise MeshError(
-            f"the mesh is open (or non-manifold): the edge {tail[i]} -> {head[i]} has no "
+            f"`faces` make a mesh that is open (or non-manifold): the edge {tail[i]} -> {head[i]} has no "
             "face on its other side; give a closed, watertight mesh")
 
 
@@ -132,9 +132,9 @@ def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.
     if not volume > 1e-12 * scale or not volume > 0:
         if volume < 0:
             raise MeshError(
-                f"the mesh is wound inward (signed volume {volume:.6g} < 0): its faces must "
+                f"`faces` are wound inward (signed volume {volume:.6g} < 0): its faces must "
                 "run counter-clockwise seen from outside; reverse each face's vertex order")
-        raise MeshError(f"the mesh encloses no volume (signed volume {volume:.3g})")
+        raise MeshError(f"`faces` enclose no volume (signed volume {volume:.3g})")
     s = a + b + c
     centroid_rel = (six_v[:, None] * s).sum(axis=0) / (24.0 * volume)
     # ∫ r rᵀ dV over each tetrahedron: V/20 (a aᵀ + b bᵀ + c cᵀ + s sᵀ)

@@ -233,7 +233,7 @@ def test_open_inverted_and_non_manifold_meshes_are_refused():
         dz.Body.from_mesh(v, flipped)
     with pytest.raises(dz.MeshError, match="non-manifold"):
         dz.Body.from_mesh(np.concatenate([v, v]), np.concatenate([f, f]))
-    with pytest.raises(ValueError, match="faces"):
+    with pytest.raises(TypeError, match="faces"):
         dz.Body.from_mesh(v, f.astype(float))
     with pytest.raises(ValueError, match="not both"):
         dz.Body.from_mesh(v, f, mass=1.0, density=1.0)
@@ -304,3 +304,99 @@ def test_the_wing_nut_has_three_distinct_moments_and_flips_about_its_bolt():
     traj = dz.simulate(nut, (0.01, 0.01, 1.0), t_end=3 * period, dt=None)
     assert len(traj.flip_times) >= 2
     np.testing.assert_allclose(np.diff(traj.flip_times), period, rtol=1e-3)
+
+
+# -- scenes and pictures ---------------------------------------------------------------------
+
+SCENE = """
+title = "a body"
+[start]
+omega = [0.01, 1.0, 0.01]
+[run]
+t_end = 30.0
+frames = 61
+[draw]
+box = true
+signal_point = true
+path = true
+figures = ["phases", "path"]
+"""
+
+
+@pytest.mark.parametrize("body_table, expected", [
+    ('tensor = [[2.0, -0.5, 0.0], [-0.5, 2.0, 0.0], [0.0, 0.0, 3.0]]',
+     lambda: dz.Body.from_tensor([[2.0, -0.5, 0.0], [-0.5, 2.0, 0.0], [0.0, 0.0, 3.0]])),
+    ("cylinder = [1.0, 4.0]\nmass = 2.0", lambda: dz.Body.cylinder(1.0, 4.0, mass=2.0)),
+    ("sphere = 2.0", lambda: dz.Body.sphere(2.0)),
+    ("ellipsoid = [1.0, 2.0, 3.0]", lambda: dz.Body.ellipsoid(1.0, 2.0, 3.0)),
+    ('preset = "wing-nut"', dz.Body.wing_nut),
+    ('parts = [{ box = [1.0, 1.0, 1.0], mass = 2.0, position = [-1.0, 0.0, 0.0] },\n'
+     '         { cylinder = [0.5, 2.0], position = [1.0, 0.0, 0.0], q = [0.0, 1.0, 0.0, 0.0] }]',
+     lambda: dz.Body.compose([(dz.Body.box(1, 1, 1, mass=2.0), (-1, 0, 0)),
+                              (dz.Body.cylinder(0.5, 2.0), (1, 0, 0), (0, 1, 0, 0))])),
+])
+def test_scenes_name_any_body(body_table, expected, tmp_path):
+    text = SCENE + "[body]\n" + body_table + "\n"
+    scene = dz.Scene.from_toml(text, "mine")
+    body = expected()
+    assert scene.body == body and scene.inertia == body.inertia
+    again = dz.Scene.from_toml(scene.to_toml(), "mine")
+    assert again == scene and again.body == body
+    # the signal point scales with the body: a quarter beyond its outline (a tensor's: the
+    # uniform box of its moments, in its principal axes)
+    outline = body.shape if body.shape is not None else scene.drawn_shape
+    assert np.linalg.norm(scene.signal_point) == pytest.approx(1.25 * outline.radius)
+    if body.shape is None:  # a box along the principal axes: corners (±a/2, ±b/2, ±c/2)
+        corners = np.abs(outline.vertices @ body.principal_axes)
+        np.testing.assert_allclose(corners, np.broadcast_to(corners[0], corners.shape),
+                                   rtol=1e-12)
+        a, b, c = 2 * corners[0]
+        np.testing.assert_allclose(body.inertia, np.diag(box_tensor(a, b, c, 1.0)), rtol=1e-12)
+
+
+def test_a_scene_mesh_file_is_relative_to_the_scene(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    v, f = box_mesh(3.0, 2.0, 1.0)
+    (tmp_path / "parts").mkdir()
+    trimesh.Trimesh(v, f).export(tmp_path / "parts" / "box.stl")
+    path = tmp_path / "mesh.toml"
+    path.write_text(SCENE + '[body]\nmesh = "parts/box.stl"\ndensity = 2.0\n')
+    scene = dz.load_scene(path)
+    assert scene.body.mass == pytest.approx(12.0)
+    np.testing.assert_allclose(scene.body.tensor, box_tensor(3.0, 2.0, 1.0, 12.0), atol=1e-9)
+    bad = tmp_path / "bad.toml"
+    bad.write_text(SCENE + '[body]\nmesh = "nowhere.stl"\n')
+    with pytest.raises(dz.SceneError, match="body.mesh"):
+        dz.load_scene(bad)
+    two = tmp_path / "two.toml"
+    two.write_text(SCENE + '[body]\nsphere = 1.0\ninertia = [1.0, 2.0, 2.5]\n')
+    with pytest.raises(dz.SceneError, match="second body"):
+        dz.load_scene(two)
+
+
+def test_the_wing_nut_scene_flips_and_its_pictures_draw_the_nut():
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
+
+    from dzhanibekov import plotting
+
+    scene = dz.SCENES["wing-nut"]
+    nut = dz.Body.wing_nut()
+    assert scene.body == nut
+    result = plotting.compute(scene)
+    period = dz.flip_period(nut, scene.omega0)
+    assert len(result.flip_times) == int((scene.t_end - result.flip_times[0]) // period) + 1 >= 3
+    np.testing.assert_allclose(np.diff(result.flip_times), period, rtol=1e-3)
+    fig = plotting.phases_figure(result)
+    FigureCanvasAgg(fig).draw()  # 3-D collections get their paths when drawn
+    for ax in fig.axes:
+        faces = [c for c in ax.collections if isinstance(c, Poly3DCollection)]
+        edges = [c for c in ax.collections if isinstance(c, Line3DCollection)]
+        # the nut's faces (a mesh) and the wings' (boxes), and their outline
+        assert len(faces) == 1 and len(faces[0].get_paths()) == 72 + 2 * 12
+        assert len(edges) == 1 and len(edges[0].get_segments()) == len(nut.shape.edges)
+    # the outline is the nut turned by the run's attitude at that instant
+    frame = 0
+    world = dz.rotate(result.trajectory.q[frame], nut.shape.vertices)
+    np.testing.assert_allclose(result.at("box", frame), world, atol=1e-12)
+    assert "wing-nut" in dz.SCENES and dz.SCENES["wing-nut"].draw.animation
