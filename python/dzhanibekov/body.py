@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._checks import as_array, as_float
+from ._args import as_array, as_float
 from .mass import (
     MeshError,
     apply,

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._checks import as_array
+from ._args import as_array
 from .body import Body, as_body
 
 __all__ = ["flip_period"]

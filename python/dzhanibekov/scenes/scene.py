@@ -57,14 +57,14 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from ._checks import as_array, as_float, as_int
-from .body import Body
-from .scene_body import BODY_KEYS, build_body, default_signal_point
-from .shapes import Shape, box_shape
-from .ellipsoid import CONVENTIONS
-from .simulate import METHODS, simulate
-from .summary import Summary, summarize
-from .trajectory import Trajectory
+from .._args import as_array, as_float, as_int
+from ..body import Body
+from .bodies import BODY_KEYS, build_body, default_signal_point
+from ..shapes import Shape, box_shape
+from ..geometry import CONVENTIONS
+from ..simulate import METHODS, simulate
+from ..summary import Summary, summarize
+from ..results import Trajectory
 
 if sys.version_info >= (3, 11):
     import tomllib

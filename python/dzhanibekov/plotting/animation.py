@@ -21,10 +21,10 @@ from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
-from ._checks import as_float, as_int
-from .plan import SceneResult, densified
-from .plotting import _axes3d, _limits, _title, compute, draw_body, extent
-from .scene import Scene
+from .._args import as_float, as_int
+from ..scenes.plan import SceneResult, densified
+from .figures import _axes3d, _limits, _title, compute, draw_body, extent
+from ..scenes.scene import Scene
 
 __all__ = ["animate", "ffmpeg_path"]
 

@@ -8,8 +8,8 @@ from typing import Any
 
 import numpy as np
 
-from .body import Body
-from .shapes import Shape
+from ..body import Body
+from ..shapes import Shape
 
 __all__ = ["BODY_KEYS", "PRESETS", "build_body", "default_signal_point"]
 
