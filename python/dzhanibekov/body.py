@@ -547,7 +547,7 @@ def as_body(value: Any, name: str = "body") -> Body:
 def _is_square(value: Any) -> bool:
     """Whether `value` is a 3×3 array (a tensor where moments were expected)."""
     try:
-        return np.shape(value) == (3, 3)
+        return bool(np.shape(value) == (3, 3))
     except Exception:  # ragged lists and the like: the checks will say so
         return False
 

@@ -38,9 +38,10 @@ class Trajectory:
     t : ndarray, shape (frames,)
         Frame times; ``t[0] == 0`` and ``t[-1] == t_end``.
     omega : ndarray, shape (frames, 3)
-        Body-frame angular velocity ``(u, v, w)``.
+        Body-frame angular velocity ``(u, v, w)``, in the body's own axes.
     q : ndarray, shape (frames, 4)
-        Body-to-world unit quaternion, scalar first ``(Q, U, V, W)``.
+        Body-to-world unit quaternion of the body's own axes, scalar first
+        ``(Q, U, V, W)``: ``dz.rotate(traj.q, points)`` turns points given in those axes.
     flip_times : ndarray, shape (n_flips,), or None
         Times of the flips: half-turns of the intermediate axis relative to the angular
         momentum, located within the step (see the README). None if not asked for.

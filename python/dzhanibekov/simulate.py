@@ -91,12 +91,17 @@ def simulate(
 
     Parameters
     ----------
-    body : Body or array_like, shape (3,) or (M, 3)
-        The body, or its principal moments ``(Ix, Iy, Iz)``; one row per run of a batch.
+    body : Body, list of Body, or array_like, shape (3,) or (M, 3)
+        The body (any :class:`Body`: from a tensor, a solid, parts, a mesh), or its
+        principal moments ``(Ix, Iy, Iz)``; one row (or one Body of a list) per run of a
+        batch. A 3×3 array is refused (use :meth:`Body.from_tensor`).
     omega0 : array_like, shape (3,) or (M, 3)
-        Initial body-frame angular velocity ``(u0, v0, w0)``, finite.
+        Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
+        axes (for a body from a tensor, those of the tensor; the run changes to principal
+        axes once at its start and back once at its end).
     q0 : array_like, shape (4,) or (M, 4)
-        Initial attitude, scalar first ``(Q, U, V, W)``; normalised here, must be non-zero.
+        Initial attitude of the body's own axes, scalar first ``(Q, U, V, W)``; normalised
+        here, must be non-zero.
     t_end : float
         End time, positive.
     frames : int

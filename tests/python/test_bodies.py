@@ -400,3 +400,21 @@ def test_the_wing_nut_scene_flips_and_its_pictures_draw_the_nut():
     world = dz.rotate(result.trajectory.q[frame], nut.shape.vertices)
     np.testing.assert_allclose(result.at("box", frame), world, atol=1e-12)
     assert "wing-nut" in dz.SCENES and dz.SCENES["wing-nut"].draw.animation
+
+
+def test_the_animation_size_and_rate_come_from_the_scene_or_the_command_line(tmp_path):
+    from PIL import Image
+
+    from dzhanibekov.cli import main
+
+    scene = dz.SCENES["wing-nut"].replace(t_end=6.0, frames=13, draw=dz.scenes.Draw(
+        box=True, signal_point=True, animation=True, fps=5, animation_size=96))
+    path = scene.save(tmp_path / "nut.toml")
+    assert dz.load_scene(path).draw.fps == 5  # round trip of draw.fps, draw.animation_size
+    assert main(["run", str(path), "--out", str(tmp_path / "a"), "--no-progress"]) == 0
+    with Image.open(tmp_path / "a" / "nut.gif") as gif:
+        assert gif.size == (96, 96) and gif.info["duration"] == 200
+    assert main(["run", str(path), "--out", str(tmp_path / "b"), "--no-progress",
+                 "--gif-size", "128", "--fps", "10"]) == 0
+    with Image.open(tmp_path / "b" / "nut.gif") as gif:
+        assert gif.size == (128, 128) and gif.info["duration"] == 100
