@@ -456,7 +456,7 @@ def _flag(source: str, key: str, value: Any) -> bool:
 
 
 def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
+    if isinstance(value, (str, bytes)) or _ndim(value) != 1 or len(value) != n:
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
     if any(isinstance(x, (bool, np.bool_)) for x in value):
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
@@ -466,6 +466,14 @@ def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
         raise SceneError(source, key, f"must be a list of {n} finite numbers, got {value!r}") \
             from None
     return tuple(float(x) for x in arr)
+
+
+def _ndim(value: Any) -> int:
+    """The number of axes of `value` as an array; -1 for what is none (ragged lists)."""
+    try:
+        return int(np.ndim(value))
+    except Exception:
+        return -1
 
 
 def _triple(source: str, key: str, value: Any, *, positive: bool = False) -> tuple[float, ...]:
