@@ -194,11 +194,26 @@ def run_args(draw: st.DrawFn, method: str, *, flips: bool = True) -> dict[str, A
     return kwargs
 
 
+def batch_rows_of(value: Any, width: int) -> bool:
+    """Whether `value` is finite real rows (M, width), M ≥ 1, non-zero if quaternions: not
+    hostile to `simulate`, which runs them as a batch (the hostile reshapes draw (1, n))."""
+    try:
+        arr = np.asarray(value)
+    except Exception:
+        return False
+    if arr.dtype.kind not in "iuf" or arr.ndim != 2 or arr.shape[1] != width or not arr.size:
+        return False
+    rows = arr.astype(float)
+    return bool(np.isfinite(rows).all() and (width != 4 or rows.any(axis=1).all()))
+
+
 def run_hostile(method_names: tuple[str, ...], *, flips: bool = True) -> dict[str, st.SearchStrategy[Any]]:
     hostile = {
-        "body": st.one_of(hostile_vector3(positive=True, moments=True), st.just(dz.SCENES["fig3a"])),
-        "omega0": hostile_vector3(),
-        "q0": hostile_quaternion(),
+        "body": st.one_of(hostile_vector3(positive=True, moments=True).filter(
+            lambda v: not (batch_rows_of(v, 3) and bool((np.asarray(v) > 0).all()))),
+            st.just(dz.SCENES["fig3a"])),
+        "omega0": hostile_vector3().filter(lambda v: not batch_rows_of(v, 3)),
+        "q0": hostile_quaternion().filter(lambda v: not batch_rows_of(v, 4)),
         "t_end": hostile_real(positive=True),
         "frames": hostile_int(2),
         "dt": hostile_real(positive=True).filter(lambda v: v is not None),
