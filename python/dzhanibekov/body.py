@@ -44,6 +44,11 @@ TENSOR_HINT = ("for one body's 3×3 inertia tensor use `dz.Body.from_tensor(T)`;
 """What to say to a user whose 3×3 array could be a tensor or three bodies."""
 
 
+PAPER_INERTIA = (52.0833, 27.0833, 41.6666)
+"""The paper's principal moments (Ix, Iy, Iz), as printed. The box formula gives them with x
+and y swapped (erratum 2, see the README); either way z is the intermediate axis."""
+
+
 class InertiaWarning(UserWarning):
     """Principal moments that no real mass distribution has (the triangle inequality fails)."""
 
