@@ -10,7 +10,7 @@ point arrays without trigonometry; this package is the thin Python side.
 
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .body import PAPER_INERTIA, Body, InertiaWarning
+from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
@@ -35,6 +35,7 @@ __all__ = [
     "__version__",
     "Body",
     "InertiaWarning",
+    "MeshError",
     "DzhanibekovError",
     "DivergedError",
     "TooLargeError",

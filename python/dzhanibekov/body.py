@@ -1,14 +1,47 @@
-"""Rigid bodies: principal moments of inertia."""
+"""Rigid bodies: principal moments, full inertia tensors, solids, composites and meshes.
+
+A body is simulated in its principal axes, where Euler's equations are diagonal, but the
+user speaks in the body's own axes (a CAD model's, an assembly's): a body built from a full
+tensor keeps the rotation ``R`` from its principal axes to the user's (its columns are the
+principal axes in user coordinates), and a run turns the start into principal axes once,
+``ω_p = Rᵀ ω``, ``q_p = q ⊗ q_R``, and the frames back once at the end, ``ω = R ω_p``,
+``q = q_p ⊗ q_R*`` (:meth:`Body.to_principal`, :meth:`Body.to_user`): ``traj.omega`` and
+``traj.q`` are the rates and the attitude of the user's axes.
+"""
 
 from __future__ import annotations
 
+import os
 import warnings
+from collections.abc import Sequence
 from typing import Any
+
+import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
+from .mass import (
+    MeshError,
+    apply,
+    box_tensor,
+    cylinder_tensor,
+    ellipsoid_tensor,
+    mesh_properties,
+    parallel_axis,
+    principal,
+    quaternion_of,
+    quaternion_product,
+)
+from .shapes import Shape, box_shape, cylinder_shape, ellipsoid_shape, mesh_shape
+from . import wingnut
+from .wingnut import hex_nut_mesh, wing_positions
 
-__all__ = ["Body", "InertiaWarning", "as_body"]
+__all__ = ["Body", "InertiaWarning", "MeshError", "as_body", "TENSOR_HINT"]
+
+TENSOR_HINT = ("for one body's 3×3 inertia tensor use `dz.Body.from_tensor(T)`; for several "
+               "bodies' principal moments pass a list of Bodies, `[dz.Body(m) for m in "
+               "moments]`")
+"""What to say to a user whose 3×3 array could be a tensor or three bodies."""
 
 
 PAPER_INERTIA = (52.0833, 27.0833, 41.6666)
@@ -23,6 +56,12 @@ class InertiaWarning(UserWarning):
 class Body:
     """A rigid body given by its principal moments of inertia about body axes x, y, z.
 
+    Other constructors build a body from a full inertia tensor (:meth:`from_tensor`), a solid
+    (:meth:`box`, :meth:`cylinder`, :meth:`sphere`, :meth:`ellipsoid`), parts
+    (:meth:`compose`), a triangle mesh (:meth:`from_mesh`, :meth:`load`) or the wing nut of
+    the paper's Fig. 1 (:meth:`wing_nut`); such bodies also know their mass, centre of mass
+    and shape, which the pictures draw.
+
     Parameters
     ----------
     inertia : array_like, shape (3,)
@@ -33,7 +72,8 @@ class Body:
     TypeError
         If `inertia` is not three real numbers.
     ValueError
-        If a moment is not positive and finite, or the moments differ by more than 1e150.
+        If a moment is not positive and finite, or the moments differ by more than 1e150;
+        a 3×3 array (a tensor: use :meth:`from_tensor`).
 
     Warns
     -----
@@ -50,44 +90,448 @@ class Body:
     27.083333333333332
     """
 
-    __slots__ = ("_core",)
+    __slots__ = ("_core", "_axes", "_q_axes", "_tensor", "_mass", "_com", "_shape", "_parts")
 
     def __init__(self, inertia: Any) -> None:
+        if _is_square(inertia):
+            raise ValueError(f"`inertia` must be three principal moments, got a 3×3 array; "
+                             f"{TENSOR_HINT}")
         ix, iy, iz = as_array("inertia", inertia, "(3,)", last=3, ndim=(1,)).tolist()
-        self._core = _core.RigidBody((ix, iy, iz))
+        self._fill(_core.RigidBody((ix, iy, iz)))
         _warn_if_unphysical(self._core)
+
+    def _fill(self, core: _core.RigidBody, *, axes: np.ndarray | None = None,
+              tensor: np.ndarray | None = None, mass: float | None = None,
+              com: np.ndarray | None = None, shape: Shape | None = None,
+              parts: tuple[Any, ...] = ()) -> None:
+        """Fills a Body's slots (the one place that does)."""
+        self._core = core
+        if axes is not None and np.array_equal(axes, np.eye(3)):
+            axes = None
+        self._axes = axes
+        self._q_axes = None if axes is None else quaternion_of(axes)
+        self._tensor = np.diag(core.inertia) if tensor is None else tensor
+        self._mass = mass
+        self._com = np.zeros(3) if com is None else com
+        self._shape = shape
+        self._parts = parts
+
+    # -- construction ------------------------------------------------------------------
 
     @classmethod
     def box(cls, a: float, b: float, c: float, mass: float = 1.0) -> Body:
-        """A solid box with edges `a`, `b`, `c` along x, y, z: ``Ix = m (b² + c²) / 12``, etc."""
+        """A solid box with edges `a`, `b`, `c` along x, y, z: ``Ix = m (b² + c²) / 12``, etc.
+
+        Examples
+        --------
+        >>> Body.box(2, 2, 2, mass=3.0).inertia
+        (2.0, 2.0, 2.0)
+        """
+        edges = [as_float(n, v, positive=True) for n, v in (("a", a), ("b", b), ("c", c))]
+        mass = as_float("mass", mass, positive=True)
         body = cls.__new__(cls)
-        body._core = _core.RigidBody.from_box(
-            as_float("a", a, positive=True),
-            as_float("b", b, positive=True),
-            as_float("c", c, positive=True),
-            as_float("mass", mass, positive=True),
-        )
+        ea, eb, ec = edges
+        body._fill(_core.RigidBody.from_box(ea, eb, ec, mass), mass=mass,
+                   shape=box_shape(ea, eb, ec, faces=True))
         return body
+
+    @classmethod
+    def cylinder(cls, radius: float, height: float, mass: float = 1.0) -> Body:
+        """A solid circular cylinder with its axis along z: ``Iz = m r² / 2``,
+        ``Ix = Iy = m (3 r² + h²) / 12`` (Goldstein, *Classical Mechanics*, or any table of
+        moments of inertia).
+
+        Examples
+        --------
+        >>> Body.cylinder(1.0, 2.0, mass=12.0).inertia
+        (7.0, 7.0, 6.0)
+        """
+        r = as_float("radius", radius, positive=True)
+        h = as_float("height", height, positive=True)
+        m = as_float("mass", mass, positive=True)
+        return cls._solid(np.diag(cylinder_tensor(r, h, m)), m, cylinder_shape(r, h),
+                          "`radius`, `height` and `mass`")
+
+    @classmethod
+    def sphere(cls, radius: float, mass: float = 1.0) -> Body:
+        """A solid ball: ``I = 2 m r² / 5`` about every axis.
+
+        Examples
+        --------
+        >>> Body.sphere(1.0, mass=5.0).inertia
+        (2.0, 2.0, 2.0)
+        """
+        r = as_float("radius", radius, positive=True)
+        return cls.ellipsoid(r, r, r, mass)
+
+    @classmethod
+    def ellipsoid(cls, a: float, b: float, c: float, mass: float = 1.0) -> Body:
+        """A solid ellipsoid with semi-axes `a`, `b`, `c` along x, y, z:
+        ``Ix = m (b² + c²) / 5``, etc.
+
+        Examples
+        --------
+        >>> Body.ellipsoid(1.0, 2.0, 3.0, mass=5.0).inertia
+        (13.0, 10.0, 5.0)
+        """
+        semi = [as_float(n, v, positive=True) for n, v in (("a", a), ("b", b), ("c", c))]
+        m = as_float("mass", mass, positive=True)
+        sa, sb, sc = semi
+        return cls._solid(np.diag(ellipsoid_tensor(sa, sb, sc, m)), m,
+                          ellipsoid_shape(sa, sb, sc), "`a`, `b`, `c` and `mass`")
+
+    @classmethod
+    def _solid(cls, moments: np.ndarray, mass: float, shape: Shape, names: str) -> Body:
+        body = cls.__new__(cls)
+        ix, iy, iz = (float(x) for x in moments)
+        try:
+            core = _core.RigidBody((ix, iy, iz))
+        except ValueError as exc:
+            raise ValueError(f"{names} give principal moments {(ix, iy, iz)} out of range: "
+                             f"{exc}") from None
+        body._fill(core, mass=mass, shape=shape)
+        return body
+
+    @classmethod
+    def from_tensor(cls, tensor: Any, mass: float | None = None) -> Body:
+        """A body given by its inertia tensor about its centre of mass, in the user's axes.
+
+        The tensor carries the products of inertia with a minus sign off the diagonal, so
+        that the angular momentum is ``L = T ω``::
+
+            T = [[ Ixx, -Ixy, -Ixz],     Ixx = ∫ (y² + z²) dm,  Ixy = ∫ x y dm, …
+                 [-Ixy,  Iyy, -Iyz],
+                 [-Ixz, -Iyz,  Izz]]
+
+        (some CAD programs print ``Ixy`` itself in that place: negate their products). The
+        body's principal moments are the eigenvalues of ``T``, sorted ascending, and its
+        principal axes the eigenvectors, the columns of a proper rotation ``R``
+        (``T = R diag(I) Rᵀ``, ``det R = +1``). Runs take and return ``omega`` and ``q`` in
+        the user's axes (see :mod:`dzhanibekov.body`).
+
+        Parameters
+        ----------
+        tensor : array_like, shape (3, 3)
+            Symmetric (to 1e-10 of its largest entry; the mean of it and its transpose is
+            used) and positive definite.
+        mass : float, optional
+            The body's mass, needed only to :meth:`compose` it with others.
+
+        Raises
+        ------
+        ValueError
+            A tensor that is not 3×3, finite, symmetric or positive definite.
+
+        Examples
+        --------
+        >>> body = Body.from_tensor([[2.0, -0.5, 0.0], [-0.5, 2.0, 0.0], [0.0, 0.0, 3.0]])
+        >>> [round(i, 12) for i in body.inertia]
+        [1.5, 2.5, 3.0]
+        >>> round(float(np.linalg.det(body.principal_axes)), 12)
+        1.0
+        """
+        t = as_array("tensor", tensor, "(3, 3)", last=3, ndim=(2,))
+        if t.shape != (3, 3):
+            raise ValueError(f"`tensor` must have shape (3, 3), got {t.shape}")
+        m = None if mass is None else as_float("mass", mass, positive=True)
+        return cls._of_tensor(t, m, None, None, (), "tensor")
+
+    @classmethod
+    def _of_tensor(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray | None,
+                   shape: Shape | None, parts: tuple[Any, ...], name: str) -> Body:
+        largest = float(np.abs(tensor).max())
+        if not largest > 0:
+            raise ValueError(f"`{name}` must be positive definite, got zeros")
+        if np.abs(tensor - tensor.T).max() > 1e-10 * largest:
+            raise ValueError(f"`{name}` must be symmetric, got {tensor.tolist()}")
+        sym = 0.5 * (tensor + tensor.T)
+        moments, axes = principal(sym / largest)
+        moments = moments * largest
+        if not moments[0] > 1e-14 * moments[2]:
+            raise ValueError(f"`{name}` must be positive definite, got eigenvalues "
+                             f"{moments.tolist()}")
+        ix, iy, iz = (float(x) for x in moments)
+        try:
+            core = _core.RigidBody((ix, iy, iz))
+        except ValueError as exc:
+            raise ValueError(f"`{name}` has principal moments out of range: {exc}") from None
+        body = cls.__new__(cls)
+        body._fill(core, axes=axes, tensor=sym, mass=mass, com=com, shape=shape, parts=parts)
+        _warn_if_unphysical(core)
+        return body
+
+    @classmethod
+    def compose(cls, parts: Sequence[Any]) -> Body:
+        """A body assembled from parts: ``[(part, position, q), ...]``.
+
+        Each `part` is a :class:`Body` with a mass, placed with its centre of mass at
+        `position` and turned by the unit quaternion `q` (scalar first; may be left out, for
+        no turn) in the assembly's axes. The mass is the sum; the tensor, about the composite
+        centre of mass (:attr:`center_of_mass`, in the assembly's coordinates), is the sum
+        of each part's tensor turned into the assembly's axes, ``M(q) T Mᵀ(q)``, plus its
+        parallel-axis term ``m (|d|² 𝟙 − d dᵀ)`` for its offset ``d`` from that centre
+        (Huygens–Steiner). The parts' shapes are kept for drawing.
+
+        Raises
+        ------
+        ValueError
+            No parts, a part without a mass (build it with one), or a bad position or
+            quaternion (naming the part).
+
+        Examples
+        --------
+        >>> two = Body.compose([(Body.box(1, 1, 1), (-1, 0, 0), (1, 0, 0, 0)),
+        ...                     (Body.box(1, 1, 1), (1, 0, 0))])
+        >>> two.mass, two.inertia[0]
+        (2.0, 0.3333333333333333)
+        """
+        if isinstance(parts, (str, bytes)) or not isinstance(parts, Sequence) or not parts:
+            raise ValueError("`parts` must be a non-empty list of (part, position, q) tuples")
+        masses, positions, tensors, shapes = [], [], [], []
+        for k, item in enumerate(parts):
+            if isinstance(item, Body) or not isinstance(item, (tuple, list)) \
+                    or len(item) not in (2, 3):
+                raise ValueError(f"`parts[{k}]` must be (part, position) or "
+                                 f"(part, position, q), got {item!r}")
+            part, position = item[0], item[1]
+            q = item[2] if len(item) == 3 else (1.0, 0.0, 0.0, 0.0)
+            if not isinstance(part, Body):
+                raise TypeError(f"`parts[{k}]`'s part must be a Body, got "
+                                f"{type(part).__name__}")
+            if part.mass is None:
+                raise ValueError(f"`parts[{k}]` has no mass; build it with one (Body.box, "
+                                 "cylinder, sphere, ellipsoid, from_mesh or "
+                                 "from_tensor(..., mass=m))")
+            p = as_array(f"parts[{k}] position", position, "(3,)", last=3, ndim=(1,))
+            qa = as_array(f"parts[{k}] q", q, "(4,)", last=4, ndim=(1,))
+            norm = float(np.linalg.norm(qa))
+            if not norm > 0:
+                raise ValueError(f"`parts[{k}] q` must be a non-zero quaternion")
+            turn = rotation_matrix(qa / norm)
+            masses.append(part.mass)
+            positions.append(p)
+            tensors.append(turn @ part.tensor @ turn.T)
+            shapes.append(part.shape.placed(turn, p) if part.shape is not None else None)
+        mass = float(sum(masses))
+        com = np.sum([m * p for m, p in zip(masses, positions)], axis=0) / mass
+        tensor = sum(parallel_axis(t, m, p - com)
+                     for t, m, p in zip(tensors, masses, positions))
+        drawn = [s.placed(np.eye(3), -com) for s in shapes if s is not None]
+        shape = Shape.union(drawn) if drawn else None
+        kept = tuple((part[0], tuple(positions[k]), part[2] if len(part) == 3 else
+                      (1.0, 0.0, 0.0, 0.0)) for k, part in enumerate(parts))
+        return cls._of_tensor(np.asarray(tensor), mass, np.asarray(com), shape, kept,
+                              "the composite's tensor")
+
+    @classmethod
+    def from_mesh(cls, vertices: Any, faces: Any, mass: float | None = None,
+                  density: float | None = None) -> Body:
+        """A uniform solid bounded by a closed triangle mesh.
+
+        Volume, centre of mass and the tensor follow from the divergence theorem, as a sum
+        over the faces of signed tetrahedra, exact for polyhedra (Mirtich 1996; Eberly,
+        *Polyhedral Mass Properties*; see :mod:`dzhanibekov.mass`).
+
+        Parameters
+        ----------
+        vertices : array_like, shape (V, 3)
+        faces : array_like of int, shape (F, 3)
+            Triangles, counter-clockwise seen from outside; every edge shared by exactly two
+            faces that run it in opposite directions.
+        mass, density : float, optional
+            One or neither (then ``density = 1``); the mass is ``density × volume``.
+
+        Raises
+        ------
+        MeshError
+            (a ValueError) An open, non-manifold, inconsistently oriented or inward-wound
+            mesh, or one without volume.
+
+        Examples
+        --------
+        >>> v = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+        >>> f = [(0, 2, 1), (0, 1, 3), (0, 3, 2), (1, 2, 3)]
+        >>> round(Body.from_mesh(v, f).mass, 12)  # a unit corner tetrahedron, volume 1/6
+        0.166666666667
+        """
+        v = as_array("vertices", vertices, "(V, 3)", last=3, ndim=(2,))
+        try:
+            f = np.asarray(faces)
+        except Exception as exc:  # ragged lists and the like
+            raise TypeError(f"`faces` must be an integer array of shape (F, 3): {exc}") from None
+        if f.dtype.kind not in "iu" or f.ndim != 2 or f.shape[1] != 3:
+            raise TypeError(f"`faces` must be integers of shape (F, 3), got {f.dtype} "
+                            f"{f.shape}")
+        f = f.astype(np.int64)
+        if mass is not None and density is not None:
+            raise ValueError("give `mass` or `density`, not both")
+        volume, centroid, unit_tensor = mesh_properties(v, f)
+        if mass is not None:
+            m = as_float("mass", mass, positive=True)
+        else:
+            m = volume * (1.0 if density is None else as_float("density", density,
+                                                               positive=True))
+        shape = mesh_shape(v - centroid, f)
+        return cls._of_tensor(unit_tensor * (m / volume), m, centroid, shape, (),
+                              "the mesh's tensor")
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str], mass: float | None = None,
+             density: float | None = None) -> Body:
+        """A uniform solid from a mesh file (STL, OBJ, PLY, … anything trimesh reads), as
+        :meth:`from_mesh`. Needs the optional ``mesh`` extra: ``pip install ".[mesh]"``.
+
+        Raises
+        ------
+        ImportError
+            trimesh is not installed.
+        ValueError
+            The file cannot be read as one triangle mesh, or the mesh is not closed (see
+            :meth:`from_mesh`).
+        """
+        try:
+            import trimesh  # type: ignore[import-untyped, import-not-found, unused-ignore]
+        except ImportError:
+            raise ImportError("`Body.load` reads mesh files with trimesh, an optional "
+                              "dependency: pip install \".[mesh]\" (or pip install "
+                              "trimesh)") from None
+        try:
+            mesh: Any = trimesh.load(os.fspath(path), force="mesh", process=True)
+        except (OSError, ValueError) as exc:
+            raise ValueError(f"`path` {os.fspath(path)!r} cannot be read as a mesh: "
+                             f"{exc}") from None
+        return cls.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), mass=mass,
+                             density=density)
+
+    @classmethod
+    def wing_nut(cls) -> Body:
+        """The wing nut of the paper's Fig. 1 (the one V. Dzhanibekov saw flip in 1985): a
+        steel hex nut with two wings, in millimetres and grams.
+
+        Proportions (roughly an M8 nut): hexagon 13 mm across flats (flats facing ±x),
+        8 mm high (z from −4 to 4), an 8 mm bore (a 12-gon); two wings, plates 12 mm long
+        (x), 2.5 mm thick (y) and 14 mm high (z from −4 to 10), set against the flats at
+        ±x; density 7.85e-3 g/mm³ (steel). The bolt axis z is the intermediate axis: spun
+        about it, the nut flips.
+
+        Examples
+        --------
+        >>> nut = Body.wing_nut()
+        >>> round(nut.mass, 2), [round(i) for i in nut.inertia]  # g and g·mm²
+        (12.77, [269, 1306, 1375])
+        >>> nut.principal_axes[:, nut.intermediate_axis]  # the bolt axis z
+        array([0., 0., 1.])
+        """
+        vertices, faces = hex_nut_mesh()
+        nut = cls.from_mesh(vertices, faces, density=wingnut.DENSITY)
+        a, b, c = wingnut.WING
+        wing = cls.box(a, b, c, mass=wingnut.DENSITY * a * b * c)
+        left, right = wing_positions()
+        return cls.compose([(nut, nut.center_of_mass), (wing, left), (wing, right)])
+
+    # -- properties ----------------------------------------------------------------------
 
     @property
     def inertia(self) -> tuple[float, float, float]:
-        """The principal moments ``(Ix, Iy, Iz)``."""
+        """The principal moments ``(Ix, Iy, Iz)`` (ascending for a body from a tensor)."""
         return self._core.inertia
 
     @property
+    def tensor(self) -> np.ndarray:
+        """The inertia tensor about the centre of mass, in the user's axes (products of
+        inertia negated off the diagonal, ``L = T ω``), shape (3, 3)."""
+        return self._tensor.copy()
+
+    @property
+    def principal_axes(self) -> np.ndarray:
+        """The principal axes as the columns of a proper rotation ``R`` (user axes from
+        principal axes: ``T = R diag(inertia) Rᵀ``); the identity for a body given by its
+        principal moments."""
+        return np.eye(3) if self._axes is None else self._axes.copy()
+
+    @property
+    def mass(self) -> float | None:
+        """The mass, or None for a body given only by its moments."""
+        return self._mass
+
+    @property
+    def center_of_mass(self) -> np.ndarray:
+        """Where the centre of mass is in the coordinates the body was built in (an
+        assembly's, a mesh's); the origin for the solids. Shape (3,)."""
+        return self._com.copy()
+
+    @property
+    def shape(self) -> Shape | None:
+        """What the pictures draw, in the user's axes about the centre of mass; None for a
+        body given only by its moments or tensor (drawn as the paper's box)."""
+        return self._shape
+
+    @property
+    def parts(self) -> tuple[tuple[Body, tuple[float, ...], Any], ...]:
+        """A composite's parts as given to :meth:`compose`; empty for other bodies."""
+        return self._parts
+
+    @property
     def intermediate_axis(self) -> int | None:
-        """The axis (0, 1, 2 for x, y, z) of the intermediate moment, about which spin is
-        unstable; None for a symmetric top (two equal moments)."""
+        """The axis (0, 1, 2: the entry of `inertia`, the column of `principal_axes`) of the
+        intermediate moment, about which spin is unstable; None for a symmetric top (two
+        equal moments)."""
         return self._core.intermediate_axis
 
+    # -- the change of axes at the edge of a run -------------------------------------------
+
+    @property
+    def is_principal(self) -> bool:
+        """Whether the user's axes are the principal axes (no change of axes in a run)."""
+        return self._axes is None
+
+    def to_principal(self, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Rates (..., 3) and attitudes (..., 4) of the user's axes turned into those of the
+        principal axes: ``ω_p = Rᵀ ω``, ``q_p = q ⊗ q_R``; the inputs themselves for a body
+        in principal axes."""
+        if self._axes is None:
+            return omega, q
+        return apply(self._axes.T, omega), quaternion_product(q, self._q_axes)
+
+    def to_user(self, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The inverse of :meth:`to_principal`: ``ω = R ω_p``, ``q = q_p ⊗ q_R*``."""
+        if self._axes is None:
+            return omega, q
+        conj = self._q_axes * np.array([1.0, -1.0, -1.0, -1.0])
+        return apply(self._axes, omega), quaternion_product(q, conj)
+
+    # -- the rest --------------------------------------------------------------------------
+
     def __repr__(self) -> str:
-        return f"Body(inertia={self.inertia!r})"
+        if self._axes is None:
+            return f"Body(inertia={self.inertia!r})"
+        return f"Body.from_tensor({self._tensor.tolist()!r}, mass={self._mass!r})"
 
     def __eq__(self, other: object) -> bool:
-        return isinstance(other, Body) and self.inertia == other.inertia
+        return (isinstance(other, Body) and self.inertia == other.inertia
+                and np.array_equal(self._tensor, other._tensor)
+                and np.array_equal(self.principal_axes, other.principal_axes))
 
     def __hash__(self) -> int:
         return hash(self.inertia)
+
+
+def principal_body(inertia: Any) -> Body:
+    """A Body of moments the core has already accepted (no second warning)."""
+    body = Body.__new__(Body)
+    ix, iy, iz = (float(i) for i in inertia)
+    body._fill(_core.RigidBody((ix, iy, iz)))
+    return body
+
+
+def rotation_matrix(q: np.ndarray) -> np.ndarray:
+    """The paper's trig-free matrix ``M(q)`` of a unit quaternion (scalar first)."""
+    w, x, y, z = (float(c) for c in q)
+    return np.array([
+        [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+        [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+        [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+    ])
 
 
 def as_body(value: Any, name: str = "body") -> Body:
@@ -95,11 +539,22 @@ def as_body(value: Any, name: str = "body") -> Body:
     `name` as well as the moments."""
     if isinstance(value, Body):
         return value
+    if _is_square(value):
+        raise ValueError(f"`{name}` must be a Body or its principal moments (Ix, Iy, Iz), "
+                         f"got a 3×3 array; {TENSOR_HINT}")
     try:
         return Body(value)
     except (TypeError, ValueError) as exc:
         raise type(exc)(f"`{name}` must be a Body or its principal moments (Ix, Iy, Iz): "
                         f"{exc}") from None
+
+
+def _is_square(value: Any) -> bool:
+    """Whether `value` is a 3×3 array (a tensor where moments were expected)."""
+    try:
+        return bool(np.shape(value) == (3, 3))
+    except Exception:  # ragged lists and the like: the checks will say so
+        return False
 
 
 def _warn_if_unphysical(core: _core.RigidBody) -> None:

@@ -64,7 +64,8 @@ def _paper(args: argparse.Namespace) -> int:
 
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
-        files, results = render_paper(tmp, dt=args.dt, progress=_progress(args))
+        files, results = render_paper(tmp, dt=args.dt, progress=_progress(args),
+                                      fps=args.fps, size=args.gif_size)
     _table(results, time.perf_counter() - start)
     print(f"wrote {len(files)} files to {args.out}")
     return 0
@@ -82,7 +83,8 @@ def _run(args: argparse.Namespace) -> int:
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
-        files = render_scene(result, tmp, progress=_progress(args), flip_times=args.flip_times)
+        files = render_scene(result, tmp, progress=_progress(args), flip_times=args.flip_times,
+                             fps=args.fps, size=args.gif_size)
     _table([result], time.perf_counter() - start)
     print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
     return 0
@@ -120,6 +122,14 @@ def _scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+def _movie_options(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--fps", type=int, default=None,
+                        help="animation frames per second (default: the scene's, else 20)")
+    parser.add_argument("--gif-size", type=int, default=None, dest="gif_size", metavar="PX",
+                        help="animation width and height in pixels (default: the scene's, "
+                        "else 560)")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Runs the command line with `argv` (default ``sys.argv[1:]``); returns the exit code."""
     parser = argparse.ArgumentParser(
@@ -142,6 +152,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     paper.add_argument("--dt", type=float, default=None,
                        help="step for every scene (default: each scene's own)")
     paper.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _movie_options(paper)
     paper.set_defaults(run=_paper)
 
     run = commands.add_parser(
@@ -168,6 +179,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                      help="also write every flip time to NAME-flip-times.npy (the JSON lists "
                      "at most 1000 and summarises longer lists)")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    _movie_options(run)
     run.set_defaults(run=_run)
 
     stability = commands.add_parser(

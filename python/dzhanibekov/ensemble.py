@@ -41,7 +41,7 @@ from . import _core
 from ._args import as_array, as_float, as_int, check_size
 from ._swap import swapped_error
 from .accuracy import ADAPTIVE_METHODS, check_tolerances, warn_step
-from .body import Body, InertiaWarning
+from .body import TENSOR_HINT, Body, InertiaWarning, _is_square
 from .errors import DzhanibekovError
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, check_method
 from .results import Batch, BatchDrift, Sweep, trusted_body
@@ -57,7 +57,12 @@ def batch_rows(
     inputs' leading axes, broadcast together; at most `max_batch_ndim` of them)."""
     if isinstance(body, Body):
         inertia = np.array(body.inertia, dtype=np.float64)
+    elif is_body_list(body):
+        inertia = np.array([b.inertia for b in body], dtype=np.float64)
     else:
+        if _is_square(body):
+            raise ValueError("`body` of shape (3, 3) is ambiguous: one body's inertia tensor "
+                             f"or three bodies' principal moments? {TENSOR_HINT}")
         inertia = _array("body", body, 3, max_batch_ndim)
     omega = _array("omega0", omega0, 3, max_batch_ndim)
     q = _array("q0", q0, 4, max_batch_ndim)
@@ -84,6 +89,39 @@ def batch_rows(
     rows = [np.ascontiguousarray(np.broadcast_to(a, shape + a.shape[-1:]).reshape(m, a.shape[-1]))
             for a in (inertia, omega, q)]
     return rows[0], rows[1], rows[2], shape
+
+
+def is_body_list(body: Any) -> bool:
+    """Whether `body` is a list (or tuple) of Bodies, one per run."""
+    return isinstance(body, (list, tuple)) and len(body) > 0 and \
+        all(isinstance(b, Body) for b in body)
+
+
+def principal_rows(body: Any, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray,
+                                                                           np.ndarray]:
+    """Rows of starts in the user's axes turned into principal axes (see
+    :meth:`Body.to_principal`): once, at the edge of the run; unchanged for moments."""
+    return _change_axes(body, omega, q, Body.to_principal)
+
+
+def user_rows(body: Any, omega: np.ndarray, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A batch's frames (M, frames, 3|4) turned back into the user's axes."""
+    return _change_axes(body, omega, q, Body.to_user)
+
+
+def _change_axes(body: Any, omega: np.ndarray, q: np.ndarray, how: Any) -> tuple[np.ndarray,
+                                                                                  np.ndarray]:
+    if isinstance(body, Body):
+        if body.is_principal:
+            return omega, q
+        omega, q = how(body, omega, q)
+        return np.ascontiguousarray(omega), np.ascontiguousarray(q)
+    if not is_body_list(body) or all(b.is_principal for b in body):
+        return omega, q
+    omega, q = omega.copy(), q.copy()
+    for i, b in enumerate(body):  # one row per body: a list is short
+        omega[i], q[i] = how(b, omega[i], q[i])
+    return omega, q
 
 
 def _array(name: str, value: Any, width: int, max_batch_ndim: int | None) -> np.ndarray:
@@ -221,6 +259,7 @@ def simulate_batch(
         "ask for fewer runs or frames, or use `dz.sweep` (or `dz.summarize`) for per-run "
         "summaries, which keep no frames",
     )
+    omega, q = principal_rows(body, omega, q)
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=stacklevel + 1)
 
@@ -233,11 +272,12 @@ def simulate_batch(
             raise row_error(exc, rows.start or 0, shape) from None
 
     out = _in_blocks(run, m, progress)
+    omega_out, q_out = user_rows(body, out["omega"], out["q"])
     offsets, times = out["flip_offsets"], out["flip_times"]
     return Batch(
         t=t_end * (np.arange(frames) / (frames - 1)),
-        omega=out["omega"],
-        q=out["q"],
+        omega=omega_out,
+        q=q_out,
         _flip_times=times if flips else None,
         _flip_offsets=offsets if flips else None,
         inertia=inertia,
@@ -247,6 +287,7 @@ def simulate_batch(
         nfev=out["nfev"],
         n_rejected=out["n_rejected"],
         drift=BatchDrift(**out["drift"]),
+        body=body if isinstance(body, Body) else tuple(body) if is_body_list(body) else None,
     )
 
 
@@ -300,7 +341,8 @@ def is_batch(body: Any, omega0: Any, q0: Any) -> bool:
         except Exception:  # ragged, or no array at all: the checks will say so
             return 0
 
-    return ndim(omega0) >= 2 or ndim(q0) >= 2 or (not isinstance(body, Body) and ndim(body) >= 2)
+    return ndim(omega0) >= 2 or ndim(q0) >= 2 or is_body_list(body) or (
+        not isinstance(body, Body) and ndim(body) >= 2)
 
 
 
@@ -474,12 +516,13 @@ def sweep(
     check_tolerances(method, dt, rtol, atol)
     if swapped is not None:  # refused once every other argument passed
         raise swapped
-    step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
+    omega_p, q_p = principal_rows(body, omega, q)
+    step, rtol_, atol_ = plan_batch_step(inertia, omega_p, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=3)
     m = len(omega)
     run: dict[str, Any] = dict(t_end=t_end, frames=frames, dt=step, method=method,
                                max_steps=max_steps, rtol=rtol_, atol=atol_, threads=threads)
-    blocks = [(inertia[a:a + block], omega[a:a + block], q[a:a + block])
+    blocks = [(inertia[a:a + block], omega_p[a:a + block], q_p[a:a + block])
               for a in range(0, m, block)]
     bar = tqdm(total=m, desc="sweep", unit="run", leave=False,
                disable=None if progress is None else not progress,

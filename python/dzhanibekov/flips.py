@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from . import _core
 from ._args import as_array
 from ._swap import check_not_swapped
@@ -27,7 +29,8 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     body : Body or array_like, shape (3,)
         The body, or its principal moments ``(Ix, Iy, Iz)``.
     omega0 : array_like, shape (3,)
-        Body-frame angular velocity ``(u0, v0, w0)`` at any instant of the motion.
+        Body-frame angular velocity ``(u0, v0, w0)`` at any instant of the motion, in the
+        body's own axes (for a body from a tensor, those of the tensor).
 
     Returns
     -------
@@ -63,4 +66,5 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     check_not_swapped(body, w, "flip_period")
     body = as_body(body)
+    w, _ = body.to_principal(w, np.array([1.0, 0.0, 0.0, 0.0]))
     return _core.flip_period(body._core, (float(w[0]), float(w[1]), float(w[2])))

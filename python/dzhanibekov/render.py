@@ -155,13 +155,15 @@ def summary(result: SceneResult) -> dict[str, Any]:
 
 
 def render_scene(scene: Scene | SceneResult, folder: str | Path, *,
-                 progress: bool | None = None, flip_times: bool = False) -> list[Path]:
+                 progress: bool | None = None, flip_times: bool = False,
+                 fps: int | None = None, size: int | None = None) -> list[Path]:
     """Writes what `scene` draws into `folder`: ``NAME-FIGURE.png`` for each of its figures,
     ``NAME.gif`` (and ``NAME.mp4`` with ffmpeg) for its animation, and ``NAME.json`` with its
     flip times (at most :data:`MAX_JSON_FLIP_TIMES`; more are summarised), verdict and drift;
     with `flip_times`, every flip time in ``NAME-flip-times.npy``. Returns the files written.
 
-    Write into a folder from :func:`output_folder` for all-or-nothing output.
+    Write into a folder from :func:`output_folder` for all-or-nothing output. `fps` and
+    `size` override the scene's animation settings (see :func:`~dzhanibekov.animation.animate`).
     """
     result = compute(scene)
     folder = Path(folder)
@@ -174,7 +176,8 @@ def render_scene(scene: Scene | SceneResult, folder: str | Path, *,
         written.append(path)
     if result.scene.draw.animation:
         with _writing(folder / f"{name}.gif"):
-            written += animate(result, folder / f"{name}.gif", progress=progress)
+            written += animate(result, folder / f"{name}.gif", progress=progress, fps=fps,
+                               size=size)
     about = summary(result)
     if flip_times and result.flip_times is not None:
         path = folder / f"{name}-flip-times.npy"
@@ -189,21 +192,24 @@ def render_scene(scene: Scene | SceneResult, folder: str | Path, *,
 
 
 def render_paper(folder: str | Path, *, dt: float | None = None,
-                 progress: bool | None = None) -> tuple[list[Path], list[SceneResult]]:
-    """Writes every figure of the paper and its animation into `folder`, and those of the
-    stable counter-examples: each shipped scene's files (:func:`render_scene`), plus
+                 progress: bool | None = None, fps: int | None = None,
+                 size: int | None = None) -> tuple[list[Path], list[SceneResult]]:
+    """Writes every figure of the paper and its animation into `folder`, those of the wing
+    nut of its Fig. 1 and those of the stable counter-examples: each shipped scene's files
+    (:func:`render_scene`), plus
     ``fig3.png`` (Fig. 3 a–c side by side) and ``stable.png`` (the counter-examples' paths).
 
     `dt` overrides the scenes' step. Returns the files written and the computed scenes.
     """
     folder = Path(folder)
-    names: Sequence[str] = list(PAPER_SCENES) + [n for n in SCENES if n.startswith("stable-")]
+    names: Sequence[str] = list(PAPER_SCENES) + ["wing-nut"] + [
+        n for n in SCENES if n.startswith("stable-")]
     results = {}
     written: list[Path] = []
     for name in names:
         scene = SCENES[name] if dt is None else SCENES[name].replace(dt=dt)
         results[name] = compute(scene)
-        written += render_scene(results[name], folder, progress=progress)
+        written += render_scene(results[name], folder, progress=progress, fps=fps, size=size)
     path = folder / "fig3.png"
     with _writing(path):
         fig3_figure([results[n] for n in ("fig3a", "fig3b", "fig3c")], save=path)

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _core
 from ._args import check_size
-from .body import Body
+from .body import Body, principal_body
 
 __all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "verdict"]
 
@@ -56,9 +56,10 @@ class Trajectory:
     t : ndarray, shape (frames,)
         Frame times; ``t[0] == 0`` and ``t[-1] == t_end``.
     omega : ndarray, shape (frames, 3)
-        Body-frame angular velocity ``(u, v, w)``.
+        Body-frame angular velocity ``(u, v, w)``, in the body's own axes.
     q : ndarray, shape (frames, 4)
-        Body-to-world unit quaternion, scalar first ``(Q, U, V, W)``.
+        Body-to-world unit quaternion of the body's own axes, scalar first
+        ``(Q, U, V, W)``: ``dz.rotate(traj.q, points)`` turns points given in those axes.
     flip_times : ndarray, shape (n_flips,), or None
         Times of the flips: half-turns of the intermediate axis relative to the angular
         momentum, located within the step (see the README). None if not asked for.
@@ -95,13 +96,18 @@ class Trajectory:
         Returns
         -------
         dict
-            ``energy`` (frames,), ``momentum_body`` (frames, 3), ``momentum_world``
-            (frames, 3) and ``q_norm`` (frames,).
+            ``energy`` (frames,), ``momentum_body`` (frames, 3) (``T ω``, in the body's own
+            axes), ``momentum_world`` (frames, 3) and ``q_norm`` (frames,).
         """
         if not self._invariants:
             check_size(len(self.t) * 8 * 8, f"the invariants at {len(self.t)} frames",
                        "compute them over fewer frames (a slice of the run)")
-            self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
+            omega, q = self.body.to_principal(self.omega, self.q)
+            values = dict(_core.invariants(self.body._core, np.ascontiguousarray(omega),
+                                           np.ascontiguousarray(q)))
+            if not self.body.is_principal:  # L = T ω in the user's axes
+                values["momentum_body"] = self.body.to_user(values["momentum_body"], q)[0]
+            self._invariants.update(values)
         return self._invariants
 
     @property
@@ -235,9 +241,19 @@ class Batch:
     nfev: np.ndarray
     n_rejected: np.ndarray
     drift: BatchDrift
+    body: Body | tuple[Body, ...] | None = field(default=None, repr=False)
+    """The body shared by every run, or one per run, when given as Bodies (their axes are
+    the ones `omega` and `q` are in); None for moments."""
 
     def __len__(self) -> int:
         return len(self.omega)
+
+    def _row_body(self, i: int) -> Body:
+        if isinstance(self.body, Body):
+            return self.body
+        if self.body is not None:
+            return self.body[i]
+        return trusted_body(self.inertia[i])
 
     @cached_property
     def flip_times(self) -> tuple[np.ndarray, ...] | None:
@@ -267,7 +283,7 @@ class Batch:
             omega=self.omega[i],
             q=self.q[i],
             flip_times=self._run_flip_times(i),
-            body=trusted_body(self.inertia[i]),
+            body=self._row_body(i),
             method=self.method,
             dt=float(self.dt[i]),
             n_steps=int(self.n_steps[i]),
@@ -293,7 +309,9 @@ class Batch:
                        _flip_offsets=offsets, inertia=self.inertia[take], dt=self.dt[take],
                        n_steps=self.n_steps[take], nfev=self.nfev[take],
                        n_rejected=self.n_rejected[take],
-                       drift=BatchDrift(*(d[take] for d in self.drift)))
+                       drift=BatchDrift(*(d[take] for d in self.drift)),
+                       body=self.body if not isinstance(self.body, tuple) else
+                       tuple(self.body[i] for i in rows))
 
     @property
     def t_end(self) -> float:
@@ -323,10 +341,7 @@ class Batch:
 
 def trusted_body(inertia: np.ndarray) -> Body:
     """A Body of moments the core has already accepted (no second warning)."""
-    body = Body.__new__(Body)
-    ix, iy, iz = (float(i) for i in inertia)
-    body._core = _core.RigidBody((ix, iy, iz))
-    return body
+    return principal_body(inertia)
 
 
 @dataclass(frozen=True, eq=False)

@@ -93,12 +93,17 @@ def simulate(
 
     Parameters
     ----------
-    body : Body or array_like, shape (3,) or (M, 3)
-        The body, or its principal moments ``(Ix, Iy, Iz)``; one row per run of a batch.
+    body : Body, list of Body, or array_like, shape (3,) or (M, 3)
+        The body (any :class:`Body`: from a tensor, a solid, parts, a mesh), or its
+        principal moments ``(Ix, Iy, Iz)``; one row (or one Body of a list) per run of a
+        batch. A 3×3 array is refused (use :meth:`Body.from_tensor`).
     omega0 : array_like, shape (3,) or (M, 3)
-        Initial body-frame angular velocity ``(u0, v0, w0)``, finite.
+        Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
+        axes (for a body from a tensor, those of the tensor; the run changes to principal
+        axes once at its start and back once at its end).
     q0 : array_like, shape (4,) or (M, 4)
-        Initial attitude, scalar first ``(Q, U, V, W)``; normalised here, must be non-zero.
+        Initial attitude of the body's own axes, scalar first ``(Q, U, V, W)``; normalised
+        here, must be non-zero.
     t_end : float
         End time, positive.
     frames : int
@@ -232,10 +237,11 @@ def simulate(
     )
     if out.omega is None or out.q is None:
         raise RuntimeError("internal error in the dzhanibekov core: frames were not kept")
+    omega_out, q_out = body.to_user(out.omega, out.q)
     return Trajectory(
         t=out.t,
-        omega=out.omega,
-        q=out.q,
+        omega=omega_out,
+        q=q_out,
         flip_times=out.flip_times if flips else None,
         body=body,
         method=method,
@@ -253,7 +259,8 @@ def _checked(
 ) -> tuple[Body, np.ndarray, np.ndarray, float, int, int]:
     """The arguments of a run but its step, coerced and checked (shared by `simulate` and
     `summarize`, named `function` in messages; `accuracy.plan_step` settles the step and
-    tolerances). Arguments that look swapped are refused once everything else passed."""
+    tolerances), with the start in the body's principal axes. Arguments that look swapped
+    are refused once everything else passed."""
     omega0_given = omega0
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
@@ -265,7 +272,9 @@ def _checked(
     check_method(method)
     check_tolerances(method, dt, rtol, atol)
     check_not_swapped(body, omega0_given, function)
-    return as_body(body), omega0, q0, t_end, frames, max_steps
+    body = as_body(body)
+    omega0, q0 = body.to_principal(omega0, q0)  # the run's one change of axes, at its start
+    return body, omega0, q0, t_end, frames, max_steps
 
 
 def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:

@@ -194,11 +194,26 @@ def run_args(draw: st.DrawFn, method: str, *, flips: bool = True) -> dict[str, A
     return kwargs
 
 
+def batch_rows_of(value: Any, width: int) -> bool:
+    """Whether `value` is finite real rows (M, width), M ≥ 1, non-zero if quaternions: not
+    hostile to `simulate`, which runs them as a batch (the hostile reshapes draw (1, n))."""
+    try:
+        arr = np.asarray(value)
+    except Exception:
+        return False
+    if arr.dtype.kind not in "iuf" or arr.ndim != 2 or arr.shape[1] != width or not arr.size:
+        return False
+    rows = arr.astype(float)
+    return bool(np.isfinite(rows).all() and (width != 4 or rows.any(axis=1).all()))
+
+
 def run_hostile(method_names: tuple[str, ...], *, flips: bool = True) -> dict[str, st.SearchStrategy[Any]]:
     hostile = {
-        "body": st.one_of(hostile_vector3(positive=True, moments=True), st.just(dz.SCENES["fig3a"])),
-        "omega0": hostile_vector3(),
-        "q0": hostile_quaternion(),
+        "body": st.one_of(hostile_vector3(positive=True, moments=True).filter(
+            lambda v: not (batch_rows_of(v, 3) and bool((np.asarray(v) > 0).all()))),
+            st.just(dz.SCENES["fig3a"])),
+        "omega0": hostile_vector3().filter(lambda v: not batch_rows_of(v, 3)),
+        "q0": hostile_quaternion().filter(lambda v: not batch_rows_of(v, 4)),
         "t_end": hostile_real(positive=True),
         "frames": hostile_int(2),
         "dt": hostile_real(positive=True).filter(lambda v: v is not None),
@@ -417,6 +432,64 @@ def box_args() -> st.SearchStrategy[dict[str, Any]]:
     edge = st.one_of(valid_positive(1e-100, 1e100), valid_positive())
     return st.fixed_dictionaries({"a": edge, "b": edge, "c": edge},
                                  optional={"mass": st.one_of(valid_positive(1e-100, 1e100), valid_positive())})
+
+
+@st.composite
+def tensor_args(draw: st.DrawFn) -> dict[str, Any]:
+    """R diag(I) Rᵀ for moments within a ratio of 1e4 (the eigenvalues of a tensor are known
+    to its largest times the round-off) at any scale, and a random rotation R."""
+    moments = np.array([10.0 ** draw(st.floats(-2, 2)) for _ in range(3)])
+    moments *= draw(st.sampled_from([1.0, 1e-150, 1e150, 1e-300, 1e300]))
+    r = Rotation.from_quat(draw(directions(4)) + [1e-3, 0, 0, 0]).as_matrix()
+    out: dict[str, Any] = {"tensor": r @ np.diag(moments) @ r.T}
+    if draw(st.booleans()):
+        out["mass"] = draw(valid_positive(1e-100, 1e100))
+    return out
+
+
+def check_tensor(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    tensor = np.asarray(kwargs["tensor"], dtype=float)
+    assert isinstance(body, dz.Body)
+    axes = body.principal_axes
+    np.testing.assert_allclose(axes.T @ axes, np.eye(3), atol=1e-13)
+    assert abs(np.linalg.det(axes) - 1) < 1e-13
+    scale = np.abs(tensor).max()
+    np.testing.assert_allclose((axes @ np.diag(body.inertia) @ axes.T) / scale, tensor / scale,
+                               atol=1e-12)
+    assert list(body.inertia) == sorted(body.inertia)
+
+
+def check_solid(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    r, h, m = (float(kwargs[k]) for k in ("radius", "height", "mass"))
+    # Goldstein's table: Iz = m r²/2, Ix = Iy = m (3 r² + h²)/12
+    want = [m * (3 * r * r + h * h) / 12, m * (3 * r * r + h * h) / 12, m * r * r / 2]
+    np.testing.assert_allclose(body.inertia, want, rtol=1e-14)
+    assert not caught
+
+
+def check_box_mesh(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    v = np.asarray(kwargs["vertices"], dtype=float)
+    a, b, c = v.max(axis=0) - v.min(axis=0)  # a box mesh: the box's moments
+    m = body.mass
+    want = np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * m / 12
+    np.testing.assert_allclose(body.tensor, want, atol=1e-9 * np.abs(want).max())
+    np.testing.assert_allclose(body.center_of_mass, v.mean(axis=0), atol=1e-9 * np.abs(v).max())
+
+
+BOX_MESH_FACES = np.array([(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4),
+                           (2, 6, 7), (2, 7, 3), (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5)])
+
+
+@st.composite
+def box_mesh_args(draw: st.DrawFn) -> dict[str, Any]:
+    size = np.array([10.0 ** draw(st.floats(-3, 3)) for _ in range(3)])
+    offset = np.array([draw(st.floats(-1e3, 1e3)) for _ in range(3)])
+    k = np.arange(8)
+    v = (np.stack([(k >> j) & 1 for j in range(3)], axis=1) - 0.5) * size + offset
+    out: dict[str, Any] = {"vertices": v, "faces": BOX_MESH_FACES.copy()}
+    if draw(st.booleans()):
+        out["density"] = draw(valid_positive(1e-10, 1e10))
+    return out
 
 
 # -- the flip period ----------------------------------------------------------------------------
@@ -782,6 +855,40 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.Body,),
         aliases={"a": ("a, b, c",), "b": ("a, b, c",), "c": ("a, b, c",)},
         min_success=0.3,  # edges 1e-100 to 1e100 apart make moments beyond the 1e150 ratio
+    ),
+    "Body.from_tensor": Entry(
+        call=dz.Body.from_tensor,
+        valid=tensor_args(),
+        hostile={"tensor": hostile_array((3, 3), tensor_args().map(lambda k: k["tensor"]),
+                                         extra=[st.just(np.diag([1.0, -1.0, 1.0])),
+                                                st.just(np.array([[1.0, 0.5, 0], [0, 1, 0],
+                                                                  [0, 0, 1]]))]),
+                 "mass": hostile_real(positive=True).filter(lambda x: x is not None)},
+        check=check_tensor,
+        covers=(dz.Body,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "Body.cylinder": Entry(
+        call=dz.Body.cylinder,
+        valid=st.fixed_dictionaries({k: valid_positive(1e-50, 1e50)
+                                     for k in ("radius", "height", "mass")}),
+        hostile={k: hostile_real(positive=True) for k in ("radius", "height", "mass")},
+        check=check_solid,
+        covers=(dz.Body,),
+        min_success=0.3,
+    ),
+    "Body.from_mesh": Entry(
+        call=dz.Body.from_mesh,
+        valid=box_mesh_args(),
+        hostile={"vertices": hostile_array((None, 3), box_mesh_args().map(lambda k: k["vertices"])),
+                 "faces": st.one_of(JUNK, st.just(BOX_MESH_FACES[:-1]),
+                                    st.just(BOX_MESH_FACES[:, ::-1]),
+                                    st.just(BOX_MESH_FACES + 8), st.just(BOX_MESH_FACES * 1.0)),
+                 "density": hostile_real(positive=True).filter(lambda x: x is not None)},
+        check=check_box_mesh,
+        covers=(dz.Body, dz.MeshError),
+        min_success=0.9,
     ),
     **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
     "summarize": Entry(

@@ -10,6 +10,10 @@ from dzhanibekov.plotting import animation
 from dzhanibekov.scenes.scene import Draw
 
 
+FAST = {"size": 128, "max_turn_deg": 180.0}
+"""Small frames, few of them: for tests of the files written, not of the frames' count."""
+
+
 @pytest.fixture
 def short():
     """The paper's example, cut to 21 frames around its flip (at t ≈ 46)."""
@@ -18,19 +22,26 @@ def short():
     return dz.SCENES["example"].replace(t_end=60.0, frames=21, draw=draw)
 
 
-def test_the_gif_has_a_frame_per_scene_frame_and_they_move(short, tmp_path, monkeypatch):
+def test_the_gif_turns_the_body_by_at_most_max_turn_per_frame_and_they_move(
+        short, tmp_path, monkeypatch):
     calls = []
     real = _core.rotate
     monkeypatch.setattr(_core, "rotate", lambda *a: calls.append(a) or real(*a))
-    written = animation.animate(short, tmp_path / "flip.gif", mp4=False, progress=False)
+    written = animation.animate(short, tmp_path / "flip.gif", mp4=False, progress=False,
+                                size=200, max_turn_deg=45.0)
     assert written == [tmp_path / "flip.gif"]
-    # every point of every frame came from one call into the core
-    ((q, points),) = calls
-    assert q.shape == (21, 4) and points.shape == (8 + 24 * 11 + 2 + 3 + 1, 3)
+    # every point of every animation frame came from one call into the core (the others:
+    # the scene's plan at its frames, and the trail's smooth path, the signal point alone)
+    (q, points), = [c for c in calls if len(c[1]) > 1 and len(c[0]) > short.frames]
+    assert points.shape == (8 + 24 * 11 + 2 + 3 + 1, 3)
+    rate = np.linalg.norm(short.run().omega, axis=1).max()
     frames = []
     with Image.open(tmp_path / "flip.gif") as gif:
-        assert gif.n_frames == 21
-        for k in (0, 10, 20):
+        n = gif.n_frames
+        assert gif.size == (200, 200)
+        assert q.shape == (n, 4) and (n - 1) % 20 == 0 and n > 21
+        assert rate * short.t_end / (n - 1) <= np.radians(45.0)
+        for k in (0, (n - 1) // 2, n - 1):
             gif.seek(k)
             frames.append(np.asarray(gif.convert("RGB")))
     for f in frames:
@@ -40,14 +51,17 @@ def test_the_gif_has_a_frame_per_scene_frame_and_they_move(short, tmp_path, monk
 
 
 def test_a_progress_bar_counts_the_frames(short, tmp_path, capsys):
-    animation.animate(short, tmp_path / "a.gif", mp4=False, progress=True)
+    animation.animate(short, tmp_path / "a.gif", mp4=False, progress=True, size=128,
+                      max_turn_deg=180.0)
     err = capsys.readouterr().err
-    assert "animation example" in err and "21/21" in err
+    with Image.open(tmp_path / "a.gif") as gif:
+        n = gif.n_frames
+    assert "animation example" in err and f"{n}/{n}" in err
 
 
 @pytest.mark.skipif(animation.ffmpeg_path() is None, reason="no ffmpeg here")
 def test_an_mp4_is_written_beside_the_gif_when_ffmpeg_is_there(short, tmp_path):
-    written = animation.animate(short, tmp_path / "flip.gif", progress=False)
+    written = animation.animate(short, tmp_path / "flip.gif", progress=False, size=360)
     assert written == [tmp_path / "flip.gif", tmp_path / "flip.mp4"]
     head = (tmp_path / "flip.mp4").read_bytes()[:12]
     assert head[4:8] == b"ftyp"  # an MP4 container
@@ -56,10 +70,11 @@ def test_an_mp4_is_written_beside_the_gif_when_ffmpeg_is_there(short, tmp_path):
 
 def test_without_ffmpeg_only_the_gif(short, tmp_path, monkeypatch):
     monkeypatch.setattr(animation, "ffmpeg_path", lambda: None)
-    assert animation.animate(short, tmp_path / "a.gif", progress=False) == [tmp_path / "a.gif"]
+    written = animation.animate(short, tmp_path / "a.gif", progress=False, **FAST)
+    assert written == [tmp_path / "a.gif"]
     assert not (tmp_path / "a.mp4").exists()
     with pytest.raises(ValueError, match="`mp4=True` needs ffmpeg"):
-        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False)
+        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)
 
 
 def test_a_scene_without_an_animation_is_refused(tmp_path):
@@ -70,7 +85,7 @@ def test_a_scene_without_an_animation_is_refused(tmp_path):
 def test_a_failing_ffmpeg_costs_the_mp4_not_the_gif(short, tmp_path, monkeypatch):
     monkeypatch.setattr(animation, "ffmpeg_path", lambda: "false")  # exits at once, status 1
     with pytest.warns(RuntimeWarning, match="no MP4 written: ffmpeg failed"):
-        written = animation.animate(short, tmp_path / "a.gif", progress=False)
+        written = animation.animate(short, tmp_path / "a.gif", progress=False, **FAST)
     assert written == [tmp_path / "a.gif"] and (tmp_path / "a.gif").stat().st_size > 0
     with pytest.raises(RuntimeError, match="ffmpeg failed"):
-        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False)
+        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)

@@ -143,8 +143,9 @@ def test_a_batch_too_large_for_memory_is_refused_before_it_runs(paper_body):
 
 
 def test_one_warning_for_all_unphysical_bodies():
-    bodies = np.array([[1.0, 2.0, 2.5], [1.0, 1.0, 5.0], [1.0, 1.0, 6.0]])
-    with pytest.warns(dz.InertiaWarning, match="2 of 3 bodies") as caught:
+    # four rows: a square (3, 3) array is refused as ambiguous (a tensor or three bodies?)
+    bodies = np.array([[1.0, 2.0, 2.5], [1.0, 1.0, 5.0], [1.0, 1.0, 6.0], [2.0, 2.0, 2.0]])
+    with pytest.warns(dz.InertiaWarning, match="2 of 4 bodies") as caught:
         dz.simulate(bodies, (0.1, 0.1, 1.0), t_end=1.0)
     assert len(caught) == 1 and caught[0].filename == __file__
 

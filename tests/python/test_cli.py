@@ -28,15 +28,21 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     out = tmp_path / "figures"
     assert main(["paper", "--out", str(out), "--no-progress"]) == 0
     expected = {"fig3.png", "stable.png", "example.gif"}
-    for name in list(dz.PAPER_SCENES) + ["stable-largest", "stable-smallest"]:
+    expected.add("wing-nut.gif")  # the paper's Fig. 1
+    for name in list(dz.PAPER_SCENES) + ["wing-nut", "stable-largest", "stable-smallest"]:
         expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
     if animation.ffmpeg_path() is not None:
-        expected.add("example.mp4")
+        expected |= {"example.mp4", "wing-nut.mp4"}
     assert {p.name for p in out.iterdir()} == expected
     for path in out.glob("*.png"):
         assert_picture(path)
     with Image.open(out / "example.gif") as gif:
-        assert gif.n_frames == dz.SCENES["example"].frames
+        # at least a frame per scene frame, and the body turning at most 10° from one to
+        # the next (at its fastest)
+        scene = dz.SCENES["example"]
+        rate = np.linalg.norm(scene.run().omega, axis=1).max()
+        assert gif.n_frames >= scene.frames
+        assert rate * scene.t_end / (gif.n_frames - 1) <= np.radians(10.0) * (1 + 1e-9)
     summary = json.loads((out / "fig3a.json").read_text())
     assert summary["verdict"] == "2 flips in [0, 100]" and len(summary["flip_times"]) == 2
     assert json.loads((out / "stable-largest.json").read_text())["flip_times"] == []

@@ -15,7 +15,7 @@ def test_the_scene_files_ship_inside_the_package():
     folder = resources.files("dzhanibekov") / "scenes"
     names = {f.name for f in folder.iterdir() if f.name.endswith(".toml")}
     assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
-                     "stable-largest.toml", "stable-smallest.toml"}
+                     "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 

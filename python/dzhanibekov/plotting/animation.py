@@ -10,7 +10,6 @@ at all frames come from one call to the core's `rotate` (the scene's plan), befo
 from __future__ import annotations
 
 import shutil
-import textwrap
 import warnings
 import subprocess
 from pathlib import Path
@@ -22,14 +21,17 @@ from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
-from ..scenes.plan import SceneResult
+from .._args import as_float, as_int
+from ..scenes.plan import SceneResult, densified
 from .figures import _axes3d, _limits, _title, compute, draw_body, extent
 from ..scenes.scene import Scene
 
 __all__ = ["animate", "ffmpeg_path"]
 
-SIZE_PX = 360
-"""Width and height of the animation, in pixels (even, as H.264 needs)."""
+SIZE_PX = 560
+"""Default width and height of the animation, in pixels (even, as H.264 needs)."""
+FPS = 20
+"""Default frames per second."""
 
 
 def ffmpeg_path() -> str | None:
@@ -49,9 +51,12 @@ def ffmpeg_path() -> str | None:
         return None
 
 
-def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
-            mp4: bool | None = None, progress: bool | None = None) -> list[Path]:
-    """Renders the scene's animation: one frame per scene frame.
+def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = None,
+            size: int | None = None, max_turn_deg: float = 10.0, mp4: bool | None = None,
+            progress: bool | None = None) -> list[Path]:
+    """Renders the scene's animation, with enough frames that the body turns at most 10°
+    from one to the next (at least one per scene frame): the attitudes between the run's
+    frames come from its interpolant (:func:`dzhanibekov.plan.densified`).
 
     Parameters
     ----------
@@ -60,8 +65,12 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
         frame in one call to the core).
     path : str or Path
         The GIF to write; the MP4 goes beside it with the suffix ``.mp4``.
-    fps : int
-        Frames per second.
+    fps : int, optional
+        Frames per second: the scene's `draw.fps`, else 20.
+    size : int, optional
+        Width and height in pixels (even): the scene's `draw.animation_size`, else 560.
+    max_turn_deg : float
+        The most the body turns from one frame to the next, in degrees (at its fastest).
     mp4 : bool, optional
         Also write an MP4: None (default) when ffmpeg is found, True to insist (ValueError
         without ffmpeg), False never.
@@ -86,19 +95,27 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
     if not result.scene.draw.animation or result.trajectory is None:
         raise ValueError(f"scene {result.scene.name!r} does not ask for an animation; set "
                          "`draw.animation = true` in its scene file")
+    fps = as_int("fps", fps if fps is not None else result.scene.draw.fps or FPS, minimum=1,
+                 maximum=1000)
+    size = as_int("size", size if size is not None else
+                  result.scene.draw.animation_size or SIZE_PX, minimum=64, maximum=4096)
+    size += size % 2
+    result = densified(result, np.radians(as_float("max_turn_deg", max_turn_deg,
+                                                   positive=True)))
+    assert result.trajectory is not None, "a densified result keeps its frames"
     gif = Path(path)
     ffmpeg = ffmpeg_path() if mp4 is not False else None
     if mp4 and ffmpeg is None:
         raise ValueError("`mp4=True` needs ffmpeg: install it, or `pip install imageio-ffmpeg`")
     n = result.scene.frames
-    fig = Figure(figsize=(SIZE_PX / 100, SIZE_PX / 100), dpi=100)
+    fig = Figure(figsize=(size / 100, size / 100), dpi=100)
     canvas = FigureCanvasAgg(fig)
-    fig.subplots_adjust(0, 0, 1, 0.93)
+    fig.subplots_adjust(0, 0, 1, 0.92)
     ax = _axes3d(fig, 1, 1, 1)
     ax.set_axis_off()
     _limits(ax, extent(result))
-    fig.suptitle(textwrap.fill(_title(result), 64), fontsize=7)
-    clock = fig.text(0.02, 0.02, "", fontsize=8)
+    fig.suptitle(_title(result, int(size / 5.5)), fontsize=8)
+    clock = fig.text(0.02, 0.02, "", fontsize=9)
     images: list[Image.Image] = []
     video = _Video(ffmpeg, gif.with_suffix(".mp4"), fps) if ffmpeg else None
     try:
@@ -111,7 +128,7 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
                 clock.set_text(f"t = {result.trajectory.t[frame]:.1f}")
                 canvas.draw()  # type: ignore[no-untyped-call]
                 rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[no-untyped-call]
-                images.append(Image.fromarray(rgba[..., :3]).quantize(colors=64))
+                images.append(Image.fromarray(rgba[..., :3]).quantize(colors=128))
                 if video is not None:
                     video.write(rgba)
                 for artist in artists.values():

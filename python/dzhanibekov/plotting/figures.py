@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.axes import Axes
+from matplotlib.colors import LightSource
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # type: ignore[import-untyped]
 from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
@@ -54,8 +55,12 @@ ISOMETRIC = (np.degrees(np.arctan(1 / np.sqrt(2))), -45.0)
 """Elevation and azimuth (degrees) of the isometric view; with the orthographic projection,
 an axonometric picture as in the paper."""
 
+AXES_ZOOM = 0.86
+"""A 3-D axes' box within its panel: at 1 the z label and tick labels are clipped."""
+
 COLORS = {
     "box": "#1f3b73",
+    "faces": "#8fa6cf",
     "ellipsoid": "#f2a541",
     "signal": "#c0392b",
     "path": "#c0392b",
@@ -66,6 +71,8 @@ COLORS = {
     "polhode": "#9a9a9a",
 }
 DPI = 100
+LIGHT = LightSource(azdeg=300, altdeg=40)
+"""The light that shades a mesh's faces."""
 
 
 def compute(scene: Scene | SceneResult) -> SceneResult:
@@ -104,7 +111,7 @@ def _axes3d(fig: Figure, *args: Any) -> Axes3D:
     ax: Axes3D = fig.add_subplot(*args, projection="3d")
     ax.set_proj_type("ortho")
     ax.view_init(elev=ISOMETRIC[0], azim=ISOMETRIC[1])
-    ax.set_box_aspect((1, 1, 1))
+    ax.set_box_aspect((1, 1, 1), zoom=AXES_ZOOM)  # room for the axis labels
     return ax
 
 
@@ -129,7 +136,9 @@ def _scaled_invariants(traj: Trajectory) -> tuple[dict[str, np.ndarray], float]:
     big = float(np.abs(traj.omega[0]).max()) or 1.0
     ix, iy, iz = (float(x) for x in inertia / inertia.max())
     unit_body = _core.RigidBody((ix, iy, iz))
-    return _core.invariants(unit_body, traj.omega / big, traj.q), big
+    omega, q = traj.body.to_principal(traj.omega, traj.q)
+    return _core.invariants(unit_body, np.ascontiguousarray(omega) / big,
+                            np.ascontiguousarray(q)), big
 
 
 def _relative(values: np.ndarray, reference: float) -> np.ndarray:
@@ -152,8 +161,16 @@ def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True
             alpha=0.35, label="inertia ellipsoid"))
     if "box" in result.world:
         corners = result.at("box", frame)
+        shape = scene.drawn_shape
+        if shape is not None and shape.faces is not None:
+            artists["faces"] = ax.add_collection3d(Poly3DCollection(
+                corners[shape.faces], facecolors=COLORS["faces"], edgecolors=COLORS["faces"],
+                linewidths=0.0,
+                alpha=0.45, shade=True, lightsource=LIGHT))
+        edges = shape.edges if shape is not None else box_edges()
         artists["box"] = ax.add_collection3d(Line3DCollection(
-            corners[box_edges()], colors=COLORS["box"], linewidths=1.4, label="box"))
+            corners[edges], colors=COLORS["box"], linewidths=1.4 if len(edges) < 60 else 0.8,
+            label="body" if shape is not None and shape.faces is not None else "box"))
     if "body_axes" in result.world:
         tips = result.at("body_axes", frame)
         segments = np.stack([np.zeros_like(tips), tips], axis=1)
@@ -164,9 +181,11 @@ def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True
         (artists["momentum"],) = ax.plot(*np.stack([-tip, tip]).T, color=COLORS["momentum"],
                                          lw=0.8, ls="--", label="L (angular momentum)")
     if "signal" in result.world and (d.path or d.signal_point):
-        path = result.path if len(result.world["signal"].frames) == scene.frames else None
-        if d.path and path is not None and trail:
-            (artists["trail"],) = ax.plot(*path[: frame + 1].T, color=COLORS["path"], lw=1.0,
+        whole = len(result.world["signal"].frames) == scene.frames
+        if d.path and whole and trail and result.trajectory is not None:
+            times, path = result.dense_path
+            now = times <= result.trajectory.t[frame]
+            (artists["trail"],) = ax.plot(*path[now].T, color=COLORS["path"], lw=1.0,
                                           label="signal point's path")
             ax.plot(*path.T, color=COLORS["path"], lw=0.4, alpha=0.25)
         if d.signal_point:
@@ -230,7 +249,11 @@ def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
 def _title(result: SceneResult, width: int = 0) -> str:
     verdict = result.verdict
     title = result.scene.title + (f" — {verdict}" if verdict else "")
-    return textwrap.fill(title, width) if width else title
+    if not width or len(title) <= width:
+        return title
+    # a line for the scene, a line for the verdict: no phrase broken in the middle
+    head = textwrap.fill(result.scene.title, width)
+    return f"{head} —\n{verdict}" if verdict else head
 
 
 def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
@@ -260,12 +283,24 @@ def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
         fig = Figure(figsize=(5.2, 5.2), layout="constrained")
         ax = _axes3d(fig, 1, 1, 1)
     fig = _figure_of(ax)
-    path = result.path
+    _, path = result.dense_path  # smooth, from the run's interpolant
     ax.plot(*path.T, color=COLORS["path"], lw=0.9, label="signal point's path")
     ax.plot(*path[0], "o", color="#2e8b57", ms=5, label="start")
     ax.plot(*path[-1], "s", color="#333333", ms=4, label="end")
     size = extent(result)
-    if result.scene.draw.momentum:
+    radius = math.hypot(*result.scene.signal_point)
+    centre = 0.5 * (path.max(axis=0) + path.min(axis=0))
+    spread = float(np.abs(path - centre).max())
+    zoom = spread < 0.2 * radius  # a small cone about a stable axis: draw it, not a dot
+    if zoom:
+        cone = math.degrees(math.asin(min(1.0, spread * 2 / radius))) if radius > 0 else 0.0
+        ax.set_title(f"zoomed: the point stays within ~{cone:.2g}° of its start",
+                     fontsize=7, loc="left", y=-0.02)
+    if result.scene.draw.momentum and zoom:
+        ell = _unit(result.momentum_world)
+        ax.plot(*np.stack([centre - ell * spread, centre + ell * spread]).T,
+                color=COLORS["momentum"], lw=1.2, label="L (angular momentum)")
+    elif result.scene.draw.momentum:
         ell = _unit(result.momentum_world)
         ax.plot(*np.stack([np.zeros(3), ell * size]).T, color=COLORS["momentum"], lw=1.2,
                 label="L (angular momentum)")
@@ -275,15 +310,21 @@ def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
         phi = np.linspace(0, 2 * np.pi, 97)
         circle = radius * (np.outer(np.cos(phi), a) + np.outer(np.sin(phi), b))
         ax.plot(*circle.T, color="#777777", lw=0.6, ls="--", label="equator ⊥ L")
-    _limits(ax, size)
+    if zoom:
+        half = 1.3 * spread if spread > 0 else 0.01 * radius or 1.0
+        for setter, c in zip((ax.set_xlim, ax.set_ylim, ax.set_zlim), centre):
+            setter(c - half, c + half)
+    else:
+        _limits(ax, size)
     ax.set_xlabel("X")
     ax.set_ylabel("Y")
     ax.set_zlabel("Z")
     # wrapped to the panel's width: a second line of a 3-D axes' title is cut off at the top
     spec = ax.get_subplotspec()
     columns = spec.get_gridspec().ncols if spec is not None else 1
-    ax.set_title(_title(result, int(15 * fig.get_figwidth() / columns)), fontsize=9)
-    ax.legend(loc="upper left", fontsize=7)
+    # inside the panel's top margin: constrained layout does not make room above a 3-D box
+    ax.set_title(_title(result, int(15 * fig.get_figwidth() / columns)), fontsize=9, y=0.93)
+    ax.legend(loc="upper left", bbox_to_anchor=(0.0, 0.83), fontsize=7)
     return _saved(fig, save)
 
 
@@ -328,7 +369,8 @@ def omega_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     ax.set_ylabel("ω (body frame)")
     ax.set_xlim(0, traj.t[-1])
     ax.set_title(_title(result), fontsize=9)
-    ax.legend(loc="upper right", fontsize=8, ncols=4)
+    # beside the axes, where it covers no curve
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     return _saved(fig, save)
 
 
@@ -497,15 +539,43 @@ def polhode_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
     for k, curve in enumerate(separatrix):
         ax.plot(*curve.T, color=COLORS["separatrix"], lw=1.2,
                 label="separatrix" if k == 0 else None)
-    ax.plot(*traj.omega.T, color="#1f4fd6", lw=2.0, label="ω(t)")
-    ax.plot(*traj.omega[0], "o", color="#2e8b57", ms=5, label="ω(0)")
+    omega, _ = traj.body.to_principal(traj.omega, traj.q)
+    ax.plot(*omega.T, color="#1f4fd6", lw=2.0, label="ω(t)")
+    ax.plot(*omega[0], "o", color="#2e8b57", ms=5, label="ω(0)")
+    if len(separatrix) == 2:
+        ax.view_init(*view_of_planes(separatrix))
     _limits(ax, 1.1 * float(semi.max()) if semi.max() > 0 else 1.0)
-    ax.set_xlabel("u")
-    ax.set_ylabel("v")
-    ax.set_zlabel("w")
-    ax.set_title(f"{result.scene.title}: polhode", fontsize=9)
+    principal = "" if traj.body.is_principal else " (principal axes)"
+    ax.set_xlabel("ω₁" if principal else "u")
+    ax.set_ylabel("ω₂" if principal else "v")
+    ax.set_zlabel("ω₃" if principal else "w")
+    ax.set_title(f"{result.scene.title}: polhode{principal}", fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
     return _saved(fig, save)
+
+
+def view_of_planes(curves: Sequence[np.ndarray]) -> tuple[float, float]:
+    """Elevation and azimuth (degrees) from which each planar curve is seen as open as can
+    be (none edge-on): the direction furthest from every curve's plane, the isometric view's
+    nearest among the best."""
+    normals = []
+    for c in curves:
+        centred = c - c.mean(axis=0)
+        normals.append(np.linalg.svd(centred, full_matrices=False)[2][-1])
+    elev, azim = np.meshgrid(np.radians(np.arange(5.0, 61.0, 1.0)),
+                             np.radians(np.arange(-180.0, 180.0, 1.0)), indexing="ij")
+    view = np.stack([np.cos(elev) * np.cos(azim), np.cos(elev) * np.sin(azim),
+                     np.sin(elev)], axis=-1)
+    # |sin| of the angle between the view and each plane; both at least 0.45 (27°) and the
+    # two seen differently (not from their common bisector), nearest the isometric view
+    openness = np.min([np.abs(view @ n) for n in normals], axis=0)
+    apart = np.abs(np.abs(view @ normals[0]) - np.abs(view @ normals[-1]))
+    near = -np.hypot(elev - np.radians(ISOMETRIC[0]),
+                     (azim - np.radians(ISOMETRIC[1]) + np.pi) % (2 * np.pi) - np.pi)
+    good = (openness >= 0.45) & (apart >= 0.2)
+    score = np.where(good, near, openness - 10.0)
+    k = np.unravel_index(int(np.argmax(score)), score.shape)
+    return float(np.degrees(elev[k])), float(np.degrees(azim[k]))
 
 
 FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {

@@ -16,11 +16,14 @@ from __future__ import annotations
 import math
 
 from collections.abc import Mapping
+import dataclasses
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
 
+from ..dense import attitudes_at, turn_grid
 from ..geometry import ellipsoid_mesh, ellipsoid_semi_axes
 from ..geometry import box_vertices
 from .scene import Scene
@@ -30,8 +33,14 @@ from ..results import Drift, Trajectory
 
 __all__ = ["Rotation", "Plan", "WorldPoints", "SceneResult", "make_plan", "execute"]
 
+PATH_TURN = np.radians(1.5)
+"""The largest turn of the body between two points of a drawn path (a smooth curve)."""
+ANIMATION_TURN = np.radians(10.0)
+"""The largest turn of the body from one animation frame to the next."""
+
 POINT_SETS = ("box", "ellipsoid", "body_axes", "signal")
-"""Body point sets a scene may rotate: the box's 8 corners, the ellipsoid mesh's vertices,
+"""Body point sets a scene may rotate: the body's outline (the box's 8 corners, or the
+points of its own shape), the ellipsoid mesh's vertices,
 the tips of the body axes and the signal point."""
 
 
@@ -126,7 +135,10 @@ class WorldPoints(NamedTuple):
 def body_points(scene: Scene, name: str, mesh: tuple[np.ndarray, np.ndarray] | None) -> np.ndarray:
     """The body-frame points of set `name`, shape (P, 3)."""
     if name == "box":
-        return box_vertices(*scene.drawn_box)
+        shape = scene.drawn_shape
+        if shape is None:
+            return box_vertices(*scene.drawn_box)  # raises, naming what is missing
+        return shape.vertices
     if name == "ellipsoid":
         assert mesh is not None, "the plan builds the mesh before rotating it"
         return mesh[0]
@@ -140,8 +152,9 @@ def body_points(scene: Scene, name: str, mesh: tuple[np.ndarray, np.ndarray] | N
 def axis_length(scene: Scene) -> float:
     """Length of the body axes drawn: a little beyond the largest object."""
     sizes = [math.hypot(*scene.signal_point)]
-    if scene.draw.box:
-        sizes.append(max(scene.drawn_box) / 2)
+    shape = scene.drawn_shape
+    if scene.draw.box and shape is not None:
+        sizes.append(shape.radius)
     if scene.draw.ellipsoid:
         sizes.append(float(ellipsoid_semi_axes(scene.inertia, scene.ellipsoid.convention).max()))
     return 1.15 * max(sizes)
@@ -201,12 +214,49 @@ class SceneResult:
         """The signal point's path in space at every frame, shape (frames, 3)."""
         return self.world["signal"].points[:, 0, :]
 
+    @cached_property
+    def dense_path(self) -> tuple[np.ndarray, np.ndarray]:
+        """The signal point's path drawn smooth: times (N,) and points (N, 3) with the body
+        turning at most `PATH_TURN` between points, from the run's interpolant
+        (:mod:`dzhanibekov.dense`), whatever the number of stored frames."""
+        traj = self.trajectory
+        assert traj is not None, "a path needs frames"
+        times = turn_grid(traj.t, traj.omega, PATH_TURN)
+        q, _ = attitudes_at(traj.t, traj.omega, traj.q, times)
+        return times, rotate(q, np.array(self.scene.signal_point))
+
     @property
     def momentum_world(self) -> np.ndarray:
         """The angular momentum in space at the start (it is conserved), shape (3,)."""
         assert self.trajectory is not None
         momentum: np.ndarray = self.trajectory.invariants()["momentum_world"][0]
         return momentum
+
+
+def densified(result: SceneResult, max_turn: float = ANIMATION_TURN) -> SceneResult:
+    """The result at evenly spaced times with the body turning at most `max_turn` radians
+    from one to the next (the scene's frames among them): attitudes from the run's interpolant
+    (:mod:`dzhanibekov.dense`), every point set rotated at every time in one call to the
+    core's `rotate`. For animations, whose frames must not jump."""
+    traj = result.trajectory
+    if traj is None:
+        raise ValueError(f"scene {result.scene.name!r} kept no frames to interpolate")
+    times = turn_grid(traj.t, traj.omega, max_turn)
+    if len(times) == len(traj.t):
+        return result
+    q, omega = attitudes_at(traj.t, traj.omega, traj.q, times)
+    dense = dataclasses.replace(traj, t=times, omega=omega, q=q, _invariants={})
+    names = tuple(result.world)
+    scene = result.scene.replace(frames=len(times))
+    sets = [body_points(scene, name, result.mesh) for name in names]
+    world: dict[str, WorldPoints] = {}
+    if sets:
+        out = rotate(q, np.concatenate(sets))
+        start = 0
+        for name, pts in zip(names, sets):
+            world[name] = WorldPoints(np.arange(len(times)), out[:, start:start + len(pts)])
+            start += len(pts)
+    return SceneResult(scene, result.plan, dense, result.summary, result.mesh, world)
 
 
 def execute(plan: Plan) -> SceneResult:
@@ -225,6 +275,8 @@ def execute(plan: Plan) -> SceneResult:
     if "ellipsoid" in plan.meshes:
         semi_axes = ellipsoid_semi_axes(scene.inertia, scene.ellipsoid.convention)
         mesh = ellipsoid_mesh(semi_axes, *scene.ellipsoid.mesh)
+        if not scene.body.is_principal:  # built in principal axes, drawn in the user's
+            mesh = (mesh[0] @ scene.body.principal_axes.T, mesh[1])
     world: dict[str, WorldPoints] = {}
     for rotation in plan.rotations:
         assert traj is not None, "rotations need frames"

@@ -9,7 +9,7 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     [body]
     inertia = [52.0833, 27.0833, 41.6666]  # principal moments (Ix, Iy, Iz); or box = [a, b, c]
     box = [20.0, 10.0, 15.0]               # the box drawn, edges along x, y, z
-    signal_point = [0.0, 0.0, 13.0]        # body frame
+    signal_point = [0.0, 0.0, 13.0]        # body frame; left out: scaled to the body
 
     [start]
     omega = [0.01, 0.01, 1.0]              # body angular velocity (u0, v0, w0)
@@ -30,6 +30,14 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     path = true                            # the signal point's path
     figures = ["path", "omega", "invariants", "polhode"]
 
+Instead of `inertia`, the body may be any of (with ``mass`` or, for meshes, ``density``)::
+
+    tensor = [[2.0, -0.1, 0.0], [-0.1, 3.0, 0.0], [0.0, 0.0, 4.0]]  # Body.from_tensor
+    cylinder = [radius, height]        sphere = radius        ellipsoid = [a, b, c]
+    mesh = "part.stl"                  # a mesh file, relative to the scene file (trimesh)
+    preset = "wing-nut"                # Body.wing_nut()
+    parts = [{ box = [1, 1, 1], mass = 2.0, position = [0, 0, 0], q = [1, 0, 0, 0] }, …]
+
 Loading checks every key: an unknown key, a value of the wrong type or out of range is a
 :class:`SceneError` naming the file, the key and what is allowed.
 """
@@ -44,6 +52,7 @@ import sys
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -54,6 +63,8 @@ import tomli_w
 from .._args import as_array, as_float, as_int
 from ..accuracy import check_tolerances
 from ..body import Body
+from .bodies import BODY_KEYS, build_body, default_signal_point
+from ..shapes import Shape, box_shape
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
 from ..methods import DEFAULT_METHOD, METHODS
 from ..simulate import simulate
@@ -156,6 +167,10 @@ class Draw:
     animation: bool = False
     phases: tuple[float, ...] = ()
     """Instants of the phases panel; empty: evenly spread over the run."""
+    fps: int | None = None
+    """The animation's frames per second; None: the default (20)."""
+    animation_size: int | None = None
+    """The animation's width and height in pixels; None: the default (560)."""
 
     @property
     def objects(self) -> tuple[str, ...]:
@@ -183,7 +198,9 @@ class Scene:
     method: str = DEFAULT_METHOD
     box: tuple[float, float, float] | None = None
     """Edges of the box drawn (along x, y, z); None: the uniform box with these moments."""
-    signal_point: tuple[float, float, float] = (0.0, 0.0, 13.0)
+    signal_point: tuple[float, float, float] = None  # type: ignore[assignment]
+    """Body frame; None: on the intermediate axis, a quarter beyond the body's outline (the
+    paper's scenes give theirs, (0, 0, 13))."""
     flips: bool = True
     """Ask for the flip times (and the stability verdict)."""
     draw: Draw = Draw()
@@ -197,16 +214,23 @@ class Scene:
     atol: float | None = None
     """An adaptive method's absolute tolerance (default
     `dzhanibekov.accuracy.DEFAULT_ATOL`)."""
+    body_spec: Mapping[str, Any] | None = None
+    """The body, when it is more than principal moments: the `[body]` table's keys that
+    name it (``tensor``, ``cylinder``, ``sphere``, ``ellipsoid``, ``mesh``, ``parts`` or
+    ``preset``, with ``mass``/``density``); `inertia` then holds its principal moments.
+    A mesh path is kept absolute."""
 
     def __post_init__(self) -> None:
         _validate(self)
 
     # -- running ------------------------------------------------------------------------
 
-    @property
+    @cached_property
     def body(self) -> Body:
-        """The body whose moments the scene names."""
-        return Body(self.inertia)
+        """The body the scene names (built once)."""
+        if self.body_spec is None:
+            return Body(self.inertia)
+        return build_body(self.body_spec)
 
     def run(self, **overrides: Any) -> Trajectory:
         """Simulates the scene, keeping every frame; keywords override :func:`simulate`'s."""
@@ -262,6 +286,16 @@ class Scene:
         return derived
 
     @property
+    def drawn_shape(self) -> Shape | None:
+        """What is drawn for the body: its own shape, else the box (`box`, or the uniform
+        box of its moments, in its principal axes); None if there is none."""
+        if self.body.shape is not None:
+            return self.body.shape
+        if self.box is None and _uniform_box(self.inertia) is None:
+            return None
+        return box_shape(*self.drawn_box).placed(self.body.principal_axes, np.zeros(3))
+
+    @property
     def phase_times(self) -> tuple[float, ...]:
         """The instants of the phases panel."""
         if self.draw.phases:
@@ -272,7 +306,8 @@ class Scene:
 
     def to_dict(self) -> dict[str, Any]:
         """The scene as the nested tables of its TOML file (defaults included)."""
-        body: dict[str, Any] = {"inertia": list(self.inertia)}
+        body: dict[str, Any] = (dict(self.body_spec) if self.body_spec is not None
+                                else {"inertia": list(self.inertia)})
         if self.box is not None:
             body["box"] = list(self.box)
         body["signal_point"] = list(self.signal_point)
@@ -290,7 +325,8 @@ class Scene:
             "draw": {n: getattr(d, n) for n in
                      ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum",
                       "animation")}
-            | {"figures": list(d.figures), "phases": list(d.phases)},
+            | {"figures": list(d.figures), "phases": list(d.phases)}
+            | {n: getattr(d, n) for n in ("fps", "animation_size") if getattr(d, n)},
             "ellipsoid": {"convention": self.ellipsoid.convention,
                           "mesh": list(self.ellipsoid.mesh)},
         }
@@ -307,8 +343,10 @@ class Scene:
         return path
 
     @classmethod
-    def from_toml(cls, text: str, name: str, source: str = "") -> Scene:
-        """Reads a scene from TOML text; `name` is the scene's name (a file's stem)."""
+    def from_toml(cls, text: str, name: str, source: str = "",
+                  base: str | Path | None = None) -> Scene:
+        """Reads a scene from TOML text; `name` is the scene's name (a file's stem), a mesh
+        path is relative to `base`."""
         source = source or f"<scene {name}>"
         if not isinstance(text, str):
             raise TypeError(f"`text` must be a str of TOML, got {type(text).__name__}")
@@ -319,33 +357,37 @@ class Scene:
         except RecursionError:
             raise SceneError(source, None, "is not a scene: its arrays or tables nest too "
                              "deeply to read (a scene nests at most two levels)") from None
-        return cls.from_dict(data, name, source)
+        return cls.from_dict(data, name, source, base)
 
     @classmethod
-    def from_dict(cls, data: Mapping[str, Any], name: str, source: str = "") -> Scene:
-        """Builds a scene from the nested tables of a TOML file (see the module's docs)."""
+    def from_dict(cls, data: Mapping[str, Any], name: str, source: str = "",
+                  base: str | Path | None = None) -> Scene:
+        """Builds a scene from the nested tables of a TOML file (see the module's docs);
+        a mesh path is relative to `base` (default: the current folder)."""
         source = source or f"<scene {name}>"
         if not isinstance(data, Mapping):
             raise TypeError(f"`data` must be a mapping of a scene file's tables, got "
                             f"{type(data).__name__}")
-        return _from_tables(cls, data, name, source)
+        return _from_tables(cls, data, name, source, Path(base) if base is not None else None)
 
 
 # -- reading the tables -----------------------------------------------------------------
 
 _TABLES: dict[str, tuple[str, ...]] = {
-    "body": ("inertia", "box", "mass", "signal_point"),
+    "body": ("inertia", "box", "mass", "signal_point") + ("tensor", "cylinder", "sphere",
+             "ellipsoid", "mesh", "density", "parts", "preset"),
     "start": ("omega", "q"),
     "run": ("t_end", "frames", "dt", "method", "rtol", "atol"),
     "ask": ("flips",),
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
-             "animation", "phases"),
+             "animation", "phases", "fps", "animation_size"),
     "ellipsoid": ("convention", "mesh"),
 }
 _TOP = ("title", "about")
 
 
-def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: str) -> Scene:
+def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: str,
+                 base: Path | None = None) -> Scene:
     def fail(key: str, message: str) -> SceneError:
         return SceneError(source, key, message)
 
@@ -368,7 +410,22 @@ def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: s
         return tables[table][key]
 
     body = tables["body"]
-    if "inertia" in body:
+    spec = {k: v for k, v in body.items() if k in BODY_KEYS or k == "density"
+            or (k == "mass" and any(n in body for n in BODY_KEYS))}
+    inertia: Any = (1.0, 1.0, 1.0)  # replaced by the body's principal moments
+    if any(n in body for n in BODY_KEYS):
+        named = [n for n in BODY_KEYS + ("inertia",) if n in body]
+        if len(named) > 1:
+            raise fail(f"body.{named[1]}", f"names a second body beside `body.{named[0]}`; "
+                       "give one of " + ", ".join(BODY_KEYS + ("inertia", "box")))
+        if "box" in body:
+            raise fail("body.box", f"draws a box, but `body.{named[0]}` has its own shape")
+        if "mesh" in spec and isinstance(spec["mesh"], str):
+            mesh = Path(spec["mesh"])
+            spec["mesh"] = str(mesh if mesh.is_absolute() else (base or Path.cwd()) / mesh)
+    elif "density" in body:
+        raise fail("body.density", "is only used with `body.mesh` or `body.parts`")
+    elif "inertia" in body:
         if "mass" in body:
             raise fail("body.mass", "is only used with `body.box` to compute the moments; "
                        "remove it or `body.inertia`")
@@ -390,6 +447,7 @@ def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: s
         "frames": need("run", "frames"),
         "source": source,
         "about": data.get("about", ""),
+        "body_spec": spec or None,
     }
     optional = {
         ("start", "q"): "q0",
@@ -450,7 +508,7 @@ def _flag(source: str, key: str, value: Any) -> bool:
 
 
 def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
+    if isinstance(value, (str, bytes)) or _ndim(value) != 1 or len(value) != n:
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
     if any(isinstance(x, (bool, np.bool_)) for x in value):
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
@@ -460,6 +518,14 @@ def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
         raise SceneError(source, key, f"must be a list of {n} finite numbers, got {value!r}") \
             from None
     return tuple(float(x) for x in arr)
+
+
+def _ndim(value: Any) -> int:
+    """The number of axes of `value` as an array; -1 for what is none (ragged lists)."""
+    try:
+        return int(np.ndim(value))
+    except Exception:
+        return -1
 
 
 def _triple(source: str, key: str, value: Any, *, positive: bool = False) -> tuple[float, ...]:
@@ -502,6 +568,19 @@ def _validate(s: Scene) -> None:
                          f"output files), got {s.name!r}")
     _set(s, "title", _text(src, "title", s.title, required=True))
     _set(s, "about", _text(src, "about", s.about, required=False))
+    if s.body_spec is not None:
+        if not isinstance(s.body_spec, Mapping):
+            raise SceneError(src, "body", f"must be a table, got {s.body_spec!r}")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                built = build_body(s.body_spec)
+        except (TypeError, ValueError, ImportError) as exc:
+            key = next((k for k in BODY_KEYS if k in s.body_spec), "body")
+            raise SceneError(src, f"body.{key}", f"does not give a body: {exc}") from None
+        s.__dict__["body"] = built  # the cached property, filled: built once
+        _set(s, "body_spec", dict(s.body_spec))
+        _set(s, "inertia", built.inertia)
     inertia = _triple(src, "body.inertia", s.inertia, positive=True)
     try:
         with warnings.catch_warnings():
@@ -535,6 +614,10 @@ def _validate(s: Scene) -> None:
         raise SceneError(src, "run", str(exc)) from None
     if s.box is not None:
         _set(s, "box", _triple(src, "body.box", s.box, positive=True))
+    if s.signal_point is None:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            _set(s, "signal_point", default_signal_point(s.body, s.drawn_shape))
     _set(s, "signal_point", _triple(src, "body.signal_point", s.signal_point))
     _drawable(src, "body.signal_point", float(np.hypot.reduce(s.signal_point)))
     if s.box is not None:
@@ -558,7 +641,10 @@ def _validate(s: Scene) -> None:
     if any(not 0.0 <= t <= s.t_end for t in times):
         raise SceneError(src, "draw.phases", f"must be times in [0, run.t_end = {s.t_end:g}], "
                          f"got {list(times)}")
-    _set(s, "draw", Draw(**flags, figures=figures, phases=times))
+    movie = {n: None if draw.get(n) is None else _integer(src, f"draw.{n}", draw[n], low, high)
+             for n, low, high in (("fps", 1, 1000), ("animation_size", 64, 4096))}
+    _set(s, "draw", Draw(**flags, figures=figures, phases=times, fps=movie["fps"],
+                         animation_size=movie["animation_size"]))
 
     style = s.ellipsoid.table if isinstance(s.ellipsoid, _Raw) else \
         dataclasses.asdict(s.ellipsoid)
@@ -575,7 +661,7 @@ def _validate(s: Scene) -> None:
     e_m = _integer(src, "ellipsoid.mesh[1]", mesh[1], 2, _MAX_CELLS)  # eM, pole to pole
     _set(s, "ellipsoid", EllipsoidStyle(convention, (e_n, e_m)))
 
-    if flags["box"] and s.box is None:
+    if flags["box"] and s.box is None and s.body.shape is None:
         derived = _uniform_box(inertia)
         if derived is None:
             raise SceneError(src, "body.box", "is needed to draw the box: no uniform box has "
@@ -652,7 +738,7 @@ def load_scene(path: str | Path) -> Scene:
             why = f"not UTF-8 text: {exc.reason} at byte {exc.start}"
         raise SceneError(str(p), None, f"cannot be read ({why}); give a scene file or one of "
                          f"the shipped scenes: {shipped}") from None
-    return Scene.from_toml(text, p.stem, str(p))
+    return Scene.from_toml(text, p.stem, str(p), base=p.parent)
 
 
 def _read_scene_file(path: Path) -> str:
@@ -677,7 +763,8 @@ def _shipped() -> dict[str, Scene]:
         if item.name.endswith(".toml"):
             name = item.name[: -len(".toml")]
             scenes[name] = Scene.from_toml(item.read_text(encoding="utf-8"), name,
-                                           f"dzhanibekov/scenes/{item.name}")
+                                           f"dzhanibekov/scenes/{item.name}",
+                                           base=Path(str(folder)))
     return scenes
 
 
