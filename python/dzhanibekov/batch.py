@@ -25,9 +25,11 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import _core
+from . import _tables
 from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import check_tolerances, warn_step
 from .body import Body, InertiaWarning
+from .rotations import quaternions_of
 from .trajectory import Drift, Trajectory
 
 __all__ = ["Batch", "BatchDrift", "simulate_batch"]
@@ -105,6 +107,22 @@ class Batch:
         bounds = self._flip_offsets.tolist()
         return tuple(self._flip_times[a:b] for a, b in zip(bounds[:-1], bounds[1:]))
 
+    def to_xarray(self) -> Any:
+        """Every run's frames as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> batch = dz.simulate(dz.PAPER_INERTIA, [(0.01, 0.01, 1.0), (0, 1, 0.01)], frames=5)
+        >>> batch.to_xarray().q.dims
+        ('run', 'time', 'quaternion')
+        """
+        return _tables.batch_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """Every run's frames as a ``pandas.DataFrame`` (index (``run``, ``t``), columns u v w Q U V W; the ``io`` extra)."""
+        return _tables.batch_frame(self)
+
     def __getitem__(self, i: int) -> Trajectory:
         """Run `i` as a :class:`Trajectory` (views of the batch's arrays)."""
         if not isinstance(i, (int, np.integer)) or isinstance(i, bool):
@@ -163,7 +181,7 @@ def batch_rows(
     else:
         inertia = _array("body", body, 3, max_batch_ndim)
     omega = _array("omega0", omega0, 3, max_batch_ndim)
-    q = _array("q0", q0, 4, max_batch_ndim)
+    q = _array("q0", quaternions_of(q0), 4, max_batch_ndim)
     try:
         shape = np.broadcast_shapes(inertia.shape[:-1], omega.shape[:-1], q.shape[:-1])
     except ValueError:

@@ -12,6 +12,7 @@ from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import plan_step
 from .batch import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
+from .rotations import quaternions_of
 from .trajectory import Drift, Trajectory
 
 __all__ = ["METHODS", "simulate", "rotate"]
@@ -99,8 +100,11 @@ def simulate(
         The body, or its principal moments ``(Ix, Iy, Iz)``; one row per run of a batch.
     omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite.
-    q0 : array_like, shape (4,) or (M, 4)
-        Initial attitude, scalar first ``(Q, U, V, W)``; normalised here, must be non-zero.
+    q0 : array_like, shape (4,) or (M, 4), or scipy.spatial.transform.Rotation
+        Initial attitude, world-from-body (``x_world = M(q0)·x_body``), scalar first
+        ``(Q, U, V, W)`` — scipy's default order is scalar last, so pass a scipy ``Rotation``
+        rather than its ``as_quat()``; a stack of N rotations makes a batch of N runs.
+        Normalised here, must be non-zero.
     t_end : float
         End time, positive.
     frames : int
@@ -184,6 +188,7 @@ def simulate(
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
     """
+    q0 = quaternions_of(q0)
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
                               flips=flips, max_steps=max_steps, threads=threads)
@@ -232,7 +237,7 @@ def _checked(
     `summarize`; `accuracy.plan_step` settles the step and tolerances)."""
     body = as_body(body)
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
-    q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
+    q0 = as_array("q0", quaternions_of(q0), "(4,)", last=4, ndim=(1,))
     if not np.any(q0):
         raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), got (0, 0, 0, 0)")
     t_end = as_float("t_end", t_end, positive=True)

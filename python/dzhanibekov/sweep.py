@@ -24,6 +24,7 @@ import numpy as np
 from tqdm import tqdm
 
 from . import _core
+from . import _tables
 from ._checks import as_array, as_int, check_size
 from .batch import (
     BatchDrift,
@@ -98,6 +99,22 @@ class Sweep:
     dt: np.ndarray
     n_steps: np.ndarray
     nfev: np.ndarray
+
+    def to_xarray(self) -> Any:
+        """What every run measured as an ``xarray.Dataset`` (one dim per axis of the starts, named ``u0``… ``Iz`` with their values when from :func:`grid`; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid([0.1, 0.2], [0.0, 0.5, 1.0], 1.0), t_end=10.0)
+        >>> s.to_xarray().flips.dims
+        ('u0', 'v0')
+        """
+        return _tables.sweep_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """What every run measured as a ``pandas.DataFrame`` (one row per run; the ``io`` extra)."""
+        return _tables.sweep_frame(self)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -215,8 +232,9 @@ def sweep(
         The body, or principal moments: one body for all runs, or one per start.
     omega0 : array_like, shape (3,) or S + (3,)
         Initial body rates ``(u0, v0, w0)``: one per start (say from :func:`grid`).
-    q0 : array_like, shape (4,) or S + (4,)
-        Initial attitude, scalar first; shared or one per start.
+    q0 : array_like, shape (4,) or S + (4,), or scipy.spatial.transform.Rotation
+        Initial attitude, world-from-body, scalar first (or a scipy ``Rotation``); shared or
+        one per start.
     t_end, frames, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`: the frames only set the substeps and where
         the drift is measured. With ``dt=None`` every run takes the smallest of the steps

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from . import _core
+from . import _tables
 from .body import Body
+from .rotations import to_rotation
 
 __all__ = ["Drift", "Trajectory"]
 
@@ -83,6 +85,52 @@ class Trajectory:
         if not self._invariants:
             self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
         return self._invariants
+
+    def to_xarray(self) -> Any:
+        """The frames as an ``xarray.Dataset`` (dims ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), frames=5)
+        >>> dict(traj.to_xarray().sizes)
+        {'time': 5, 'axis': 3, 'quaternion': 4, 'flip': 2}
+        """
+        return _tables.trajectory_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """The frames as a ``pandas.DataFrame`` (index ``t``, columns u v w Q U V W; the ``io`` extra)."""
+        return _tables.trajectory_frame(self)
+
+    @property
+    def rotation(self) -> Any:
+        """The attitude at every frame as one scipy ``Rotation`` stack of ``frames`` rotations,
+        world-from-body: ``traj.rotation.apply(x_body)`` is ``dz.rotate(traj.q, x_body)``.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=10.0, frames=3)
+        >>> len(traj.rotation)
+        3
+        """
+        return to_rotation(self.q)
+
+    def euler(self, seq: str, degrees: bool = False) -> np.ndarray:
+        """Euler angles of the attitude at every frame, shape (frames, 3), through scipy's
+        ``Rotation.as_euler(seq, degrees)``: `seq` of three of ``xyz`` (extrinsic) or ``XYZ``
+        (intrinsic), angles of the world-from-body rotation.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.0, 0.0, 0.1), t_end=5 * 3.141592653589793,
+        ...                    frames=2, method="exact")
+        >>> traj.euler("ZYX", degrees=True)[-1].round(6)   # a quarter turn about z: 0.1 rad/s for 5π
+        array([90., 0., 0.])
+        """
+        angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
+        return angles
 
     @property
     def _flip_count(self) -> int | str:
