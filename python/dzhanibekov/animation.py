@@ -1,6 +1,7 @@
 """The animation: the flipping body, its inertia ellipsoid and the signal point's trail.
 
-Every frame is drawn once with matplotlib (Agg) and handed to each writer: a GIF through
+The frames are those of :func:`dzhanibekov.plotting.animation` (a matplotlib
+``FuncAnimation``), each drawn once with Agg and handed to each writer: a GIF through
 Pillow always, an MP4 through ffmpeg when an ffmpeg executable is found (on the PATH or
 matplotlib's ``animation.ffmpeg_path``, else the one the optional ``imageio-ffmpeg``
 package ships: ``pip install dzhanibekov[video]``). The positions of all the body's points
@@ -10,21 +11,21 @@ at all frames come from one call to the core's `rotate` (the scene's plan), befo
 from __future__ import annotations
 
 import shutil
-import textwrap
-import warnings
 import subprocess
+import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
-from matplotlib.animation import FFMpegWriter
-from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.animation import AbstractMovieWriter, FFMpegWriter
 from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
 from .plan import SceneResult
-from .plotting import _axes3d, _limits, _title, compute, draw_body, extent
+from .plotting import animation, compute
 from .scene import Scene
+from .trajectory import Trajectory
 
 __all__ = ["animate", "ffmpeg_path"]
 
@@ -49,15 +50,16 @@ def ffmpeg_path() -> str | None:
         return None
 
 
-def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
-            mp4: bool | None = None, progress: bool | None = None) -> list[Path]:
-    """Renders the scene's animation: one frame per scene frame.
+def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *, fps: int = 20,
+            mp4: bool | None = None, progress: bool | None = None,
+            size: int = SIZE_PX) -> list[Path]:
+    """Writes the scene's animation (:func:`dzhanibekov.plotting.animation`): one frame per
+    scene frame, rendered once and handed to both writers.
 
     Parameters
     ----------
-    scene : Scene or SceneResult
-        A scene with ``draw.animation = true`` (its plan rotates every drawn point for every
-        frame in one call to the core).
+    scene : Scene, SceneResult or Trajectory
+        A scene with ``draw.animation = true``, or a trajectory.
     path : str or Path
         The GIF to write; the MP4 goes beside it with the suffix ``.mp4``.
     fps : int
@@ -68,6 +70,8 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
     progress : bool, optional
         Show a progress bar (tqdm, on stderr) while frames render: None (default) only on a
         terminal.
+    size : int
+        Width and height in pixels (even, as H.264 needs).
 
     Returns
     -------
@@ -82,43 +86,19 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
         `mp4` is True and ffmpeg failed; when `mp4` is None a failure only warns
         (RuntimeWarning) and the GIF is kept.
     """
-    result = compute(scene)
-    if not result.scene.draw.animation or result.trajectory is None:
-        raise ValueError(f"scene {result.scene.name!r} does not ask for an animation; set "
-                         "`draw.animation = true` in its scene file")
+    result = compute(scene, animation=True)
     gif = Path(path)
     ffmpeg = ffmpeg_path() if mp4 is not False else None
     if mp4 and ffmpeg is None:
         raise ValueError("`mp4=True` needs ffmpeg: install it, or `pip install imageio-ffmpeg`")
-    n = result.scene.frames
-    fig = Figure(figsize=(SIZE_PX / 100, SIZE_PX / 100), dpi=100)
-    canvas = FigureCanvasAgg(fig)
-    fig.subplots_adjust(0, 0, 1, 0.93)
-    ax = _axes3d(fig, 1, 1, 1)
-    ax.set_axis_off()
-    _limits(ax, extent(result))
-    fig.suptitle(textwrap.fill(_title(result), 64), fontsize=7)
-    clock = fig.text(0.02, 0.02, "", fontsize=8)
-    images: list[Image.Image] = []
+    anim = animation(result, size=size, fps=fps)
     video = _Video(ffmpeg, gif.with_suffix(".mp4"), fps) if ffmpeg else None
+    images: list[Image.Image] = []
     try:
-        bar = tqdm(total=n, desc=f"animation {result.scene.name}", unit="frame",
-                   disable=None if progress is None else not progress)
+        bar = tqdm(total=result.scene.frames, desc=f"animation {result.scene.name}",
+                   unit="frame", disable=None if progress is None else not progress)
         with bar:
-            for frame in range(n):
-                # the artists of one frame, removed before the next: the points are precomputed
-                artists = draw_body(ax, result, frame)
-                clock.set_text(f"t = {result.trajectory.t[frame]:.1f}")
-                canvas.draw()  # type: ignore[no-untyped-call]
-                rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[no-untyped-call]
-                images.append(Image.fromarray(rgba[..., :3]).quantize(colors=64))
-                if video is not None:
-                    video.write(rgba)
-                for artist in artists.values():
-                    artist.remove()
-                for line in list(ax.lines):
-                    line.remove()
-                bar.update()
+            anim.save(str(gif), writer=_Frames(images, video, bar, fps))
         images[0].save(gif, save_all=True, append_images=images[1:],
                        duration=round(1000 / fps), loop=0, optimize=False)
         written = [gif]
@@ -133,6 +113,31 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int = 20,
         if video is not None:
             video.kill()
     return written
+
+
+class _Frames(AbstractMovieWriter):
+    """A matplotlib movie writer that hands each rendered frame to the GIF's frame list and
+    to the ffmpeg process, so that the animation is drawn once for both files."""
+
+    def __init__(self, images: list[Image.Image], video: _Video | None, bar: Any,
+                 fps: float) -> None:
+        super().__init__(fps=fps)
+        self.images, self.video, self.bar = images, video, bar
+
+    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:
+        super().setup(fig, outfile, dpi)
+
+    def grab_frame(self, **savefig_kwargs: Any) -> None:
+        canvas = self.fig.canvas
+        canvas.draw()
+        rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[attr-defined]
+        self.images.append(Image.fromarray(rgba[..., :3]).quantize(colors=64))
+        if self.video is not None:
+            self.video.write(rgba)
+        self.bar.update()
+
+    def finish(self) -> None:
+        pass
 
 
 class _Video:
