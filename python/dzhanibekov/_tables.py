@@ -39,12 +39,12 @@ Q_DOC = ("attitude world-from-body, unit quaternion scalar first (Q, U, V, W): "
 UNITS = "consistent units"
 
 
-def require(module: str, what: str) -> Any:
-    """Imports optional `module` for `what`, or raises ImportError naming the extra."""
+def require(module: str, what: str, extra: str = EXTRA) -> Any:
+    """Imports optional `module` for `what`, or raises ImportError naming the `extra`."""
     try:
         return importlib.import_module(module)
     except ImportError as exc:
-        raise ImportError(f"{what} needs {module}, which is not installed; install {EXTRA}") \
+        raise ImportError(f"{what} needs {module}, which is not installed; install {extra}") \
             from exc
 
 

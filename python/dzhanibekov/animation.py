@@ -120,7 +120,7 @@ class _Frames(AbstractMovieWriter):
     to the ffmpeg process, so that the animation is drawn once for both files."""
 
     def __init__(self, images: list[Image.Image], video: _Video | None, bar: Any,
-                 fps: float) -> None:
+                 fps: int) -> None:
         super().__init__(fps=fps)
         self.images, self.video, self.bar = images, video, bar
 
