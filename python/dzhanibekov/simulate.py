@@ -182,7 +182,7 @@ def simulate(
     Examples
     --------
     >>> traj = simulate(Body(inertia=(52.0833, 27.0833, 41.6666)), (0.01, 0.01, 1.0))
-    >>> traj.omega.shape, traj.q.shape, traj.t[-1]
+    >>> traj.omega.shape, traj.q.shape, float(traj.t[-1])
     ((201, 3), (201, 4), 100.0)
     >>> batch = simulate((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0.0, 1.0, 0.01)])
     >>> batch.omega.shape, batch.flips

@@ -126,8 +126,8 @@ class Trajectory:
         >>> import dzhanibekov as dz
         >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.0, 0.0, 0.1), t_end=5 * 3.141592653589793,
         ...                    frames=2, method="exact")
-        >>> traj.euler("ZYX", degrees=True)[-1].round(6)   # a quarter turn about z: 0.1 rad/s for 5π
-        array([90., 0., 0.])
+        >>> traj.euler("ZYX", degrees=True)[-1].round(6).tolist()  # 0.1 rad/s for 5π: 90° about z
+        [90.0, 0.0, 0.0]
         """
         angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
         return angles
