@@ -66,8 +66,10 @@ def _run(args: argparse.Namespace) -> int:
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
-    if args.dt is not None:
-        scene = scene.replace(dt=args.dt)
+    overrides = {key: getattr(args, key) for key in ("method", "t_end", "frames", "dt")
+                 if getattr(args, key) is not None}
+    if overrides:
+        scene = scene.replace(**overrides)  # checked as the scene file's keys are
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
@@ -157,6 +159,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
     run.add_argument("--out", required=True, type=Path, metavar="DIR",
                      help="folder to write into (created; files of the same name replaced)")
+    run.add_argument("--method", default=None, help="override the scene's method (one of "
+                     "rk4, rk4_projected, splitting, splitting4, dopri5, dop853, exact)")
+    run.add_argument("--t-end", type=float, default=None, dest="t_end",
+                     help="override the scene's end time")
+    run.add_argument("--frames", type=int, default=None, help="override the scene's frames")
     run.add_argument("--dt", type=float, default=None, help="override the scene's step")
     run.add_argument("--no-progress", action="store_true", help="no progress bar")
     run.set_defaults(run=_run)
