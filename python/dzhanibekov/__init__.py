@@ -7,8 +7,9 @@ point arrays without trigonometry; this package is the thin Python side.
 >>> traj = dz.simulate(dz.Body.box(20, 10, 15), omega0=(0.01, 0.01, 1.0), t_end=10.0)
 >>> world = dz.rotate(traj.q, dz.box_vertices())   # (frames, 8, 3)
 
-Submodules that import matplotlib or plotly (``dz.plotting``, ``dz.maps``, ``dz.animation``,
-``dz.viewer``) are imported on first use, so ``import dzhanibekov`` stays light.
+Submodules that import matplotlib or plotly (``dz.plotting``, ``dz.maps`` — that is
+``dz.plotting.maps`` —, ``dz.viewer``) are imported on first use, so ``import dzhanibekov``
+stays light.
 """
 
 import importlib
@@ -17,19 +18,29 @@ from typing import Any
 from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .batch import Batch, BatchDrift
 from .body import Body, InertiaWarning
-from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
+from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .flips import flip_period
 from .io import load, save
-from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
-from .plan import Plan, SceneResult, execute, make_plan
-from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
-from .scene import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
+from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
+from .results import Drift, Trajectory
+from .scenes import (
+    PAPER_INERTIA,
+    PAPER_SCENES,
+    SCENARIOS,
+    SCENES,
+    Plan,
+    Scenario,
+    Scene,
+    SceneError,
+    SceneResult,
+    execute,
+    load_scene,
+    make_plan,
+    scenario,
+)
 from .simulate import METHODS, rotate, simulate
 from .summary import Summary, summarize
-from .sweep import Sweep, grid, sweep
-from .trajectory import Drift, Trajectory
 
 __all__ = [
     "__version__",
@@ -74,13 +85,13 @@ __all__ = [
     "io",
 ]
 
-_LAZY = ("plotting", "maps", "animation", "viewer")
+_LAZY = {"plotting": ".plotting", "maps": ".plotting.maps", "viewer": ".viewer"}
 """Submodules imported on first access (they import matplotlib or plotly)."""
 
 
 def __getattr__(name: str) -> Any:
     if name in _LAZY:
-        return importlib.import_module(f".{name}", __name__)
+        return importlib.import_module(_LAZY[name], __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 

@@ -30,10 +30,9 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import _tables
-from .batch import Batch, BatchDrift
 from .body import Body, InertiaWarning
-from .sweep import Sweep
-from .trajectory import Drift, Trajectory
+from .ensemble import Batch, BatchDrift, Sweep
+from .results import Drift, Trajectory
 
 __all__ = ["save", "load", "write_aem", "read_aem", "AttitudeEphemeris"]
 

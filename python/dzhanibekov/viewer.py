@@ -14,13 +14,13 @@ from typing import Any
 
 import numpy as np
 
-from ._checks import as_float, as_int
+from ._args import as_float, as_int
 from ._tables import require
 from .geometry import box_edges
-from .plan import SceneResult, execute, make_plan
-from .scene import Scene, SceneError
-from .staging import result_for
-from .trajectory import Trajectory
+from .results import Trajectory
+from .scenes.plan import SceneResult, execute, make_plan
+from .scenes.scene import Scene, SceneError
+from .scenes.staging import result_for
 
 __all__ = ["write_html", "figure"]
 

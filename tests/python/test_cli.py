@@ -12,7 +12,8 @@ import pytest
 from PIL import Image
 
 import dzhanibekov as dz
-from dzhanibekov import animation, plotting
+from dzhanibekov.plotting import movie
+from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.cli import main
 
 
@@ -29,7 +30,7 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     expected = {"fig3.png", "stable.png", "example.gif"}
     for name in list(dz.PAPER_SCENES) + ["stable-largest", "stable-smallest"]:
         expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
-    if animation.ffmpeg_path() is not None:
+    if movie.ffmpeg_path() is not None:
         expected.add("example.mp4")
     assert {p.name for p in out.iterdir()} == expected
     for path in out.glob("*.png"):

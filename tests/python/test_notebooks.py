@@ -73,7 +73,7 @@ def test_animation_refuses_bad_settings(traj, bad):
 def test_every_figure_takes_a_trajectory(traj, name, monkeypatch):
     calls = []
     real = dz.simulate
-    monkeypatch.setattr(dz.scene, "simulate", lambda *a, **k: calls.append(a) or real(*a, **k))
+    monkeypatch.setattr(dz.scenes.scene, "simulate", lambda *a, **k: calls.append(a) or real(*a, **k))
     fig = dz.plotting.FIGURE_FUNCTIONS[name](traj)
     assert isinstance(fig, Figure) and fig.axes
     assert calls == []  # drawn from the trajectory as it is, not run again

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..results import Trajectory
 from .plan import SceneResult, execute, make_plan
 from .scene import Draw, Scene, SceneError
-from .trajectory import Trajectory
 
 __all__ = ["scene_for", "result_for", "FIGURES_OF_A_TRAJECTORY"]
 

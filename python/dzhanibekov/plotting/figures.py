@@ -2,8 +2,8 @@
 
 Each function takes a computed scene (:func:`compute`; a :class:`~dzhanibekov.scene.Scene`
 is computed on the fly) or a :class:`~dzhanibekov.Trajectory` (drawn as it is, with its
-body's box and ellipsoid: :mod:`dzhanibekov.staging`), returns a :class:`~matplotlib.figure.Figure` so that figures can
-be composed or restyled, and saves it when given a path. Single-panel figures also draw into
+body's box and ellipsoid: :mod:`dzhanibekov.scenes.staging`), returns a
+:class:`~matplotlib.figure.Figure` so that figures can be composed or restyled, and saves it when given a path. Single-panel figures also draw into
 an existing 3-D or 2-D axes (`ax`). No pyplot state is touched: the figures are plain
 ``Figure`` objects, garbage-collected like any other.
 
@@ -34,14 +34,14 @@ from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
     Poly3DCollection,
 )
 
-from ._checks import as_float, as_int
-from .body import InertiaWarning, as_body
-from .geometry import box_edges
-from . import _core
-from .plan import SceneResult, execute, make_plan
-from .scene import Scene
-from .staging import result_for
-from .trajectory import Trajectory
+from .._args import as_float, as_int
+from ..body import InertiaWarning, as_body
+from ..geometry import box_edges
+from .. import _core
+from ..scenes.plan import SceneResult, execute, make_plan
+from ..scenes.scene import Scene
+from ..scenes.staging import result_for
+from ..results import Trajectory
 
 __all__ = [
     "compute",
@@ -224,7 +224,7 @@ def phases_figure(scene: Drawable, *, columns: int = 4,
     columns = as_int("columns", columns, minimum=1, maximum=1000)
     result = compute(scene)
     _need(result, "phases panel")
-    from .plan import phase_frames  # the frames the plan rotated the objects at
+    from ..scenes.plan import phase_frames  # the frames the plan rotated the objects at
 
     frames = phase_frames(result.scene)
     rows = -(-len(frames) // columns)

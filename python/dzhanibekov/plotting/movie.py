@@ -1,4 +1,5 @@
-"""The animation: the flipping body, its inertia ellipsoid and the signal point's trail.
+"""Animation files: the flipping body, its inertia ellipsoid and the signal point's trail as a
+GIF (and an MP4).
 
 The frames are those of :func:`dzhanibekov.plotting.animation` (a matplotlib
 ``FuncAnimation``), each drawn once with Agg and handed to each writer: a GIF through
@@ -22,10 +23,10 @@ from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
-from .plan import SceneResult
-from .plotting import animation, compute
-from .scene import Scene
-from .trajectory import Trajectory
+from ..results import Trajectory
+from ..scenes.plan import SceneResult
+from ..scenes.scene import Scene
+from .figures import animation, compute
 
 __all__ = ["animate", "ffmpeg_path"]
 
