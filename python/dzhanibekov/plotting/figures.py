@@ -86,7 +86,7 @@ def compute(scene: Drawable, *, animation: bool = False) -> SceneResult:
     if isinstance(scene, Trajectory):
         return result_for(scene, animation=animation)
     if not isinstance(scene, Scene):
-        raise TypeError(f"`scene` must be a Scene, a SceneResult or a Trajectory, got "
+        raise TypeError(f"`scene` must be a Scene or a SceneResult (or a Trajectory), got "
                         f"{type(scene).__name__}")
     return execute(make_plan(scene))
 
