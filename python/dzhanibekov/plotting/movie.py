@@ -129,9 +129,9 @@ class _Frames(AbstractMovieWriter):
         super().setup(fig, outfile, dpi)
 
     def grab_frame(self, **savefig_kwargs: Any) -> None:
-        canvas = self.fig.canvas
-        canvas.draw()
-        rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[attr-defined]
+        # the animation has just drawn the frame (its draw_idle renders at once on Agg):
+        # take the pixels without rendering them a second time
+        rgba = np.asarray(self.fig.canvas.buffer_rgba())  # type: ignore[attr-defined]
         self.images.append(Image.fromarray(rgba[..., :3]).quantize(colors=64))
         if self.video is not None:
             self.video.write(rgba)
