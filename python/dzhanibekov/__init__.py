@@ -18,40 +18,42 @@ from typing import Any
 from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .body import Body, InertiaWarning
+from .body import PAPER_INERTIA, Body, InertiaWarning
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
+from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
 from .io import load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
 from .scenes import (
-    PAPER_INERTIA,
     PAPER_SCENES,
-    SCENARIOS,
     SCENES,
     Plan,
-    Scenario,
     Scene,
     SceneError,
     SceneResult,
     execute,
     load_scene,
     make_plan,
-    scenario,
 )
-from .simulate import METHODS, rotate, simulate
+from .methods import METHODS, MethodInfo
+from .simulate import rotate, simulate
 from .summary import Summary, summarize
 
 __all__ = [
     "__version__",
     "Body",
     "InertiaWarning",
+    "DzhanibekovError",
+    "DivergedError",
+    "TooLargeError",
     "Trajectory",
     "Drift",
     "simulate",
     "rotate",
     "flip_period",
     "METHODS",
+    "MethodInfo",
     "StepSizeWarning",
     "MAX_PREDICTED_DRIFT",
     "BOX_SIZE",
@@ -59,9 +61,6 @@ __all__ = [
     "box_vertices",
     "box_edges",
     "PAPER_INERTIA",
-    "SCENARIOS",
-    "Scenario",
-    "scenario",
     "summarize",
     "Summary",
     "Scene",

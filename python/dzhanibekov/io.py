@@ -31,8 +31,7 @@ import numpy as np
 
 from . import _tables
 from .body import Body, InertiaWarning
-from .ensemble import Batch, BatchDrift, Sweep
-from .results import Drift, Trajectory
+from .results import Batch, BatchDrift, Drift, Sweep, Trajectory
 
 __all__ = ["save", "load", "write_aem", "read_aem", "AttitudeEphemeris"]
 
