@@ -370,7 +370,7 @@ def machine_note(load_before, load_after) -> str:
             cpu = next(line.split(":", 1)[1].strip() for line in f if "model name" in line)
     except (OSError, StopIteration):
         pass
-    return (f"{cpu}, {os.cpu_count()} cores (shared with two other engineers), "
+    return (f"{cpu}, {os.cpu_count()} cores, "
             f"load average {load_before[0]:.2f} before and {load_after[0]:.2f} after the run")
 
 

@@ -1,6 +1,6 @@
 """Times batched RK4 beside its baselines in one run and prints medians and ratios.
 
-    python benches/python/bench_batch.py            # 4096 runs x 1000 RK4 steps (about 30 s)
+    python benches/python/bench_batch.py            # 4096 runs x 1000 RK4 steps (a few seconds)
     python benches/python/bench_batch.py --quick    # 1024 runs x 200 steps
 
 Figures are nanoseconds per run-step (one RK4 step of one trajectory), end to end from

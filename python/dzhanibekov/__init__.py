@@ -6,14 +6,23 @@ point arrays without trigonometry; this package is the thin Python side.
 >>> import dzhanibekov as dz
 >>> traj = dz.simulate(dz.Body.box(20, 10, 15), omega0=(0.01, 0.01, 1.0), t_end=10.0)
 >>> world = dz.rotate(traj.q, dz.box_vertices())   # (frames, 8, 3)
+
+Submodules that import matplotlib or plotly (``dz.plotting``, ``dz.maps`` — that is
+``dz.plotting.maps`` —, ``dz.viewer``) are imported on first use, so ``import dzhanibekov``
+stays light.
 """
 
+import importlib
+from typing import Any
+
+from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
+from .io import load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
 from .scenes import (
@@ -71,4 +80,20 @@ __all__ = [
     "sweep",
     "Sweep",
     "grid",
+    "save",
+    "load",
+    "io",
 ]
+
+_LAZY = {"plotting": ".plotting", "maps": ".plotting.maps", "viewer": ".viewer"}
+"""Submodules imported on first access (they import matplotlib or plotly)."""
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        return importlib.import_module(_LAZY[name], __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

@@ -6,6 +6,9 @@
 - ``dzhanibekov scenes``: the shipped scenes; ``--show NAME`` prints one, to start your own.
 - ``dzhanibekov map --out DIR``: stability maps (flip period and tilt over a grid of starts,
   with the separatrix) and their sweeps' numbers.
+- ``dzhanibekov view SCENE --out FILE.html``: the interactive viewer, one self-contained
+  HTML file (the ``viewer`` extra).
+- ``dzhanibekov --version``.
 
 Output is all or nothing: files are drawn in a temporary folder inside DIR and moved in
 when all are done; any error (a bad scene, a folder that cannot be written, a full disk)
@@ -23,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ._core import __version__
 from .scenes.plan import SceneResult
 from .scenes.scene import SCENES, SceneError, load_scene
 from .simulate import METHODS
@@ -79,7 +83,7 @@ def _run(args: argparse.Namespace) -> int:
     overrides = {key: getattr(args, key) for key in ("method", "t_end", "frames", "dt")
                  if getattr(args, key) is not None}
     if overrides:
-        scene = scene.replace(**overrides)
+        scene = scene.replace(**overrides)  # checked as the scene file's keys are
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
@@ -106,6 +110,18 @@ def _map(args: argparse.Namespace) -> int:
               f" {int(r.n_steps.flat[0]):>14}")
     print(f"rendered in {time.perf_counter() - start:.1f} s")
     print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
+    return 0
+
+
+def _view(args: argparse.Namespace) -> int:
+    from .viewer import write_html
+
+    scene = load_scene(args.scene)  # errors name the file and key, before any output
+    out = Path(args.out)
+    if out.is_dir():
+        raise ValueError(f"`--out` must be an HTML file, but {out} is a folder")
+    path = write_html(scene, out, frames=args.frames)
+    print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): open it in a browser")
     return 0
 
 
@@ -137,6 +153,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         description="Free rotation of rigid bodies: the Dzhanibekov effect. Renders the "
         "paper's figures and your own scenes (TOML files).",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     paper = commands.add_parser(
@@ -203,6 +220,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     stability.add_argument("--no-progress", action="store_true", help="no progress bar")
     stability.set_defaults(run=_map)
 
+    view = commands.add_parser(
+        "view",
+        help="write the interactive viewer of a scene (one HTML file)",
+        description="Simulate one scene and write FILE.html: the body, its inertia "
+        "ellipsoid and the signal point's path, to rotate in a browser, with play/pause and "
+        "a time slider. One self-contained file (plotly embedded): it opens offline. Needs "
+        'the viewer extra: pip install ".[viewer]".',
+    )
+    view.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
+    view.add_argument("--out", required=True, type=Path, metavar="FILE.html",
+                      help="the HTML file to write")
+    view.add_argument("--frames", type=int, default=None,
+                      help="frames shown (default: every frame, at most 201)")
+    view.set_defaults(run=_view)
+
     scenes = commands.add_parser(
         "scenes",
         help="list the shipped scenes",
@@ -215,7 +247,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.run(args))
-    except (SceneError, ValueError, TypeError, OSError) as exc:
+    except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
         # OSError: the output folder cannot be written (render.OutputError names the path)
         print(f"dzhanibekov: error: {exc}", file=sys.stderr)
         return 2

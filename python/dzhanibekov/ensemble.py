@@ -45,6 +45,7 @@ from .body import TENSOR_HINT, Body, InertiaWarning, _is_square
 from .errors import DzhanibekovError
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, check_method
 from .results import Batch, BatchDrift, Sweep, trusted_body
+from .rotations import quaternions_of
 
 __all__ = ["Batch", "BatchDrift", "simulate_batch", "Sweep", "sweep", "grid", "DEFAULT_BLOCK"]
 
@@ -65,7 +66,7 @@ def batch_rows(
                              f"or three bodies' principal moments? {TENSOR_HINT}")
         inertia = _array("body", body, 3, max_batch_ndim)
     omega = _array("omega0", omega0, 3, max_batch_ndim)
-    q = _array("q0", q0, 4, max_batch_ndim)
+    q = _array("q0", quaternions_of(q0), 4, max_batch_ndim)
     try:
         shape = np.broadcast_shapes(inertia.shape[:-1], omega.shape[:-1], q.shape[:-1])
     except ValueError:

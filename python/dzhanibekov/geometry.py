@@ -72,10 +72,10 @@ def ellipsoid_semi_axes(body: Body | Any, convention: str = "gyration") -> np.nd
 
     Examples
     --------
-    >>> ellipsoid_semi_axes((4.0, 1.0, 16.0))
-    array([2., 1., 4.])
-    >>> ellipsoid_semi_axes((4.0, 1.0, 16.0), "poinsot")
-    array([2., 4., 1.])
+    >>> ellipsoid_semi_axes((4.0, 9.0, 9.0))
+    array([2., 3., 3.])
+    >>> ellipsoid_semi_axes((4.0, 9.0, 9.0), "poinsot").round(3)  # longest along the smallest I
+    array([3.434, 2.289, 2.289])
     """
     if not (isinstance(convention, str) and convention in CONVENTIONS):
         raise ValueError(f"`convention` must be one of {CONVENTIONS}, got {convention!r}")

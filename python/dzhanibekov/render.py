@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .plotting.animation import animate
+from .plotting.movie import animate
 from .scenes.plan import SceneResult
 from .plotting.figures import FIGURE_FUNCTIONS, compute, fig3_figure
 from .scenes.scene import PAPER_SCENES, SCENES, Scene
@@ -163,7 +163,7 @@ def render_scene(scene: Scene | SceneResult, folder: str | Path, *,
     with `flip_times`, every flip time in ``NAME-flip-times.npy``. Returns the files written.
 
     Write into a folder from :func:`output_folder` for all-or-nothing output. `fps` and
-    `size` override the scene's animation settings (see :func:`~dzhanibekov.animation.animate`).
+    `size` override the scene's animation settings (see :func:`~dzhanibekov.plotting.movie.animate`).
     """
     result = compute(scene)
     folder = Path(folder)

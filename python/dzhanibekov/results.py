@@ -18,8 +18,10 @@ from typing import Any, NamedTuple, overload
 import numpy as np
 
 from . import _core
+from . import _tables
 from ._args import check_size
 from .body import Body, principal_body
+from .rotations import to_rotation
 
 __all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "verdict"]
 
@@ -109,6 +111,52 @@ class Trajectory:
                 values["momentum_body"] = self.body.to_user(values["momentum_body"], q)[0]
             self._invariants.update(values)
         return self._invariants
+
+    def to_xarray(self) -> Any:
+        """The frames as an ``xarray.Dataset`` (dims ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), frames=5)
+        >>> dict(traj.to_xarray().sizes)
+        {'time': 5, 'axis': 3, 'quaternion': 4, 'flip': 2}
+        """
+        return _tables.trajectory_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """The frames as a ``pandas.DataFrame`` (index ``t``, columns u v w Q U V W; the ``io`` extra)."""
+        return _tables.trajectory_frame(self)
+
+    @property
+    def rotation(self) -> Any:
+        """The attitude at every frame as one scipy ``Rotation`` stack of ``frames`` rotations,
+        world-from-body: ``traj.rotation.apply(x_body)`` is ``dz.rotate(traj.q, x_body)``.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=10.0, frames=3)
+        >>> len(traj.rotation)
+        3
+        """
+        return to_rotation(self.q)
+
+    def euler(self, seq: str, degrees: bool = False) -> np.ndarray:
+        """Euler angles of the attitude at every frame, shape (frames, 3), through scipy's
+        ``Rotation.as_euler(seq, degrees)``: `seq` of three of ``xyz`` (extrinsic) or ``XYZ``
+        (intrinsic), angles of the world-from-body rotation.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.0, 0.0, 0.1), t_end=5 * 3.141592653589793,
+        ...                    frames=2, method="exact")
+        >>> traj.euler("ZYX", degrees=True)[-1].round(6).tolist()  # 0.1 rad/s for 5π: 90° about z
+        [90.0, 0.0, 0.0]
+        """
+        angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
+        return angles
 
     @property
     def t_end(self) -> float:
@@ -244,6 +292,22 @@ class Batch:
     body: Body | tuple[Body, ...] | None = field(default=None, repr=False)
     """The body shared by every run, or one per run, when given as Bodies (their axes are
     the ones `omega` and `q` are in); None for moments."""
+
+    def to_xarray(self) -> Any:
+        """Every run's frames as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> batch = dz.simulate(dz.PAPER_INERTIA, [(0.01, 0.01, 1.0), (0, 1, 0.01)], frames=5)
+        >>> batch.to_xarray().q.dims
+        ('run', 'time', 'quaternion')
+        """
+        return _tables.batch_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """Every run's frames as a ``pandas.DataFrame`` (index (``run``, ``t``), columns u v w Q U V W; the ``io`` extra)."""
+        return _tables.batch_frame(self)
 
     def __len__(self) -> int:
         return len(self.omega)
@@ -412,6 +476,22 @@ class Sweep:
         """Which runs finished (`status` ``"ok"``)."""
         finished: np.ndarray = self.status == "ok"
         return finished
+
+    def to_xarray(self) -> Any:
+        """What every run measured as an ``xarray.Dataset`` (one dim per axis of the starts, named ``u0``… ``Iz`` with their values when from :func:`grid`; the ``io`` extra).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid([0.1, 0.2], [0.0, 0.5, 1.0], 1.0), t_end=10.0)
+        >>> s.to_xarray().flips.dims
+        ('u0', 'v0')
+        """
+        return _tables.sweep_dataset(self)
+
+    def to_dataframe(self) -> Any:
+        """What every run measured as a ``pandas.DataFrame`` (one row per run; the ``io`` extra)."""
+        return _tables.sweep_frame(self)
 
     @property
     def shape(self) -> tuple[int, ...]:

@@ -15,6 +15,7 @@ from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
 from .results import Drift, Trajectory
+from .rotations import quaternions_of
 
 __all__ = ["METHODS", "simulate", "rotate"]
 
@@ -101,9 +102,11 @@ def simulate(
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
         axes (for a body from a tensor, those of the tensor; the run changes to principal
         axes once at its start and back once at its end).
-    q0 : array_like, shape (4,) or (M, 4)
-        Initial attitude of the body's own axes, scalar first ``(Q, U, V, W)``; normalised
-        here, must be non-zero.
+    q0 : array_like, shape (4,) or (M, 4), or scipy.spatial.transform.Rotation
+        Initial attitude of the body's own axes, world-from-body
+        (``x_world = M(q0)·x_body``), scalar first ``(Q, U, V, W)`` — scipy's default order
+        is scalar last, so pass a scipy ``Rotation`` rather than its ``as_quat()``; a stack
+        of N rotations makes a batch of N runs. Normalised here, must be non-zero.
     t_end : float
         End time, positive.
     frames : int
@@ -200,12 +203,13 @@ def simulate(
     Examples
     --------
     >>> traj = simulate(Body(inertia=(52.0833, 27.0833, 41.6666)), (0.01, 0.01, 1.0))
-    >>> traj.omega.shape, traj.q.shape, traj.t[-1]
+    >>> traj.omega.shape, traj.q.shape, float(traj.t[-1])
     ((201, 3), (201, 4), 100.0)
     >>> batch = simulate((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0.0, 1.0, 0.01)])
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
     """
+    q0 = quaternions_of(q0)
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
                               flips=flips, max_steps=max_steps, threads=threads,
@@ -263,7 +267,7 @@ def _checked(
     are refused once everything else passed."""
     omega0_given = omega0
     omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
-    q0 = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
+    q0 = as_array("q0", quaternions_of(q0), "(4,)", last=4, ndim=(1,))
     if not np.any(q0):
         raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), got (0, 0, 0, 0)")
     t_end = as_float("t_end", t_end, positive=True)

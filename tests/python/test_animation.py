@@ -6,7 +6,7 @@ from PIL import Image
 
 import dzhanibekov as dz
 from dzhanibekov import _core
-from dzhanibekov.plotting import animation
+from dzhanibekov.plotting import movie
 from dzhanibekov.scenes.scene import Draw
 
 
@@ -27,7 +27,7 @@ def test_the_gif_turns_the_body_by_at_most_max_turn_per_frame_and_they_move(
     calls = []
     real = _core.rotate
     monkeypatch.setattr(_core, "rotate", lambda *a: calls.append(a) or real(*a))
-    written = animation.animate(short, tmp_path / "flip.gif", mp4=False, progress=False,
+    written = movie.animate(short, tmp_path / "flip.gif", mp4=False, progress=False,
                                 size=200, max_turn_deg=45.0)
     assert written == [tmp_path / "flip.gif"]
     # every point of every animation frame came from one call into the core (the others:
@@ -51,7 +51,7 @@ def test_the_gif_turns_the_body_by_at_most_max_turn_per_frame_and_they_move(
 
 
 def test_a_progress_bar_counts_the_frames(short, tmp_path, capsys):
-    animation.animate(short, tmp_path / "a.gif", mp4=False, progress=True, size=128,
+    movie.animate(short, tmp_path / "a.gif", mp4=False, progress=True, size=128,
                       max_turn_deg=180.0)
     err = capsys.readouterr().err
     with Image.open(tmp_path / "a.gif") as gif:
@@ -59,9 +59,9 @@ def test_a_progress_bar_counts_the_frames(short, tmp_path, capsys):
     assert "animation example" in err and f"{n}/{n}" in err
 
 
-@pytest.mark.skipif(animation.ffmpeg_path() is None, reason="no ffmpeg here")
+@pytest.mark.skipif(movie.ffmpeg_path() is None, reason="no ffmpeg here")
 def test_an_mp4_is_written_beside_the_gif_when_ffmpeg_is_there(short, tmp_path):
-    written = animation.animate(short, tmp_path / "flip.gif", progress=False, size=360)
+    written = movie.animate(short, tmp_path / "flip.gif", progress=False, size=360)
     assert written == [tmp_path / "flip.gif", tmp_path / "flip.mp4"]
     head = (tmp_path / "flip.mp4").read_bytes()[:12]
     assert head[4:8] == b"ftyp"  # an MP4 container
@@ -69,23 +69,23 @@ def test_an_mp4_is_written_beside_the_gif_when_ffmpeg_is_there(short, tmp_path):
 
 
 def test_without_ffmpeg_only_the_gif(short, tmp_path, monkeypatch):
-    monkeypatch.setattr(animation, "ffmpeg_path", lambda: None)
-    written = animation.animate(short, tmp_path / "a.gif", progress=False, **FAST)
+    monkeypatch.setattr(movie, "ffmpeg_path", lambda: None)
+    written = movie.animate(short, tmp_path / "a.gif", progress=False, **FAST)
     assert written == [tmp_path / "a.gif"]
     assert not (tmp_path / "a.mp4").exists()
     with pytest.raises(ValueError, match="`mp4=True` needs ffmpeg"):
-        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)
+        movie.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)
 
 
 def test_a_scene_without_an_animation_is_refused(tmp_path):
     with pytest.raises(ValueError, match="does not ask for an animation"):
-        animation.animate(dz.SCENES["fig3a"], tmp_path / "a.gif")
+        movie.animate(dz.SCENES["fig3a"], tmp_path / "a.gif")
 
 
 def test_a_failing_ffmpeg_costs_the_mp4_not_the_gif(short, tmp_path, monkeypatch):
-    monkeypatch.setattr(animation, "ffmpeg_path", lambda: "false")  # exits at once, status 1
+    monkeypatch.setattr(movie, "ffmpeg_path", lambda: "false")  # exits at once, status 1
     with pytest.warns(RuntimeWarning, match="no MP4 written: ffmpeg failed"):
-        written = animation.animate(short, tmp_path / "a.gif", progress=False, **FAST)
+        written = movie.animate(short, tmp_path / "a.gif", progress=False, **FAST)
     assert written == [tmp_path / "a.gif"] and (tmp_path / "a.gif").stat().st_size > 0
     with pytest.raises(RuntimeError, match="ffmpeg failed"):
-        animation.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)
+        movie.animate(short, tmp_path / "b.gif", mp4=True, progress=False, **FAST)

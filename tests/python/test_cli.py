@@ -12,7 +12,7 @@ import pytest
 from PIL import Image
 
 import dzhanibekov as dz
-from dzhanibekov.plotting import animation
+from dzhanibekov.plotting import movie
 from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.cli import main
 
@@ -31,7 +31,7 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     expected.add("wing-nut.gif")  # the paper's Fig. 1
     for name in list(dz.PAPER_SCENES) + ["wing-nut", "stable-largest", "stable-smallest"]:
         expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
-    if animation.ffmpeg_path() is not None:
+    if movie.ffmpeg_path() is not None:
         expected |= {"example.mp4", "wing-nut.mp4"}
     assert {p.name for p in out.iterdir()} == expected
     for path in out.glob("*.png"):

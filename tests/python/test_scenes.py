@@ -220,14 +220,14 @@ def test_every_method_on_offer_is_accepted():
         assert dz.SCENES["fig3a"].replace(method=method).method == method
 
 
-def test_the_readmes_example_scene_is_valid_and_means_what_it_says():
-    readme = Path(__file__).resolve().parents[2] / "README.md"
-    if not readme.exists():
-        pytest.skip("no README beside the tests")
-    text = readme.read_text(encoding="utf-8")
+def test_the_guides_example_scene_is_valid_and_means_what_it_says():
+    guide = Path(__file__).resolve().parents[2] / "docs" / "guide" / "scenes.md"
+    if not guide.exists():
+        pytest.skip("no docs/guide/scenes.md beside the tests")
+    text = guide.read_text(encoding="utf-8")
     block = text.split("```toml\n", 1)[1].split("```", 1)[0]
-    scene = dz.Scene.from_toml(block, "mine", "README.md")
-    assert scene == dz.SCENES["fig3a"].replace(name="mine", about="", source="README.md")
+    scene = dz.Scene.from_toml(block, "mine", "scenes.md")
+    assert scene == dz.SCENES["fig3a"].replace(name="mine", about="", source="scenes.md")
 
 
 def test_a_scene_sets_rtol_atol_and_dt_none():

@@ -1,9 +1,11 @@
-"""Everything drawn, with matplotlib: the figures of a scene (:mod:`.figures`), stability maps
-of a sweep (:mod:`.maps`) and animations (:mod:`.animation`)."""
+"""Everything drawn, with matplotlib: the figures of a scene or a trajectory (:mod:`.figures`),
+stability maps of a sweep (:mod:`.maps`), the animation (:func:`animation`, a
+``FuncAnimation`` for notebooks) and its GIF/MP4 files (:mod:`.movie`)."""
 
-from . import animation, maps
+from . import maps, movie
 from .figures import (
     FIGURE_FUNCTIONS,
+    animation,
     compute,
     fig3_figure,
     invariants_figure,
@@ -16,6 +18,7 @@ from .figures import (
 __all__ = [
     "animation",
     "maps",
+    "movie",
     "compute",
     "phases_figure",
     "path_figure",

@@ -1,8 +1,9 @@
 """The paper's figures, and more, with matplotlib.
 
 Each function takes a computed scene (:func:`compute`; a :class:`~dzhanibekov.scene.Scene`
-is computed on the fly), returns a :class:`~matplotlib.figure.Figure` so that figures can
-be composed or restyled, and saves it when given a path. Single-panel figures also draw into
+is computed on the fly) or a :class:`~dzhanibekov.Trajectory` (drawn as it is, with its
+body's box and ellipsoid: :mod:`dzhanibekov.scenes.staging`), returns a
+:class:`~matplotlib.figure.Figure` so that figures can be composed or restyled, and saves it when given a path. Single-panel figures also draw into
 an existing 3-D or 2-D axes (`ax`). No pyplot state is touched: the figures are plain
 ``Figure`` objects, garbage-collected like any other.
 
@@ -23,7 +24,9 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.animation import FuncAnimation
 from matplotlib.axes import Axes
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import LightSource
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # type: ignore[import-untyped]
@@ -38,6 +41,7 @@ from ..geometry import box_edges
 from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
+from ..scenes.staging import result_for
 from ..results import Trajectory
 
 __all__ = [
@@ -48,6 +52,7 @@ __all__ = [
     "omega_figure",
     "invariants_figure",
     "polhode_figure",
+    "animation",
     "FIGURE_FUNCTIONS",
 ]
 
@@ -75,12 +80,21 @@ LIGHT = LightSource(azdeg=300, altdeg=40)
 """The light that shades a mesh's faces."""
 
 
-def compute(scene: Scene | SceneResult) -> SceneResult:
-    """The scene's computed data: its plan, executed (a result is returned as it is)."""
+Drawable = Scene | SceneResult | Trajectory
+"""What the figures take: a scene, a computed scene, or a trajectory with its body."""
+
+
+def compute(scene: Drawable, *, animation: bool = False) -> SceneResult:
+    """The scene's computed data: its plan, executed (a result is returned as it is; a
+    trajectory is staged as a scene and drawn as it is, `animation` asking for every frame's
+    points)."""
     if isinstance(scene, SceneResult):
         return scene
+    if isinstance(scene, Trajectory):
+        return result_for(scene, animation=animation)
     if not isinstance(scene, Scene):
-        raise TypeError(f"`scene` must be a Scene or a SceneResult, got {type(scene).__name__}")
+        raise TypeError(f"`scene` must be a Scene or a SceneResult (or a Trajectory), got "
+                        f"{type(scene).__name__}")
     return execute(make_plan(scene))
 
 
@@ -207,7 +221,7 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return unit
 
 
-def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
+def phases_figure(scene: Drawable, *, columns: int = 4,
                   save: str | Path | None = None) -> Figure:
     """Fig. 2: the body (box, inertia ellipsoid, signal point …) at the scene's instants,
     axonometric, each with the signal point's path up to that instant.
@@ -256,7 +270,7 @@ def _title(result: SceneResult, width: int = 0) -> str:
     return f"{head} —\n{verdict}" if verdict else head
 
 
-def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
+def path_figure(scene: Drawable, *, ax: Axes3D | None = None,
                 save: str | Path | None = None) -> Figure:
     """Fig. 3: the signal point's path in space, in 3-D, with its start and end.
 
@@ -328,7 +342,7 @@ def path_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
     return _saved(fig, save)
 
 
-def fig3_figure(scenes: Sequence[Scene | SceneResult], *, save: str | Path | None = None) -> Figure:
+def fig3_figure(scenes: Sequence[Drawable], *, save: str | Path | None = None) -> Figure:
     """Fig. 3 a–c side by side: :func:`path_figure` of each scene in one row."""
     fig = Figure(figsize=(4.6 * len(scenes), 4.8), layout="constrained")
     for k, scene in enumerate(scenes):
@@ -336,7 +350,7 @@ def fig3_figure(scenes: Sequence[Scene | SceneResult], *, save: str | Path | Non
     return _saved(fig, save)
 
 
-def omega_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+def omega_figure(scene: Drawable, *, ax: Axes | None = None,
                  save: str | Path | None = None) -> Figure:
     """The body angular velocity ``u, v, w`` against time, each flip marked by a vertical line.
 
@@ -374,7 +388,7 @@ def omega_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     return _saved(fig, save)
 
 
-def invariants_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
                       save: str | Path | None = None) -> Figure:
     """The drift of the invariants against time, log scale: relative energy and ``|L|``, the
     space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``.
@@ -501,7 +515,7 @@ def polhodes(inertia: Sequence[float] | np.ndarray, energy: float, levels: int =
     return family, separatrix
 
 
-def polhode_figure(scene: Scene | SceneResult, *, ax: Axes3D | None = None,
+def polhode_figure(scene: Drawable, *, ax: Axes3D | None = None,
                    save: str | Path | None = None) -> Figure:
     """The polhode: ω's path on the energy ellipsoid, where it meets the momentum sphere.
 
@@ -586,3 +600,77 @@ FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {
     "polhode": polhode_figure,
 }
 """The figure function of each name a scene's `draw.figures` may hold."""
+
+
+def animation(scene: Drawable, *, size: int = 480, fps: float = 20.0, dpi: float = 100.0,
+              frames: int | None = None) -> FuncAnimation:
+    """The flipping body as a matplotlib animation, for a notebook or a file.
+
+    ``HTML(anim.to_jshtml())`` shows it in Jupyter; ``anim.save("flip.gif")`` writes it
+    (``dzhanibekov paper`` writes its GIF and MP4 from it). No pyplot state is touched.
+
+    Parameters
+    ----------
+    scene : Scene, SceneResult or Trajectory
+        A scene with ``draw.animation = true`` (its plan rotates every drawn point for every
+        frame in one call to the core), or a trajectory (drawn with its body's box,
+        ellipsoid and signal point).
+    size : int
+        Width and height in pixels.
+    fps : float
+        Frames per second (the interval between frames is ``1000 / fps`` ms).
+    dpi : float
+        Dots per inch of the figure (``size / dpi`` inches a side).
+    frames : int, optional
+        Show this many of the run's frames, evenly spread (default: every frame).
+
+    Returns
+    -------
+    matplotlib.animation.FuncAnimation
+        Over a plain :class:`~matplotlib.figure.Figure` with an Agg canvas.
+
+    Raises
+    ------
+    ValueError
+        A scene not computed for an animation, or a size, rate or frame count out of range.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), frames=41)
+    >>> anim = dz.plotting.animation(traj, size=200, fps=10)
+    >>> html = anim.to_jshtml()          # in Jupyter: IPython.display.HTML(html)
+    >>> html.count("<img") >= 1 and anim._save_count       # doctest: +SKIP
+    """
+    size = as_int("size", size, minimum=16, maximum=8192)
+    fps = as_float("fps", fps, positive=True)
+    dpi = as_float("dpi", dpi, positive=True)
+    result = compute(scene, animation=True)
+    if not result.scene.draw.animation or result.trajectory is None:
+        raise ValueError(f"scene {result.scene.name!r} does not ask for an animation; set "
+                         "`draw.animation = true` in its scene file")
+    n = result.scene.frames
+    count = n if frames is None else as_int("frames", frames, minimum=1, maximum=n)
+    indices = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
+    fig = Figure(figsize=(size / dpi, size / dpi), dpi=dpi)
+    FigureCanvasAgg(fig)
+    fig.subplots_adjust(0, 0, 1, 0.93)
+    ax = _axes3d(fig, 1, 1, 1)
+    ax.set_axis_off()
+    _limits(ax, extent(result))
+    fig.suptitle(_title(result, max(20, int(size / 5.5))), fontsize=8)
+    clock = fig.text(0.02, 0.02, "", fontsize=8)
+    drawn: list[Any] = []
+    times = result.trajectory.t
+
+    def draw(frame: int) -> list[Any]:
+        for artist in drawn:
+            artist.remove()
+        drawn.clear()
+        drawn.extend(draw_body(ax, result, int(frame)).values())
+        drawn.extend(line for line in ax.lines if line not in drawn)  # the faint full path
+        clock.set_text(f"t = {times[frame]:.1f}")
+        return drawn + [clock]
+
+    return FuncAnimation(fig, draw, frames=[int(i) for i in indices], init_func=lambda: [],
+                         interval=1000.0 / fps, blit=False, cache_frame_data=False)

@@ -9,7 +9,7 @@ stable axis from those about the other: ``L² = 2E I_mid``, i.e.
 ``Σ_k I_k (I_k − I_mid) ω_k² = 0``, computed from the formula on a fine grid.
 
 >>> import numpy as np, dzhanibekov as dz
->>> from dzhanibekov.maps import stability_map
+>>> from dzhanibekov.plotting.maps import stability_map
 >>> s = dz.sweep(dz.PAPER_INERTIA, dz.grid(np.linspace(0, 1, 5), np.linspace(0, 1, 5), 1.0),
 ...              t_end=50.0, dt=1e-2)
 >>> fig = stability_map(s, quantity="tilt", save="map.png")               # doctest: +SKIP

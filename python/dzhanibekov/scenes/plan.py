@@ -259,14 +259,19 @@ def densified(result: SceneResult, max_turn: float = ANIMATION_TURN) -> SceneRes
     return SceneResult(scene, result.plan, dense, result.summary, result.mesh, world)
 
 
-def execute(plan: Plan) -> SceneResult:
-    """Does the work of `plan`: one run, the meshes it names, one `rotate` per rotation."""
+def execute(plan: Plan, trajectory: Trajectory | None = None) -> SceneResult:
+    """Does the work of `plan`: one run, the meshes it names, one `rotate` per rotation.
+
+    A `trajectory` of the plan's scene, computed elsewhere, is used instead of the run."""
     if not isinstance(plan, Plan):
         raise TypeError(f"`plan` must be a Plan (from make_plan), got {type(plan).__name__}")
     scene = plan.scene
     traj, summary = None, None
+    if trajectory is not None and len(trajectory.t) != scene.frames:
+        raise ValueError(f"`trajectory` has {len(trajectory.t)} frames, the scene "
+                         f"{scene.frames}")
     if plan.keep_frames:
-        traj = scene.run(flips=plan.keep_flips)
+        traj = trajectory if trajectory is not None else scene.run(flips=plan.keep_flips)
         if plan.invariants:
             traj.invariants()
     else:

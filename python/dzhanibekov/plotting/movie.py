@@ -1,6 +1,8 @@
-"""The animation: the flipping body, its inertia ellipsoid and the signal point's trail.
+"""Animation files: the flipping body, its inertia ellipsoid and the signal point's trail as a
+GIF (and an MP4).
 
-Every frame is drawn once with matplotlib (Agg) and handed to each writer: a GIF through
+The frames are those of :func:`dzhanibekov.plotting.animation` (a matplotlib
+``FuncAnimation``), each drawn once with Agg and handed to each writer: a GIF through
 Pillow always, an MP4 through ffmpeg when an ffmpeg executable is found (on the PATH or
 matplotlib's ``animation.ffmpeg_path``, else the one the optional ``imageio-ffmpeg``
 package ships: ``pip install dzhanibekov[video]``). The positions of all the body's points
@@ -10,21 +12,22 @@ at all frames come from one call to the core's `rotate` (the scene's plan), befo
 from __future__ import annotations
 
 import shutil
-import warnings
 import subprocess
+import warnings
 from pathlib import Path
+from typing import Any
 
 import numpy as np
-from matplotlib.animation import FFMpegWriter
-from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.animation import AbstractMovieWriter, FFMpegWriter
 from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
 from .._args import as_float, as_int
+from ..results import Trajectory
 from ..scenes.plan import SceneResult, densified
-from .figures import _axes3d, _limits, _title, compute, draw_body, extent
 from ..scenes.scene import Scene
+from .figures import animation, compute
 
 __all__ = ["animate", "ffmpeg_path"]
 
@@ -51,18 +54,19 @@ def ffmpeg_path() -> str | None:
         return None
 
 
-def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = None,
-            size: int | None = None, max_turn_deg: float = 10.0, mp4: bool | None = None,
-            progress: bool | None = None) -> list[Path]:
-    """Renders the scene's animation, with enough frames that the body turns at most 10°
-    from one to the next (at least one per scene frame): the attitudes between the run's
-    frames come from its interpolant (:func:`dzhanibekov.plan.densified`).
+def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
+            fps: int | None = None, size: int | None = None, max_turn_deg: float = 10.0,
+            mp4: bool | None = None, progress: bool | None = None) -> list[Path]:
+    """Writes the scene's animation (:func:`dzhanibekov.plotting.animation`), with enough
+    frames that the body turns at most 10° from one to the next (at least one per scene
+    frame): the attitudes between the run's frames come from its interpolant
+    (:func:`dzhanibekov.scenes.plan.densified`). Each frame is rendered once and handed to
+    both writers.
 
     Parameters
     ----------
-    scene : Scene or SceneResult
-        A scene with ``draw.animation = true`` (its plan rotates every drawn point for every
-        frame in one call to the core).
+    scene : Scene, SceneResult or Trajectory
+        A scene with ``draw.animation = true``, or a trajectory.
     path : str or Path
         The GIF to write; the MP4 goes beside it with the suffix ``.mp4``.
     fps : int, optional
@@ -77,6 +81,8 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = N
     progress : bool, optional
         Show a progress bar (tqdm, on stderr) while frames render: None (default) only on a
         terminal.
+    size : int
+        Width and height in pixels (even, as H.264 needs).
 
     Returns
     -------
@@ -91,7 +97,7 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = N
         `mp4` is True and ffmpeg failed; when `mp4` is None a failure only warns
         (RuntimeWarning) and the GIF is kept.
     """
-    result = compute(scene)
+    result = compute(scene, animation=True)
     if not result.scene.draw.animation or result.trajectory is None:
         raise ValueError(f"scene {result.scene.name!r} does not ask for an animation; set "
                          "`draw.animation = true` in its scene file")
@@ -107,35 +113,14 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = N
     ffmpeg = ffmpeg_path() if mp4 is not False else None
     if mp4 and ffmpeg is None:
         raise ValueError("`mp4=True` needs ffmpeg: install it, or `pip install imageio-ffmpeg`")
-    n = result.scene.frames
-    fig = Figure(figsize=(size / 100, size / 100), dpi=100)
-    canvas = FigureCanvasAgg(fig)
-    fig.subplots_adjust(0, 0, 1, 0.92)
-    ax = _axes3d(fig, 1, 1, 1)
-    ax.set_axis_off()
-    _limits(ax, extent(result))
-    fig.suptitle(_title(result, int(size / 5.5)), fontsize=8)
-    clock = fig.text(0.02, 0.02, "", fontsize=9)
-    images: list[Image.Image] = []
+    anim = animation(result, size=size, fps=fps)
     video = _Video(ffmpeg, gif.with_suffix(".mp4"), fps) if ffmpeg else None
+    images: list[Image.Image] = []
     try:
-        bar = tqdm(total=n, desc=f"animation {result.scene.name}", unit="frame",
-                   disable=None if progress is None else not progress)
+        bar = tqdm(total=result.scene.frames, desc=f"animation {result.scene.name}",
+                   unit="frame", disable=None if progress is None else not progress)
         with bar:
-            for frame in range(n):
-                # the artists of one frame, removed before the next: the points are precomputed
-                artists = draw_body(ax, result, frame)
-                clock.set_text(f"t = {result.trajectory.t[frame]:.1f}")
-                canvas.draw()  # type: ignore[no-untyped-call]
-                rgba = np.asarray(canvas.buffer_rgba())  # type: ignore[no-untyped-call]
-                images.append(Image.fromarray(rgba[..., :3]).quantize(colors=128))
-                if video is not None:
-                    video.write(rgba)
-                for artist in artists.values():
-                    artist.remove()
-                for line in list(ax.lines):
-                    line.remove()
-                bar.update()
+            anim.save(str(gif), writer=_Frames(images, video, bar, fps))
         images[0].save(gif, save_all=True, append_images=images[1:],
                        duration=round(1000 / fps), loop=0, optimize=False)
         written = [gif]
@@ -150,6 +135,31 @@ def animate(scene: Scene | SceneResult, path: str | Path, *, fps: int | None = N
         if video is not None:
             video.kill()
     return written
+
+
+class _Frames(AbstractMovieWriter):
+    """A matplotlib movie writer that hands each rendered frame to the GIF's frame list and
+    to the ffmpeg process, so that the animation is drawn once for both files."""
+
+    def __init__(self, images: list[Image.Image], video: _Video | None, bar: Any,
+                 fps: int) -> None:
+        super().__init__(fps=fps)
+        self.images, self.video, self.bar = images, video, bar
+
+    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:
+        super().setup(fig, outfile, dpi)
+
+    def grab_frame(self, **savefig_kwargs: Any) -> None:
+        # the animation has just drawn the frame (its draw_idle renders at once on Agg):
+        # take the pixels without rendering them a second time
+        rgba = np.asarray(self.fig.canvas.buffer_rgba())  # type: ignore[attr-defined]
+        self.images.append(Image.fromarray(rgba[..., :3]).quantize(colors=128))
+        if self.video is not None:
+            self.video.write(rgba)
+        self.bar.update()
+
+    def finish(self) -> None:
+        pass
 
 
 class _Video:

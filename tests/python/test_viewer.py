@@ -1,0 +1,108 @@
+"""The HTML viewer, loaded in a real headless browser (Debian's chromium).
+
+The page must load without JavaScript errors, hold the plot, its play/pause buttons and its
+time slider, and its screenshot must not be blank. Without a browser the browser tests skip
+and say why; `.ci/run` installs chromium where apt is available.
+"""
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import dzhanibekov as dz
+
+pytest.importorskip("plotly", reason="the `viewer` extra (plotly) is not installed")
+
+BROWSER = next((shutil.which(b) for b in ("chromium", "chromium-browser", "google-chrome")
+                if shutil.which(b)), None)
+needs_browser = pytest.mark.skipif(
+    BROWSER is None,
+    reason="no headless browser: `apt-get install chromium` (bash .ci/run installs it as root)")
+# messages the page may log that are not errors (WebGL in software, canvas read-backs)
+JS_ERROR = re.compile(r"Uncaught|\b\w*Error\b|WebGL is not supported|Failed to load")
+
+
+def _browser(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
+    assert BROWSER is not None
+    flags = ["--headless", "--no-sandbox", "--disable-gpu", "--enable-unsafe-swiftshader",
+             "--use-angle=swiftshader", "--hide-scrollbars", "--enable-logging=stderr",
+             "--v=0", "--virtual-time-budget=10000"]
+    env = dict(os.environ, HOME=os.environ.get("HOME", "/tmp"))
+    return subprocess.run([BROWSER, *flags, *args], capture_output=True, text=True,
+                          timeout=timeout, env=env)
+
+
+def _console(stderr: str) -> list[str]:
+    return [line for line in stderr.splitlines() if "CONSOLE" in line]
+
+
+@pytest.fixture(scope="module")
+def page(tmp_path_factory):
+    traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=100.0, frames=61, dt=1e-2)
+    return dz.viewer.write_html(traj, tmp_path_factory.mktemp("viewer") / "flip.html")
+
+
+def test_the_page_is_self_contained(page):
+    html = page.read_text(encoding="utf-8")
+    assert "<script src=\"http" not in html and "cdn.plot.ly" not in html.split("</head>")[0]
+    assert "Plotly.newPlot" in html or "Plotly.react" in html
+    assert len(html) > 3_000_000  # plotly's bundle is in the page itself
+
+
+def test_the_figure_has_a_frame_per_frame_and_play_pause_and_a_slider(tmp_path):
+    traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=10.0, frames=11)
+    fig = dz.viewer.figure(traj)
+    assert len(fig.frames) == 11
+    labels = [b.label for b in fig.layout.updatemenus[0].buttons]
+    assert any("play" in s for s in labels) and any("pause" in s for s in labels)
+    assert len(fig.layout.sliders[0].steps) == 11
+    # the last frame's signal point is where the package's rotation puts it
+    point = fig.frames[-1].data[-1]
+    expected = dz.rotate(traj.q[-1], (0.0, 0.0, 13.0))
+    assert np.allclose([point.x[0], point.y[0], point.z[0]], expected, atol=1e-12)
+    assert len(dz.viewer.figure(traj, frames=4).frames) == 4
+
+
+def test_a_missing_plotly_is_named(monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)
+    with pytest.raises(ImportError, match=r"pip install \"\.\[viewer\]\""):
+        dz.viewer.write_html(dz.SCENES["fig3a"], tmp_path / "x.html")
+
+
+@needs_browser
+def test_the_page_loads_without_javascript_errors(page):
+    run = _browser("--dump-dom", page.as_uri())
+    assert run.returncode == 0, run.stderr[-2000:]
+    errors = [m for m in _console(run.stderr) if JS_ERROR.search(m)]
+    assert errors == [], errors
+    dom = run.stdout
+    assert "js-plotly-plot" in dom and "gl-container" in dom  # plotly drew its 3-D scene
+    assert dom.count('class="updatemenu-button"') == 2 and "slider-container" in dom
+
+
+@needs_browser
+def test_the_screenshot_is_not_blank(page, tmp_path):
+    shot = tmp_path / "shot.png"
+    run = _browser(f"--screenshot={shot}", "--window-size=900,800", page.as_uri())
+    assert run.returncode == 0 and shot.exists(), run.stderr[-2000:]
+    pixels = np.asarray(Image.open(shot).convert("RGB"), dtype=float)
+    assert pixels.shape[:2] == (800, 900)
+    assert pixels.std() > 20  # not one colour
+    # the body is drawn: the box's dark blue and the ellipsoid's orange are on the page
+    blue = (np.abs(pixels - [31, 59, 115]).sum(axis=2) < 60).sum()
+    orange = ((pixels[..., 0] > 200) & (pixels[..., 1] > 150) & (pixels[..., 2] < 150)).sum()
+    assert blue > 500 and orange > 2000, (blue, orange)
+
+
+def test_the_cli_writes_the_viewer(tmp_path):
+    out = tmp_path / "v.html"
+    from dzhanibekov.cli import main
+
+    assert main(["view", "fig3a", "--out", str(out)]) == 0
+    assert out.exists() and "Plotly" in out.read_text(encoding="utf-8")[:5_000_000]
