@@ -548,7 +548,7 @@ def _validate(s: Scene) -> None:
     _set(s, "t_end", _number(src, "run.t_end", s.t_end, positive=True))
     _set(s, "frames", _integer(src, "run.frames", s.frames, 2))
     _set(s, "dt", _number(src, "run.dt", s.dt, positive=True))
-    if s.method not in METHODS:
+    if not isinstance(s.method, str) or s.method not in METHODS:
         raise SceneError(src, "run.method", f"must be one of {list(METHODS)}, got {s.method!r}")
     if s.box is not None:
         _set(s, "box", _triple(src, "body.box", s.box, positive=True))
