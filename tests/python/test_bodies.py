@@ -418,3 +418,16 @@ def test_the_animation_size_and_rate_come_from_the_scene_or_the_command_line(tmp
                  "--gif-size", "128", "--fps", "10"]) == 0
     with Image.open(tmp_path / "b" / "nut.gif") as gif:
         assert gif.size == (128, 128) and gif.info["duration"] == 100
+
+
+def test_bodies_of_every_kind_pickle_with_their_axes_and_shapes():
+    import pickle
+
+    r = random_rotation(9).as_matrix()
+    for body in (dz.Body.wing_nut(), dz.Body.from_tensor(r @ np.diag([1.0, 2.0, 3.0]) @ r.T),
+                 dz.Body.cylinder(1.0, 2.0)):
+        again = pickle.loads(pickle.dumps(body))
+        assert again == body and again.mass == body.mass
+        np.testing.assert_array_equal(again.principal_axes, body.principal_axes)
+        w = np.array([0.1, 1.0, 0.2])
+        assert dz.flip_period(again, w) == dz.flip_period(body, w)

@@ -602,7 +602,7 @@ def _validate(s: Scene) -> None:
         raise SceneError(src, "run.dt", f'must be a positive number or "none", got {s.dt!r}')
     else:
         _set(s, "dt", _number(src, "run.dt", s.dt, positive=True))
-    if s.method not in METHODS:
+    if not isinstance(s.method, str) or s.method not in METHODS:
         raise SceneError(src, "run.method", f"must be one of {list(METHODS)}, got {s.method!r}")
     for key in ("rtol", "atol"):
         value = getattr(s, key)
