@@ -8,6 +8,14 @@
 
 use nalgebra::{Quaternion, Vector3};
 
+mod damper;
+mod deployment;
+pub mod model;
+
+pub use damper::{DampedBody, DamperState};
+pub use deployment::{Deployment, DeploymentState};
+pub use model::Model;
+
 use crate::body::RigidBody;
 use crate::integrators::OdeSystem;
 use crate::kinematics::rotation_matrix;

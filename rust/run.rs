@@ -20,6 +20,10 @@ use crate::integrators::{
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
 use crate::scale::RateScale;
 
+mod models;
+
+pub use models::{simulate_model, ModelMethod, ModelOutput, MODEL_METHODS};
+
 /// What to do about a run that diverged.
 pub(crate) const DIVERGED_HINT: &str =
     "the step is far beyond the method's stability limit; take a smaller dt";
@@ -241,6 +245,19 @@ pub enum Method {
 }
 
 impl Method {
+    /// The method's name, as `FromStr` reads it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Rk4 => "rk4",
+            Method::Exact => "exact",
+            Method::Rk4Projected => "rk4_projected",
+            Method::Splitting => "splitting",
+            Method::Splitting4 => "splitting4",
+            Method::Dopri5(_) => "dopri5",
+            Method::Dop853(_) => "dop853",
+        }
+    }
+
     /// Whether the method chooses its own steps (then `dt` is only the first one tried).
     pub fn is_adaptive(&self) -> bool {
         matches!(self, Method::Dopri5(_) | Method::Dop853(_))
