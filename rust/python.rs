@@ -20,6 +20,7 @@ use crate::adaptive::Adaptive;
 use crate::batch::{simulate_batch as core_simulate_batch, Options as BatchOptions, Start};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
+use crate::dynamics::{DampedBody, Deployment, Model};
 use crate::elliptic::Jacobi;
 use crate::error::Error;
 use crate::exact;
@@ -28,7 +29,10 @@ use crate::kinematics::rotate_points_until;
 use crate::lanes::Isa;
 use crate::mesh::ellipsoid;
 use crate::observe::Drift;
-use crate::run::{simulate as core_simulate, FrameGrid, Keep, Method};
+use crate::run::{
+    model_step, simulate as core_simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod,
+    ModelOutput,
+};
 use crate::step_size::plan;
 use crate::sweep::{sweep as core_sweep, RunSummary};
 
@@ -250,6 +254,144 @@ fn step_plan<'py>(
     result.set_item("rate_bound", p.rate_bound)?;
     result.set_item("predicted_drift", p.predicted_drift)?;
     Ok(result)
+}
+
+/// The method and frame grid of a model run: `dt = None` picks [`model_step`].
+#[allow(clippy::too_many_arguments)]
+fn model_method_and_grid<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    method: &str,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<(ModelMethod, FrameGrid)> {
+    let method = ModelMethod::for_model(adaptive_method(method, rtol, atol, dt)?, S::NAME)?;
+    let grid = match method {
+        ModelMethod::Dopri5(_) | ModelMethod::Dop853(_) => FrameGrid::frames_only(t_end, frames)?,
+        _ => {
+            if let Some(dt) = dt {
+                FrameGrid::try_new(t_end, frames, dt, max_steps)?
+            } else {
+                crate::step_size::check_rtol(rtol)?;
+                FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
+            }
+        }
+    };
+    let method = match method {
+        ModelMethod::Dopri5(a) => ModelMethod::Dopri5(a.with_max_steps(max_steps)),
+        ModelMethod::Dop853(a) => ModelMethod::Dop853(a.with_max_steps(max_steps)),
+        fixed => fixed,
+    };
+    Ok((method, grid))
+}
+
+/// A model run's frames as a dict of arrays.
+fn model_result<'py>(
+    py: Python<'py>,
+    out: ModelOutput,
+    frames: usize,
+    extra: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let result = PyDict::new(py);
+    let omega = Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?;
+    let q = Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?;
+    let l = Array2::from_shape_vec((frames, 3), out.momentum_world).map_err(internal)?;
+    let lb = Array2::from_shape_vec((frames, 3), out.momentum_body).map_err(internal)?;
+    result.set_item("momentum_body", lb.into_pyarray(py))?;
+    result.set_item("omega", omega.into_pyarray(py))?;
+    result.set_item("q", q.into_pyarray(py))?;
+    result.set_item("momentum_world", l.into_pyarray(py))?;
+    result.set_item("energy", Array1::from_vec(out.energy).into_pyarray(py))?;
+    if let Some(name) = extra {
+        let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
+        result.set_item(name, x.into_pyarray(py))?;
+    }
+    result.set_item("nfev", out.stats.nfev)?;
+    result.set_item("n_steps", out.stats.n_steps)?;
+    result.set_item("n_rejected", out.stats.n_rejected)?;
+    result.set_item("dt", out.dt)?;
+    Ok(result)
+}
+
+/// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
+#[pyfunction]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_deployment<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    tensors: PyReadonlyArray2<'py, f64>,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let times = times
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`times` must be C-contiguous"))?
+        .to_vec();
+    let rows = values("inertia", &tensors)?;
+    if tensors.shape()[1] != 9 {
+        return Err(PyValueError::new_err(
+            "`inertia` must have rows of 9 (3 × 3 tensors)",
+        ));
+    }
+    let tensors = rows
+        .chunks_exact(9)
+        .map(nalgebra::Matrix3::from_row_slice)
+        .collect();
+    let d = Deployment::try_new(times, tensors)?;
+    let x0 = d.state_from(0.0, omega0, crate::run::normalized(q0)?);
+    let (method, grid) =
+        model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let long = method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS;
+    let out = detach(py, long, |cancel| {
+        simulate_model(&d, x0, &grid, method, cancel)
+    })?;
+    model_result(py, out, frames, None)
+}
+
+/// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
+#[pyfunction]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_damper<'py>(
+    py: Python<'py>,
+    inertia: [f64; 9],
+    sphere: f64,
+    damping: f64,
+    omega0: [f64; 3],
+    sigma0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
+    if !sigma0.iter().all(|s| s.is_finite()) {
+        return Err(Error::invalid("sigma0", "must be three finite rates", sigma0).into());
+    }
+    let x0 = DampedBody::state_from(omega0, sigma0, crate::run::normalized(q0)?);
+    let (method, grid) =
+        model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let long = method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS;
+    let out = detach(py, long, |cancel| {
+        simulate_model(&sys, x0, &grid, method, cancel)
+    })?;
+    model_result(py, out, frames, Some("sigma"))
 }
 
 fn internal(e: impl std::fmt::Display) -> PyErr {
@@ -647,6 +789,8 @@ fn instruction_sets() -> Vec<&'static str> {
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;

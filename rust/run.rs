@@ -22,7 +22,7 @@ use crate::scale::RateScale;
 
 mod models;
 
-pub use models::{simulate_model, ModelMethod, ModelOutput, MODEL_METHODS};
+pub use models::{model_step, simulate_model, ModelMethod, ModelOutput, MODEL_METHODS};
 
 /// What to do about a run that diverged.
 pub(crate) const DIVERGED_HINT: &str =

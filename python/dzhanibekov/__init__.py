@@ -12,6 +12,8 @@ from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .batch import Batch, BatchDrift
 from .body import Body, InertiaWarning
+from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
+from .deployment import Deployment
 from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
 from .flips import flip_period
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
@@ -27,6 +29,12 @@ __all__ = [
     "__version__",
     "Body",
     "InertiaWarning",
+    "Deployment",
+    "Damper",
+    "FLAT_SHARE",
+    "axis_shares",
+    "flat_spin_time",
+    "flat_spin_estimate",
     "Trajectory",
     "Drift",
     "simulate",

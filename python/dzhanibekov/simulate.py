@@ -12,6 +12,9 @@ from ._checks import as_array, as_float, as_int, check_size
 from .accuracy import plan_step
 from .batch import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
+from .damper import Damper
+from .deployment import Deployment
+from .models import simulate_model
 from .trajectory import Drift, Trajectory
 
 __all__ = ["METHODS", "simulate", "rotate"]
@@ -29,7 +32,7 @@ DEFAULT_MAX_STEPS = 10**10
 
 @overload
 def simulate(
-    body: Body | Sequence[float],
+    body: Body | Deployment | Sequence[float],
     omega0: Sequence[float],
     q0: Sequence[float] = ...,
     t_end: float = ...,
@@ -42,6 +45,8 @@ def simulate(
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
+    damper: Damper | None = ...,
+    sigma0: Sequence[float] | None = ...,
 ) -> Trajectory: ...
 
 
@@ -60,6 +65,8 @@ def simulate(
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
+    damper: Damper | None = ...,
+    sigma0: Any = ...,
 ) -> Trajectory | Batch: ...
 
 
@@ -77,6 +84,8 @@ def simulate(
     flips: bool = True,
     max_steps: int = DEFAULT_MAX_STEPS,
     threads: int | None = None,
+    damper: Damper | None = None,
+    sigma0: Any = None,
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
@@ -95,8 +104,12 @@ def simulate(
 
     Parameters
     ----------
-    body : Body or array_like, shape (3,) or (M, 3)
+    body : Body or Deployment or array_like, shape (3,) or (M, 3)
         The body, or its principal moments ``(Ix, Iy, Iz)``; one row per run of a batch.
+        A :class:`Deployment` runs a body whose inertia changes in a prescribed way
+        (``dL/dt = L × ω``, ``ω = I(t)⁻¹ L``) by the methods that run it (``"rk4"``,
+        ``"rk4_projected"`` onto ``|L|``, ``L_world`` and ``|q|``, ``"dopri5"``,
+        ``"dop853"``); flips are not located, and ``energy`` shows the internal work.
     omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite.
     q0 : array_like, shape (4,) or (M, 4)
@@ -141,6 +154,14 @@ def simulate(
         Refuse runs needing more steps than this (default 10¹⁰).
     threads : int, optional
         A batch's threads (default: all cores). A single run uses one.
+    damper : Damper, optional
+        A spherical viscous nutation damper inside the body (see :class:`Damper`): its three
+        rates join the state; the trajectory gains ``sigma`` (frames, 3), and
+        ``momentum_world`` and ``energy`` count body and damper. Runs by ``"rk4"``,
+        ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``), ``"dopri5"`` and
+        ``"dop853"``; the other methods refuse it by name. Flips are not located.
+    sigma0 : array_like, shape (3,), optional
+        The damper's initial absolute rate in body axes; co-rotating (``omega0``) if None.
 
     Returns
     -------
@@ -184,6 +205,12 @@ def simulate(
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
     """
+    if isinstance(body, Deployment) or damper is not None:
+        checked_threads(threads)
+        return simulate_model(body, omega0, q0, t_end, frames, dt, method, damper=damper,
+                              sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps)
+    if sigma0 is not None:
+        raise ValueError("`sigma0` is the damper's initial rate: pass `damper` too")
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
                               flips=flips, max_steps=max_steps, threads=threads)

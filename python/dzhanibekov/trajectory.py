@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -56,6 +56,17 @@ class Trajectory:
         The invariants' largest drift over the frames.
     n_rejected : int
         Steps an adaptive method tried and rejected; 0 for fixed-step methods.
+    model : Deployment or Damper or None
+        The model beyond the constant body that was run, if any (then `body` is the body at
+        ``t = 0``, its principal moments).
+    sigma : ndarray, shape (frames, 3), or None
+        A damper's absolute angular velocity in body axes; None without a damper.
+    momentum_world : ndarray, shape (frames, 3)
+        Total angular momentum in space (body, plus damper where there is one); constant
+        for the exact motion of every model.
+    energy : ndarray, shape (frames,)
+        Total kinetic energy: constant for the free body, changed by a deployment's internal
+        work, never rising with a damper.
     """
 
     t: np.ndarray
@@ -69,6 +80,8 @@ class Trajectory:
     nfev: int
     drift: Drift
     n_rejected: int = 0
+    model: Any = None
+    sigma: np.ndarray | None = None
     _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def invariants(self) -> dict[str, np.ndarray]:
@@ -83,6 +96,16 @@ class Trajectory:
         if not self._invariants:
             self._invariants.update(_core.invariants(self.body._core, self.omega, self.q))
         return self._invariants
+
+    @property
+    def momentum_world(self) -> np.ndarray:
+        """Total angular momentum in space at every frame, shape (frames, 3)."""
+        return self.invariants()["momentum_world"]
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Total kinetic energy at every frame, shape (frames,)."""
+        return self.invariants()["energy"]
 
     @property
     def _flip_count(self) -> int | str:

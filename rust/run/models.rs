@@ -75,6 +75,8 @@ pub struct ModelOutput {
     pub q: Vec<f64>,
     /// `(frames, 3)` total angular momentum in space.
     pub momentum_world: Vec<f64>,
+    /// `(frames, 3)` total angular momentum in body axes.
+    pub momentum_body: Vec<f64>,
     /// `(frames,)` total kinetic energy.
     pub energy: Vec<f64>,
     /// `(frames, k)` the model's extra output (the damper's rates σ; empty for a deployment).
@@ -90,6 +92,7 @@ impl ModelOutput {
             omega: Vec::with_capacity(3 * frames),
             q: Vec::with_capacity(4 * frames),
             momentum_world: Vec::with_capacity(3 * frames),
+            momentum_body: Vec::with_capacity(3 * frames),
             energy: Vec::with_capacity(frames),
             ..Self::default()
         }
@@ -98,7 +101,9 @@ impl ModelOutput {
     fn record<const N: usize, S: Model<N>>(&mut self, sys: &S, t: f64, x: &[f64; N]) {
         let omega = sys.omega_body(t, x);
         let q = attitude(x);
-        let l_world = rotation_matrix(&q) * sys.momentum_body(t, x);
+        let l_body = sys.momentum_body(t, x);
+        let l_world = rotation_matrix(&q) * l_body;
+        self.momentum_body.extend_from_slice(l_body.as_slice());
         self.omega.extend_from_slice(omega.as_slice());
         self.q.extend_from_slice(&[q.w, q.i, q.j, q.k]);
         self.momentum_world.extend_from_slice(l_world.as_slice());
@@ -301,4 +306,23 @@ fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()
         });
     }
     Ok(())
+}
+
+/// The fixed step for accuracy `rtol` over `[0, t_end]` from `x0`: `h` with
+/// `Ω t_end (hΩ)⁴ = rtol` and `hΩ ≤ 0.5`, `Ω` the model's rate bound — the free body's
+/// rule for RK4 ([`crate::step_size`]) with its constant taken as 1. A model's phase error
+/// is not bounded by it near a separatrix (a deployment that tumbles crosses one).
+pub fn model_step<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    t_end: f64,
+    rtol: f64,
+) -> f64 {
+    let rate = sys.rate_bound(x0);
+    if !(rate > 0.0 && rate.is_finite()) {
+        return t_end;
+    }
+    let span = (rate * t_end).max(1.0);
+    let h_omega = (rtol / span).powf(0.25).min(0.5);
+    h_omega / rate
 }

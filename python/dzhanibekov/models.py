@@ -1,0 +1,113 @@
+"""Runs of the models beyond the constant free body: deployments and damped bodies.
+
+The core declares which methods run them (``rk4``, ``rk4_projected``, ``dopri5``,
+``dop853``) and refuses the others by name; this module only coerces and wraps.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from ._checks import as_array, as_float, as_int, check_size
+from .body import Body, as_body
+from .damper import Damper
+from .deployment import Deployment
+from .trajectory import Drift, Trajectory
+
+__all__ = ["simulate_model"]
+
+
+def _drift(out: dict[str, Any]) -> Drift:
+    """The drift of what the model keeps (momentum, its norm, |q|); the energy entry is its
+    relative change, which a model's law makes (a deployment's work, a damper's loss)."""
+    e, l_world, l_body, q = out["energy"], out["momentum_world"], out["momentum_body"], out["q"]
+    l0 = float(np.linalg.norm(l_world[0])) or 1.0
+    return Drift(
+        energy=float(np.abs(e - e[0]).max() / (abs(e[0]) or 1.0)),
+        momentum=float(np.abs(np.linalg.norm(l_body, axis=1) - l0).max() / l0),
+        momentum_world=float(np.linalg.norm(l_world - l_world[0], axis=1).max() / l0),
+        q_norm=float(np.abs(np.linalg.norm(q, axis=1) - 1.0).max()),
+    )
+
+
+def simulate_model(
+    model: Deployment | Body | Any,
+    omega0: Any,
+    q0: Any,
+    t_end: Any,
+    frames: Any,
+    dt: Any,
+    method: str,
+    *,
+    damper: Damper | None = None,
+    sigma0: Any = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    max_steps: Any,
+) -> Trajectory:
+    """Runs a deployment (`model` a :class:`Deployment`) or a body with a damper; see
+    `dzhanibekov.simulate` for the arguments."""
+    omega = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
+    q = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
+    t_end = as_float("t_end", t_end, positive=True)
+    frames = as_int("frames", frames, minimum=2)
+    max_steps = as_int("max_steps", max_steps, minimum=1)
+    dt = None if dt is None else as_float("dt", dt, positive=True)
+    if not isinstance(method, str):
+        raise TypeError(f"`method` must be a string, got {type(method).__name__}")
+    rtol_ = 1e-9 if rtol is None else as_float("rtol", rtol, positive=True)
+    atol_ = 1e-12 if atol is None else as_float("atol", atol, positive=True)
+    check_size(frames * 8 * 24, f"frames={frames}", "ask for fewer frames")
+    omega_t = (float(omega[0]), float(omega[1]), float(omega[2]))
+    q_t = (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
+    sigma = None
+    if isinstance(model, Deployment):
+        if damper is not None:
+            raise ValueError("`damper` cannot be combined with a Deployment (a damped body "
+                             "has constant inertia)")
+        out = _core.simulate_deployment(
+            model.times, model.tensors.reshape(-1, 9), omega_t, q_t, t_end, frames, dt,
+            method, max_steps, rtol_, atol_)
+        body = Body(np.linalg.eigvalsh(model.tensors[0]) if _off_diagonal(model.tensors[0])
+                    else model.tensors[0].diagonal())
+    else:
+        if not isinstance(damper, Damper):
+            raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
+        body = as_body(model)
+        tensor = getattr(body, "tensor", None)
+        inertia = np.asarray(tensor if tensor is not None else np.diag(body.inertia), float)
+        s = omega if sigma0 is None else as_array("sigma0", sigma0, "(3,)", last=3, ndim=(1,))
+        out = _core.simulate_damper(
+            tuple(inertia.ravel().tolist()), damper.inertia, damper.damping, omega_t,
+            (float(s[0]), float(s[1]), float(s[2])), q_t, t_end, frames, dt, method,
+            max_steps, rtol_, atol_)
+        sigma = out["sigma"]
+    traj = Trajectory(
+        t=t_end * (np.arange(frames) / (frames - 1)),
+        omega=out["omega"],
+        q=out["q"],
+        flip_times=None,
+        body=body,
+        method=method,
+        dt=out["dt"],
+        n_steps=out["n_steps"],
+        nfev=out["nfev"],
+        drift=_drift(out),
+        n_rejected=out["n_rejected"],
+        model=model if isinstance(model, Deployment) else damper,
+        sigma=sigma,
+    )
+    traj._invariants.update(
+        energy=out["energy"],
+        momentum_body=out["momentum_body"],
+        momentum_world=out["momentum_world"],
+        q_norm=np.linalg.norm(out["q"], axis=1),
+    )
+    return traj
+
+
+def _off_diagonal(m: np.ndarray) -> bool:
+    return bool(np.any(m - np.diag(m.diagonal())))
