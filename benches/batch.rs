@@ -6,12 +6,12 @@ use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use dzhanibekov::batch::{simulate_batch, Options, Start, LANES};
 use dzhanibekov::dynamics::{state_from, FreeRigidBody, State};
-use dzhanibekov::lanes::{advance, Isa, Lanes, Span};
+use dzhanibekov::ensemble::batch::{simulate_batch, Options, Start, LANES};
+use dzhanibekov::ensemble::lanes::{advance, Isa, Lanes, Span};
+use dzhanibekov::ensemble::sweep::sweep;
 use dzhanibekov::observe::{FlipDetector, Observer};
 use dzhanibekov::run::{FrameGrid, Keep, Method};
-use dzhanibekov::sweep::sweep;
 use dzhanibekov::RigidBody;
 use nalgebra::Vector3;
 

@@ -6,7 +6,7 @@ use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use dzhanibekov::adaptive::Adaptive;
+use dzhanibekov::run::adaptive::Adaptive;
 use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
 

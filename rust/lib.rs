@@ -16,25 +16,25 @@
 //!
 //! The crate is Python-free unless the `python` feature is on; then the `python` module
 //! (rust/python.rs) holds the bindings and nothing else.
+//!
+//! The modules in their one-way order, each using only those before it: [`error`], [`float`],
+//! [`buffer`] → [`body`] → [`dynamics`], [`kinematics`], [`mesh`] → [`ode`] → [`integrators`]
+//! → [`rigid`] → [`exact`] → [`observe`] → [`run`] → [`ensemble`] → `python`.
 
-pub mod adaptive;
-pub mod batch;
 pub mod body;
 pub mod buffer;
 pub mod dynamics;
-pub mod elliptic;
+pub mod ensemble;
 pub mod error;
 pub mod exact;
+pub mod float;
 pub mod integrators;
 pub mod kinematics;
-pub mod lanes;
 pub mod mesh;
 pub mod observe;
+pub mod ode;
+pub mod rigid;
 pub mod run;
-pub mod scale;
-pub mod step_size;
-pub mod sweep;
-pub mod tilt;
 
 #[cfg(feature = "python")]
 mod python;

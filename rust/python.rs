@@ -16,25 +16,27 @@ use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::adaptive::Adaptive;
-use crate::batch::{simulate_batch as core_simulate_batch, Options as BatchOptions, Start};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
 use crate::dynamics::{DampedBody, Deployment, Model};
-use crate::elliptic::Jacobi;
+use crate::ensemble::batch::{
+    simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
+};
+use crate::ensemble::lanes::Isa;
+use crate::ensemble::sweep::{sweep as core_sweep, RunSummary};
 use crate::error::Error;
 use crate::exact;
-use crate::integrators::Stats;
+use crate::exact::elliptic::Jacobi;
 use crate::kinematics::rotate_points_until;
-use crate::lanes::Isa;
 use crate::mesh::ellipsoid;
 use crate::observe::Drift;
+use crate::ode::Stats;
+use crate::run::adaptive::Adaptive;
+use crate::run::step_size::plan;
 use crate::run::{
     model_step, simulate as core_simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod,
     ModelOutput,
 };
-use crate::step_size::plan;
-use crate::sweep::{sweep as core_sweep, RunSummary};
 
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
@@ -276,7 +278,7 @@ fn model_method_and_grid<const N: usize, S: Model<N>>(
             if let Some(dt) = dt {
                 FrameGrid::try_new(t_end, frames, dt, max_steps)?
             } else {
-                crate::step_size::check_rtol(rtol)?;
+                crate::run::step_size::check_rtol(rtol)?;
                 FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
             }
         }
@@ -696,7 +698,7 @@ fn simulate_batch<'py>(
     Ok(result)
 }
 
-/// Many runs summarised, no frames kept (see `crate::sweep`).
+/// Many runs summarised, no frames kept (see `crate::ensemble::sweep`).
 #[pyfunction]
 #[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, threads = None, isa = None))]
 #[allow(clippy::too_many_arguments)]
@@ -770,8 +772,9 @@ fn step_plan_batch<'py>(
             .collect::<Result<Vec<_>, Error>>()
     })?;
     let result = PyDict::new(py);
-    let of =
-        |f: fn(&crate::step_size::StepPlan) -> f64| -> Vec<f64> { plans.iter().map(f).collect() };
+    let of = |f: fn(&crate::run::step_size::StepPlan) -> f64| -> Vec<f64> {
+        plans.iter().map(f).collect()
+    };
     result.set_item("dt", column(py, of(|p| p.dt)))?;
     result.set_item("step", column(py, of(|p| p.step)))?;
     result.set_item("rate_bound", column(py, of(|p| p.rate_bound)))?;

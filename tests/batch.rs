@@ -4,11 +4,11 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dzhanibekov::batch::{simulate_batch, BatchOutput, Options, Start, LANES};
+use dzhanibekov::ensemble::batch::{simulate_batch, BatchOutput, Options, Start, LANES};
+use dzhanibekov::ensemble::lanes::Isa;
+use dzhanibekov::ensemble::sweep::sweep;
 use dzhanibekov::exact::flip_period;
-use dzhanibekov::lanes::Isa;
 use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
-use dzhanibekov::sweep::sweep;
 use dzhanibekov::Error;
 use proptest::prelude::*;
 

@@ -4,11 +4,10 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dzhanibekov::adaptive::Adaptive;
 use dzhanibekov::dynamics::{state_from, FreeRigidBody, State};
-use dzhanibekov::integrators::{
-    DenseOutput, Dop853, Dopri5, EmbeddedPair, EmbeddedStep, OdeSystem,
-};
+use dzhanibekov::integrators::{Dop853, Dopri5};
+use dzhanibekov::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem};
+use dzhanibekov::run::adaptive::Adaptive;
 use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
 use dzhanibekov::{Error, RigidBody};
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};

@@ -6,8 +6,8 @@ use std::sync::atomic::AtomicBool;
 
 use nalgebra::Matrix3;
 
-use dzhanibekov::adaptive::Adaptive;
 use dzhanibekov::dynamics::{DampedBody, Deployment};
+use dzhanibekov::run::adaptive::Adaptive;
 use dzhanibekov::run::{
     simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod, ModelOutput,
 };

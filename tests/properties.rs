@@ -5,11 +5,11 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dzhanibekov::adaptive::Adaptive;
-use dzhanibekov::batch::{simulate_batch, Options, Start};
 use dzhanibekov::dynamics::{state_from, Invariants};
+use dzhanibekov::ensemble::batch::{simulate_batch, Options, Start};
+use dzhanibekov::ensemble::sweep::sweep;
+use dzhanibekov::run::adaptive::Adaptive;
 use dzhanibekov::run::{simulate, FrameGrid, Method, RunOutput};
-use dzhanibekov::sweep::sweep;
 use dzhanibekov::RigidBody;
 use nalgebra::Vector3;
 use proptest::prelude::*;

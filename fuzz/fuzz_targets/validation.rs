@@ -13,8 +13,8 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dzhanibekov::adaptive::Adaptive;
-use dzhanibekov::batch::{simulate_batch, Options, Start};
+use dzhanibekov::run::adaptive::Adaptive;
+use dzhanibekov::ensemble::batch::{simulate_batch, Options, Start};
 use dzhanibekov::exact::flip_period;
 use dzhanibekov::kinematics::rotate_points;
 use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};

@@ -10,20 +10,30 @@ point arrays without trigonometry; this package is the thin Python side.
 
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .batch import Batch, BatchDrift
 from .body import Body, InertiaWarning
 from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
 from .deployment import Deployment
-from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
+from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .flips import flip_period
-from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices
-from .plan import Plan, SceneResult, execute, make_plan
-from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
-from .scene import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
+from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
+from .results import Drift, Trajectory
+from .scenes import (
+    PAPER_INERTIA,
+    PAPER_SCENES,
+    SCENARIOS,
+    SCENES,
+    Plan,
+    Scenario,
+    Scene,
+    SceneError,
+    SceneResult,
+    execute,
+    load_scene,
+    make_plan,
+    scenario,
+)
 from .simulate import METHODS, rotate, simulate
 from .summary import Summary, summarize
-from .sweep import Sweep, grid, sweep
-from .trajectory import Drift, Trajectory
 
 __all__ = [
     "__version__",

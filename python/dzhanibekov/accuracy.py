@@ -19,11 +19,12 @@ from collections.abc import Mapping
 from typing import Any
 
 from . import _core
-from ._checks import as_float
+from ._args import as_float
 
 __all__ = [
     "ADAPTIVE_METHODS",
     "DEFAULT_ATOL",
+    "DEFAULT_MAX_STEPS",
     "DEFAULT_RTOL",
     "MAX_PREDICTED_DRIFT",
     "StepSizeWarning",
@@ -40,6 +41,10 @@ DEFAULT_RTOL = 1e-9
 
 DEFAULT_ATOL = 1e-12
 """Absolute tolerance of the adaptive methods: on ``q``, and on ``ω`` in units of ``Ω``."""
+
+DEFAULT_MAX_STEPS = 10**10
+"""Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""
+
 
 MAX_PREDICTED_DRIFT = 1e-6
 """`StepSizeWarning` is raised when RK4's predicted relative drift of ``|q|`` over the run

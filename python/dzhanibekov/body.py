@@ -6,7 +6,7 @@ import warnings
 from typing import Any
 
 from . import _core
-from ._checks import as_array, as_float
+from ._args import as_array, as_float
 
 __all__ = ["Body", "InertiaWarning", "as_body"]
 

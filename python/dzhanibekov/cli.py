@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .plan import SceneResult
-from .scene import SCENES, SceneError, load_scene
+from .scenes.plan import SceneResult
+from .scenes.scene import SCENES, SceneError, load_scene
 
 __all__ = ["main"]
 
@@ -58,7 +58,7 @@ def _paper(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from .plotting import compute
+    from .plotting.figures import compute
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
@@ -74,7 +74,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _map(args: argparse.Namespace) -> int:
-    from .maps import MAPS, render_maps
+    from .plotting.maps import MAPS, render_maps
     from .render import output_folder
 
     kinds = MAPS if args.kind == "both" else (args.kind,)

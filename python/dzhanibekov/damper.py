@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ._checks import as_float
+from ._args import as_float
 from .body import Body, as_body
 
 __all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate"]

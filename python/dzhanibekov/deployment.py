@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ._checks import as_array
+from ._args import as_array
 from .body import Body
 
 __all__ = ["Deployment"]

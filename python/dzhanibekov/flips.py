@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from . import _core
-from ._checks import as_array
+from ._args import as_array
 from .body import Body, as_body
 
 __all__ = ["flip_period"]

@@ -11,11 +11,11 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._checks import as_array, as_float, as_int, check_size
+from ._args import as_array, as_float, as_int, check_size
 from .body import Body, as_body
 from .damper import Damper
 from .deployment import Deployment
-from .trajectory import Drift, Trajectory
+from .results import Drift, Trajectory
 
 __all__ = ["simulate_model"]
 

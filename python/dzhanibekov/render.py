@@ -15,10 +15,10 @@ from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
-from .animation import animate
-from .plan import SceneResult
-from .plotting import FIGURE_FUNCTIONS, compute, fig3_figure
-from .scene import PAPER_SCENES, SCENES, Scene
+from .plotting.animation import animate
+from .scenes.plan import SceneResult
+from .plotting.figures import FIGURE_FUNCTIONS, compute, fig3_figure
+from .scenes.scene import PAPER_SCENES, SCENES, Scene
 
 __all__ = ["render_scene", "render_paper", "output_folder"]
 

@@ -8,14 +8,14 @@ from typing import Any, overload
 import numpy as np
 
 from . import _core
-from ._checks import as_array, as_float, as_int, check_size
-from .accuracy import plan_step
-from .batch import Batch, checked_threads, is_batch, simulate_batch
+from ._args import as_array, as_float, as_int, check_size
+from .accuracy import DEFAULT_MAX_STEPS, plan_step
+from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .damper import Damper
 from .deployment import Deployment
 from .models import simulate_model
-from .trajectory import Drift, Trajectory
+from .results import Drift, Trajectory
 
 __all__ = ["METHODS", "simulate", "rotate"]
 
@@ -25,10 +25,6 @@ METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853"
 MAX_COORDINATE = float(np.finfo(np.float64).max / 4)
 """The largest body-point coordinate `rotate` takes: a rotated coordinate sums three terms
 each at most the largest coordinate, so nothing larger than this can overflow."""
-
-DEFAULT_MAX_STEPS = 10**10
-"""Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""
-
 
 @overload
 def simulate(

@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from .accuracy import plan_step
+from .accuracy import DEFAULT_MAX_STEPS, plan_step
 from .body import Body
-from .simulate import DEFAULT_MAX_STEPS, _checked
-from .trajectory import Drift
+from .simulate import _checked
+from .results import Drift
 
 __all__ = ["Summary", "summarize"]
 

@@ -27,7 +27,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
-use crate::integrators::OdeSystem;
+use crate::ode::OdeSystem;
 
 use super::model::{quaternion_increment, Model};
 

@@ -7,8 +7,8 @@
 
 use nalgebra::{Quaternion, Vector3};
 
-use crate::integrators::OdeSystem;
 use crate::kinematics::rotation_matrix;
+use crate::ode::OdeSystem;
 
 /// A model of a rotating body: an ODE system of dimension `N` whose last four components
 /// are the attitude quaternion.

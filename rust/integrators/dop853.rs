@@ -4,8 +4,8 @@
 //! embedded Runge–Kutta formulae", J. Comput. Appl. Math. 7 (1981) 67–75).
 #![allow(clippy::excessive_precision, clippy::unreadable_literal)]
 
-use super::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
-use super::OdeSystem;
+use crate::ode::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
+use crate::ode::OdeSystem;
 
 /// Dormand and Prince's eighth-order pair as in Hairer's DOP853: twelve stages plus the
 /// new point (reused as the next step's first stage), an error estimate combining a
@@ -457,8 +457,8 @@ impl<const N: usize, S: OdeSystem<N>> EmbeddedPair<N, S> for Dop853 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::embedded::check_tableau;
     use super::*;
+    use crate::ode::embedded::check_tableau;
 
     #[test]
     fn tableau_is_consistent_and_eighth_order_for_quadrature() {

@@ -1,5 +1,5 @@
-use super::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
-use super::OdeSystem;
+use crate::ode::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
+use crate::ode::OdeSystem;
 
 /// The Dormand–Prince 5(4) pair (J. R. Dormand, P. J. Prince, "A family of embedded
 /// Runge–Kutta formulae", J. Comput. Appl. Math. 6 (1980) 19–26), as in Hairer's DOPRI5:
@@ -142,8 +142,8 @@ impl<const N: usize, S: OdeSystem<N>> EmbeddedPair<N, S> for Dopri5 {
 
 #[cfg(test)]
 mod tests {
-    use super::super::embedded::check_tableau;
     use super::*;
+    use crate::ode::embedded::check_tableau;
 
     #[test]
     fn tableau_is_consistent_and_fifth_order_for_quadrature() {

@@ -1,82 +1,10 @@
-//! Time steppers. Fixed-step methods implement [`Stepper`]; adaptive Runge–Kutta pairs
-//! implement [`EmbeddedPair`] and are driven by [`crate::adaptive`].
+//! General-purpose time steppers on the machinery of [`crate::ode`]: RK4 with a fixed step
+//! and the Dormand–Prince pairs with error control.
 
 mod dop853;
 mod dopri5;
-mod embedded;
-mod projected;
 mod rk4;
-mod splitting;
 
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
-pub use embedded::{DenseOutput, EmbeddedPair, EmbeddedStep};
-pub use projected::Rk4Projected;
 pub use rk4::Rk4;
-pub use splitting::{Splitting, Splitting2, Splitting4};
-
-/// A first-order ODE system `x' = f(t, x)` of dimension `N`.
-pub trait OdeSystem<const N: usize> {
-    /// `s · f(t, x)`: the right-hand side times a step fraction. Steppers ask for scaled
-    /// increments so that a system can fold `s` into its coefficients, which takes a
-    /// multiplication off the critical path of every stage.
-    fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N];
-
-    /// `f(t, x)`.
-    fn rhs(&self, t: f64, x: &[f64; N]) -> [f64; N] {
-        self.increment(t, x, 1.0)
-    }
-}
-
-/// A one-step method with a fixed step.
-pub trait Stepper<const N: usize, S: OdeSystem<N>> {
-    /// The order of the global error.
-    const ORDER: u32;
-    /// Right-hand-side evaluations per step.
-    const RHS_PER_STEP: u64;
-    /// Advances `x` from `t` to `t + h`. `x` is in the method's own variables (see
-    /// [`Stepper::to_internal`]).
-    fn step(&self, sys: &S, t: f64, h: f64, x: &mut [f64; N]);
-
-    /// The method's own variables from the system's state; the identity unless a method
-    /// works on other variables (the splitting works on angular momentum, not rates).
-    #[inline(always)]
-    fn to_internal(&self, _sys: &S, x: &[f64; N]) -> [f64; N] {
-        *x
-    }
-
-    /// The system's state from the method's own variables: what observers see.
-    #[inline(always)]
-    fn to_state(&self, _sys: &S, x: &[f64; N]) -> [f64; N] {
-        *x
-    }
-}
-
-/// What a run cost.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct Stats {
-    /// Right-hand-side evaluations.
-    pub nfev: u64,
-    /// Steps taken (accepted steps, for an adaptive method).
-    pub n_steps: u64,
-    /// Steps tried and rejected by an adaptive method's error control; 0 for a fixed step.
-    pub n_rejected: u64,
-}
-
-/// `x + k`, elementwise.
-#[inline(always)]
-pub(crate) fn add<const N: usize>(x: &[f64; N], k: &[f64; N]) -> [f64; N] {
-    std::array::from_fn(|j| x[j] + k[j])
-}
-
-/// `2^−e` for `x = m · 2^e`, `1 ≤ m < 2`: a power of two at or below `1 / x`, read off the
-/// exponent bits so that it follows exact scalings of `x` (1 for zero, subnormal or
-/// non-finite `x`). Scaling by it is exact and keeps squares of `x` from overflowing.
-pub(crate) fn power_of_two_scale(x: f64) -> f64 {
-    if x.is_normal() {
-        let e = ((x.to_bits() >> 52) & 0x7ff) as i32 - 1023;
-        2f64.powi(-e)
-    } else {
-        1.0
-    }
-}

@@ -1,4 +1,4 @@
-use super::{add, OdeSystem, Stepper};
+use crate::ode::{add, OdeSystem, Stepper};
 
 /// The classic fourth-order Runge–Kutta method (Kutta 1901), the paper's method.
 ///

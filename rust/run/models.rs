@@ -11,14 +11,13 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::adaptive::Adaptive;
 use crate::dynamics::model::{attitude, MomentumProjection};
 use crate::dynamics::Model;
 use crate::error::{Error, Result};
-use crate::integrators::{
-    DenseOutput, Dop853, Dopri5, EmbeddedPair, EmbeddedStep, Rk4, Stats, Stepper,
-};
+use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::kinematics::rotation_matrix;
+use crate::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, Stats, Stepper};
+use crate::run::adaptive::Adaptive;
 
 use super::{FrameGrid, Method, CHECK_EVERY, DIVERGED_HINT};
 
@@ -190,7 +189,7 @@ fn fixed<const N: usize, S: Model<N>>(
 }
 
 /// An embedded pair over the grid with error control (the controller of
-/// [`crate::adaptive`]: Hairer's PI control, his defaults per pair).
+/// [`crate::run::adaptive`]: Hairer's PI control, his defaults per pair).
 fn adaptive<const N: usize, S: Model<N>, P: EmbeddedPair<N, S>>(
     pair: &P,
     sys: &S,

@@ -22,9 +22,9 @@ from hypothesis import strategies as st
 from scipy.spatial.transform import Rotation
 
 import dzhanibekov as dz
-from dzhanibekov import plotting
+from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.accuracy import ADAPTIVE_METHODS, MAX_PREDICTED_DRIFT
-from dzhanibekov.scene import CONVENTIONS, FIGURES
+from dzhanibekov.scenes.scene import CONVENTIONS, FIGURES
 from hostile import (
     JUNK,
     LARGEST,
@@ -531,11 +531,11 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
         box=draw(st.one_of(st.none(), real_arrays((3,), st.floats(0.1, 30)).map(lambda a: tuple(a.tolist())))),
         signal_point=tuple(draw(real_arrays((3,), st.floats(-20, 20))).tolist()),
         flips=draw(st.booleans()),
-        draw=dz.scene.Draw(
+        draw=dz.scenes.Draw(
             box=draw(st.booleans()), ellipsoid=draw(st.booleans()), signal_point=draw(st.booleans()),
             path=draw(st.booleans()), body_axes=draw(st.booleans()), momentum=draw(st.booleans()),
             figures=chosen, animation=False, phases=tuple(sorted(p * t_end for p in phases))),
-        ellipsoid=dz.scene.EllipsoidStyle(draw(st.sampled_from(CONVENTIONS)),
+        ellipsoid=dz.scenes.EllipsoidStyle(draw(st.sampled_from(CONVENTIONS)),
                                           (draw(st.integers(3, 8 if small else 40)),
                                            draw(st.integers(2, 6 if small else 30)))),
         about=draw(st.text(max_size=10)),
@@ -667,7 +667,7 @@ def check_loaded(kwargs: dict[str, Any], scene: Any, caught: list[warnings.Warni
 
 
 def check_plan(kwargs: dict[str, Any], plan: Any, caught: list[warnings.WarningMessage]) -> None:
-    from dzhanibekov.plan import POINT_SETS
+    from dzhanibekov.scenes.plan import POINT_SETS
     scene = kwargs["scene"]
     assert isinstance(plan, dz.Plan) and plan.scene is scene
     assert plan.keep_frames == (bool(scene.draw.figures) or scene.draw.animation)
@@ -702,7 +702,7 @@ def figure_args(figure: str) -> st.SearchStrategy[dict[str, Any]]:
 
     def build(fields: dict[str, Any]) -> dz.Scene:
         d = fields["draw"]
-        fields["draw"] = dz.scene.Draw(**{**d.__dict__, **needs})
+        fields["draw"] = dz.scenes.Draw(**{**d.__dict__, **needs})
         return quiet_scene(fields)
 
     return scene_fields(figures=(figure,)).map(build).map(lambda s: {"scene": s})

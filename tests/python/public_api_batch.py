@@ -15,7 +15,7 @@ import numpy as np
 from hypothesis import strategies as st
 
 import dzhanibekov as dz
-from dzhanibekov import maps
+from dzhanibekov.plotting import maps
 from hostile import (
     JUNK,
     hostile_array,

@@ -5,8 +5,9 @@ import pytest
 from PIL import Image
 
 import dzhanibekov as dz
-from dzhanibekov import _core, animation
-from dzhanibekov.scene import Draw
+from dzhanibekov import _core
+from dzhanibekov.plotting import animation
+from dzhanibekov.scenes.scene import Draw
 
 
 @pytest.fixture

@@ -12,7 +12,8 @@ import pytest
 from PIL import Image
 
 import dzhanibekov as dz
-from dzhanibekov import animation, plotting
+from dzhanibekov.plotting import animation
+from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.cli import main
 
 

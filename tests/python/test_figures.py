@@ -11,8 +11,8 @@ from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection  # noq
 from PIL import Image  # noqa: E402
 
 import dzhanibekov as dz  # noqa: E402
-from dzhanibekov import plotting  # noqa: E402
-from dzhanibekov.scene import Draw  # noqa: E402
+from dzhanibekov.plotting import figures as plotting  # noqa: E402
+from dzhanibekov.scenes.scene import Draw  # noqa: E402
 
 
 @pytest.fixture(scope="module")

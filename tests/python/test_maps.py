@@ -6,7 +6,7 @@ import pytest
 from matplotlib.collections import QuadMesh
 
 import dzhanibekov as dz
-from dzhanibekov import maps
+from dzhanibekov.plotting import maps
 from dzhanibekov.cli import main
 from test_cli import assert_picture
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import dzhanibekov as dz
-from dzhanibekov._checks import memory_available
+from dzhanibekov._args import memory_available
 
 BODY = dz.Body(dz.PAPER_INERTIA)
 W = (0.01, 0.01, 1.0)

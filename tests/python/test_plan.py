@@ -6,8 +6,8 @@ import pytest
 
 import dzhanibekov as dz
 from dzhanibekov import _core
-from dzhanibekov.plan import Rotation
-from dzhanibekov.scene import Draw
+from dzhanibekov.scenes.plan import Rotation
+from dzhanibekov.scenes.scene import Draw
 
 
 @pytest.fixture

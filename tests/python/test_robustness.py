@@ -19,8 +19,8 @@ import pytest  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
 import dzhanibekov as dz  # noqa: E402
-from dzhanibekov import plotting  # noqa: E402
-from dzhanibekov.scene import Draw  # noqa: E402
+from dzhanibekov.plotting import figures as plotting  # noqa: E402
+from dzhanibekov.scenes.scene import Draw  # noqa: E402
 
 BODY = dz.Body(dz.PAPER_INERTIA)
 W = (0.01, 0.01, 1.0)
@@ -309,7 +309,7 @@ def test_a_batch_checks_flips_and_a_grid_names_its_axes():
 
 
 def test_the_separatrix_gap_refuses_bad_input_and_keeps_near_symmetric_digits():
-    from dzhanibekov.maps import separatrix_gap
+    from dzhanibekov.plotting.maps import separatrix_gap
     with pytest.raises(TypeError, match="`inertia`"):
         separatrix_gap(None, (1.0, 0.0, 0.0))
     with pytest.raises(ValueError, match="`inertia` must hold positive"):

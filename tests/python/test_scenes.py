@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import dzhanibekov as dz
-from dzhanibekov.scene import Draw, EllipsoidStyle
+from dzhanibekov.scenes.scene import Draw, EllipsoidStyle
 
 
 def test_the_scene_files_ship_inside_the_package():

@@ -23,9 +23,9 @@
 //! [`ERROR_CONSTANT_SPLITTING4`] gives the step `dt = None` takes. Near the separatrix the
 //! error grows faster than linearly and this rule does not hold (no fixed rule can).
 
-use crate::adaptive::MIN_RTOL;
 use crate::body::RigidBody;
 use crate::error::{Error, Result};
+use crate::run::adaptive::MIN_RTOL;
 use crate::run::{FrameGrid, Method};
 
 /// `Ω = √(2E / I_min)`: an upper bound of `|ω(t)|` over the whole motion from `omega0`.
@@ -35,7 +35,7 @@ use crate::run::{FrameGrid, Method};
 /// use approx::assert_relative_eq;
 /// let body = dzhanibekov::RigidBody::try_new([1.0, 2.0, 3.0]).unwrap();
 /// // spin about the axis of least inertia: the bound is the spin rate itself
-/// assert_relative_eq!(dzhanibekov::step_size::rate_bound(&body, [4.0, 0.0, 0.0]), 4.0);
+/// assert_relative_eq!(dzhanibekov::run::step_size::rate_bound(&body, [4.0, 0.0, 0.0]), 4.0);
 /// ```
 pub fn rate_bound(body: &RigidBody, omega0: [f64; 3]) -> f64 {
     let i = body.inertia_body();

@@ -9,7 +9,7 @@
 //! **Error control** (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4): a step is accepted
 //! when the root-mean-square of its error estimate over `atol_k + rtol · max(|x_k|, |x̃_k|)`
 //! is at most 1. The rates' absolute tolerance is `atol · Ω`, with `Ω` the rate bound of
-//! [`crate::step_size`], and the quaternion's is `atol`: both are then relative to the
+//! [`crate::run::step_size`], and the quaternion's is `atol`: both are then relative to the
 //! motion's own scale, so a run is unchanged (bit for bit when `s` is a power of two) under
 //! `(ω, t) → (s ω, t / s)`. The next step is `h · clamp(0.9 · err^(−α) · err_prev^β)`
 //! (Gustafsson's PI controller in Hairer's form, `α = 1/(q+1) − 0.75 β` with `q` the
@@ -20,10 +20,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::dynamics::{FreeRigidBody, State};
 use crate::error::{Error, Result};
-use crate::integrators::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem, Stats};
 use crate::observe::Observer;
+use crate::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem, Stats};
+use crate::run::step_size::{check_rtol, rate_bound};
 use crate::run::FrameGrid;
-use crate::step_size::{check_rtol, rate_bound};
 
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
 const CHECK_EVERY: u64 = 1 << 10;
@@ -64,7 +64,7 @@ impl Adaptive {
     ///
     /// # Example
     /// ```
-    /// use dzhanibekov::adaptive::Adaptive;
+    /// use dzhanibekov::run::adaptive::Adaptive;
     /// assert!(Adaptive::try_new(1e-10, 1e-12).is_ok());
     /// assert!(Adaptive::try_new(1e-17, 1e-12).is_err());
     /// ```

@@ -31,13 +31,13 @@ from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
     Poly3DCollection,
 )
 
-from ._checks import as_float, as_int
-from .body import InertiaWarning, as_body
-from .geometry import box_edges
-from . import _core
-from .plan import SceneResult, execute, make_plan
-from .scene import Scene
-from .trajectory import Trajectory
+from .._args import as_float, as_int
+from ..body import InertiaWarning, as_body
+from ..geometry import box_edges
+from .. import _core
+from ..scenes.plan import SceneResult, execute, make_plan
+from ..scenes.scene import Scene
+from ..results import Trajectory
 
 __all__ = [
     "compute",
@@ -210,7 +210,7 @@ def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
     columns = as_int("columns", columns, minimum=1, maximum=1000)
     result = compute(scene)
     _need(result, "phases panel")
-    from .plan import phase_frames  # the frames the plan rotated the objects at
+    from ..scenes.plan import phase_frames  # the frames the plan rotated the objects at
 
     frames = phase_frames(result.scene)
     rows = -(-len(frames) // columns)

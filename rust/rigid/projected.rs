@@ -6,7 +6,8 @@ use crate::body::RigidBody;
 use crate::dynamics::{q_body_to_world, FreeRigidBody, State};
 use crate::kinematics::rotation_matrix;
 
-use super::{power_of_two_scale, Rk4, Stepper};
+use crate::integrators::Rk4;
+use crate::ode::{power_of_two_scale, Stepper};
 
 /// Below this `sin²` of the angle between `Iω` and `I²ω` the two constraints are treated as
 /// one (the 2 × 2 system's determinant has lost half its digits).

@@ -1,6 +1,8 @@
 //! What a run keeps: observers see the frames (and, if they ask, every step) and keep only
 //! what a caller needs — stored frames, invariant drift, flip times.
 
+pub mod tilt;
+
 use nalgebra::Vector3;
 
 use crate::body::RigidBody;
@@ -350,7 +352,7 @@ impl FlipDetector {
 
 /// # The lanes' view
 ///
-/// What the SIMD lanes of a batch ([`crate::lanes`]) mirror to tell, for many runs at once,
+/// What the SIMD lanes of a batch ([`crate::ensemble::lanes`]) mirror to tell, for many runs at once,
 /// whether [`Observer::step`] would change anything; only then is it called.
 impl FlipDetector {
     /// The intermediate axis, its moment (scaled as in `side_of`) and the threshold of

@@ -4,21 +4,24 @@
 //! substeps no longer than `dt`. Only frames reach the observers' storage, so the memory of a
 //! run is set by `frames`, never by the step count.
 
+pub mod adaptive;
+pub mod step_size;
+
 use std::str::FromStr;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::Vector3;
 
-use crate::adaptive::{integrate_adaptive, Adaptive};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, FreeRigidBody, State};
 use crate::error::{Error, Result};
 use crate::exact::ExactMotion;
-use crate::integrators::{
-    Dop853, Dopri5, Rk4, Rk4Projected, Splitting2, Splitting4, Stats, Stepper,
-};
+use crate::float::RateScale;
+use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
-use crate::scale::RateScale;
+use crate::ode::{Stats, Stepper};
+use crate::rigid::{Rk4Projected, Splitting2, Splitting4};
+use crate::run::adaptive::{integrate_adaptive, Adaptive};
 
 mod models;
 
@@ -334,7 +337,7 @@ pub struct RunOutput {
 /// Simulates the free rotation of `body` from body rates `omega0` and attitude `q0`
 /// (normalised here) over `grid`.
 ///
-/// Rates of any size are integrated in the motion's own units (see [`crate::scale`]), so
+/// Rates of any size are integrated in the motion's own units (see [`crate::float`]), so
 /// that rates of 1e-300 or 1e300 neither underflow nor overflow in Euler's products; moments
 /// likewise, over a power of two near the largest.
 ///
@@ -371,7 +374,7 @@ pub fn simulate(
             omega0,
         ));
     }
-    if let Some(unit) = crate::scale::unit_body(body) {
+    if let Some(unit) = crate::float::unit_body(body) {
         return simulate(&unit, omega0, q0, grid, method, keep, cancel);
     }
     let scale = RateScale::of(omega0);
@@ -410,7 +413,7 @@ pub fn simulate(
     finished(obs, flip_times, stats, dt, grid)
 }
 
-/// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::scale`]):
+/// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::float`]):
 /// times (the span, an adaptive method's first step) multiplied by `2^e`.
 ///
 /// # Errors

@@ -20,9 +20,10 @@
 //! single run calls its detector. The state is double-buffered so that both are at hand.
 
 use crate::dynamics::{scaled_increment, State};
-use crate::integrators::{OdeSystem, Rk4, Stepper};
+use crate::integrators::Rk4;
+use crate::observe::tilt::TiltMonitor;
 use crate::observe::{crosses, FlipDetector};
-use crate::tilt::TiltMonitor;
+use crate::ode::{OdeSystem, Stepper};
 
 /// An instruction set the lane kernel is compiled for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

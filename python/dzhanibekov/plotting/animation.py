@@ -22,9 +22,9 @@ from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
-from .plan import SceneResult
-from .plotting import _axes3d, _limits, _title, compute, draw_body, extent
-from .scene import Scene
+from ..scenes.plan import SceneResult
+from .figures import _axes3d, _limits, _title, compute, draw_body, extent
+from ..scenes.scene import Scene
 
 __all__ = ["animate", "ffmpeg_path"]
 

@@ -8,17 +8,9 @@
 
 use nalgebra::{Quaternion, Vector3};
 
-mod damper;
-mod deployment;
-pub mod model;
-
-pub use damper::{DampedBody, DamperState};
-pub use deployment::{Deployment, DeploymentState};
-pub use model::Model;
-
 use crate::body::RigidBody;
-use crate::integrators::OdeSystem;
 use crate::kinematics::rotation_matrix;
+use crate::ode::OdeSystem;
 
 /// The state `[u, v, w, Q, U, V, W]`: body-frame angular velocity, then the body-to-world
 /// quaternion, scalar first. A plain array: steppers loop over it, nalgebra views its parts.
@@ -77,7 +69,7 @@ impl OdeSystem<7> for FreeRigidBody {
 
 /// `s · f(x)` of eq. 1 for the Euler coefficients `euler` (see
 /// [`FreeRigidBody::euler_coefficients`]). The one definition of the right-hand side: the
-/// single run and the SIMD lanes of a batch ([`crate::lanes`]) both call it, so that a batch
+/// single run and the SIMD lanes of a batch ([`crate::ensemble::lanes`]) both call it, so that a batch
 /// row performs the same floating-point operations in the same order as a single run.
 #[inline(always)]
 pub fn scaled_increment(euler: [f64; 3], x: &State, s: f64) -> State {

@@ -2,7 +2,7 @@
 //! the spin axis, the invariants' drift, the exact flip period — and no frames, so that a
 //! sweep's memory grows with its runs, never with their frames or steps.
 //!
-//! RK4 runs in SIMD lanes as a batch does ([`crate::batch`]); other methods as single runs
+//! RK4 runs in SIMD lanes as a batch does ([`crate::ensemble::batch`]); other methods as single runs
 //! on all cores. A row's numbers equal those of the single run of its inputs bit for bit
 //! (its flips those of [`crate::run::simulate`], its tilt that of a [`TiltMonitor`] shown
 //! every step), whatever the number of threads and however the rows are cut into blocks.
@@ -12,24 +12,26 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::batch::{needs_scaling, run_group, FlipTally, Options, Start, Stop, Watch, LANES};
 use crate::dynamics::{state_from, FreeRigidBody};
+use crate::ensemble::batch::{
+    needs_scaling, run_group, FlipTally, Options, Start, Stop, Watch, LANES,
+};
 use crate::error::{Error, Result};
 use crate::exact::{flip_period, flip_period_of_rates, representable_period, ExactMotion};
-use crate::integrators::Stats;
+use crate::float::RateScale;
+use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
+use crate::ode::Stats;
 use crate::run::{
     finite_drift, normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
 };
-use crate::scale::RateScale;
-use crate::tilt::TiltMonitor;
 
 /// What one run of a sweep measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RunSummary {
     /// The flips: how many, the first and the last (see [`crate::observe::FlipDetector`]).
     pub flips: FlipTally,
-    /// The largest tilt of the spin axis, radians in `[0, π]` (see [`crate::tilt`]).
+    /// The largest tilt of the spin axis, radians in `[0, π]` (see [`crate::observe::tilt`]).
     pub tilt: f64,
     /// The exact flip period `2K(m)/λ` of the start ([`flip_period`]); `inf` for a motion
     /// that never flips.
@@ -54,9 +56,9 @@ pub struct RunSummary {
 /// # Example
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use dzhanibekov::batch::{Options, Start};
+/// use dzhanibekov::ensemble::batch::{Options, Start};
 /// use dzhanibekov::run::{FrameGrid, Method};
-/// use dzhanibekov::sweep::sweep;
+/// use dzhanibekov::ensemble::sweep::sweep;
 /// let grid = FrameGrid::try_new(100.0, 2, 1e-3, u64::MAX).unwrap();
 /// let paper = [52.0833, 27.0833, 41.6666];
 /// let starts = [Start::try_new(paper, [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap()];
@@ -98,7 +100,7 @@ pub fn sweep(
 }
 
 fn rk4_group(
-    isa: crate::lanes::Isa,
+    isa: crate::ensemble::lanes::Isa,
     group: &[Start],
     first_row: usize,
     grid: &FrameGrid,
@@ -162,7 +164,7 @@ fn single(
     method: Method,
     cancel: &AtomicBool,
 ) -> Result<RunSummary> {
-    if let Some(body) = crate::scale::unit_body(&start.body) {
+    if let Some(body) = crate::float::unit_body(&start.body) {
         let unit = Start { body, ..*start };
         let mut run = single(&unit, grid, method, cancel)?;
         run.exact_period = exact_period(start)?;

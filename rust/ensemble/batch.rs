@@ -1,7 +1,7 @@
 //! Many runs at once on all cores: a batch of starts (bodies, rates, attitudes) over one
 //! frame grid.
 //!
-//! RK4 runs in groups of [`LANES`] runs in SIMD lanes ([`crate::lanes`]), the groups spread
+//! RK4 runs in groups of [`LANES`] runs in SIMD lanes ([`crate::ensemble::lanes`]), the groups spread
 //! over the cores by rayon. Every other method runs as single runs, one per row, spread over
 //! the cores the same way. Either way a row performs exactly the floating-point operations of
 //! the single run of its inputs ([`crate::run::simulate`]), so it equals that run bit for
@@ -15,15 +15,15 @@ use rayon::prelude::*;
 use crate::body::RigidBody;
 use crate::buffer::zeroed_for;
 use crate::dynamics::{state_from, FreeRigidBody, State};
+use crate::ensemble::lanes::{advance, Isa, Lanes, Span};
 use crate::error::{Error, Result};
-use crate::integrators::Stats;
-use crate::lanes::{advance, Isa, Lanes, Span};
+use crate::float::RateScale;
+use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
+use crate::ode::Stats;
 use crate::run::{
     finite_drift, normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT,
 };
-use crate::scale::RateScale;
-use crate::tilt::TiltMonitor;
 
 /// Runs integrated together in one group of SIMD lanes: two AVX-512 vectors, four AVX2 ones.
 pub const LANES: usize = 16;
@@ -450,7 +450,7 @@ struct RowOutput {
 /// # Example
 /// ```
 /// use std::sync::atomic::AtomicBool;
-/// use dzhanibekov::batch::{simulate_batch, Options, Start};
+/// use dzhanibekov::ensemble::batch::{simulate_batch, Options, Start};
 /// use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
 /// let grid = FrameGrid::try_new(10.0, 11, 1e-2, u64::MAX).unwrap();
 /// let keep = Keep { frames: true, flips: true };
@@ -586,10 +586,10 @@ fn rk4_rows(
 }
 
 /// Whether a start's rates or moments are so far from 1 that its run is integrated in its
-/// own units (see [`crate::scale`]): such rows run alone, as [`simulate`] runs them, since the lanes of a
+/// own units (see [`crate::float`]): such rows run alone, as [`simulate`] runs them, since the lanes of a
 /// group share one step.
 pub(crate) fn needs_scaling(start: &Start) -> bool {
-    !RateScale::of(start.omega0).is_identity() || crate::scale::unit_body(&start.body).is_some()
+    !RateScale::of(start.omega0).is_identity() || crate::float::unit_body(&start.body).is_some()
 }
 
 /// The rows of a group, rows `first_row..` of the batch, run one by one by [`simulate`].

@@ -21,12 +21,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .ellipsoid import ellipsoid_mesh, ellipsoid_semi_axes
-from .geometry import box_vertices
+from ..geometry import ellipsoid_mesh, ellipsoid_semi_axes
+from ..geometry import box_vertices
 from .scene import Scene
-from .simulate import rotate
-from .summary import Summary
-from .trajectory import Drift, Trajectory
+from ..simulate import rotate
+from ..summary import Summary
+from ..results import Drift, Trajectory
 
 __all__ = ["Rotation", "Plan", "WorldPoints", "SceneResult", "make_plan", "execute"]
 

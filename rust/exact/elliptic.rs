@@ -29,7 +29,7 @@ const AGM_TOLERANCE: f64 = 1.5e-8;
 /// # Example
 /// ```
 /// use approx::assert_relative_eq;
-/// use dzhanibekov::elliptic::Jacobi;
+/// use dzhanibekov::exact::elliptic::Jacobi;
 /// // 1 − m = 1e-15: K(m) = 18.7... and dn(K) = √m1
 /// let jac = Jacobi::new(1.0 - 1e-15, 1e-15);
 /// let k = jac.quarter_period();

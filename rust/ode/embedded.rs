@@ -1,5 +1,5 @@
 //! Explicit Runge–Kutta pairs with an error estimate and a continuous extension ("dense
-//! output"), the building blocks of [`crate::adaptive`].
+//! output"), the building blocks of [`crate::run::adaptive`].
 
 use super::OdeSystem;
 

@@ -40,12 +40,14 @@
 //! sign change of the intermediate rate) counts when the intermediate axis is dominant,
 //! `|L2| > |L|/√2`, in the half-periods on both sides of it within the run.
 
+pub mod elliptic;
+
 use nalgebra::{Matrix3, Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
 
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, State};
-use crate::elliptic::{sn2_integral, sn2_integral_complete, Jacobi};
 use crate::error::{Error, Result};
+use crate::exact::elliptic::{sn2_integral, sn2_integral_complete, Jacobi};
 
 /// Flip times a run may return at most (800 MB).
 pub const MAX_FLIPS: u64 = 100_000_000;

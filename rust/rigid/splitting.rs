@@ -3,7 +3,7 @@
 use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 
-use super::{power_of_two_scale, Stepper};
+use crate::ode::{power_of_two_scale, Stepper};
 
 /// How far `|L|²/|L₀|²` and `|q|²` may wander from 1 before they are pulled back (about 45
 /// ulps). Pulling back at every step would keep them within an ulp but rotates `L_world`: the

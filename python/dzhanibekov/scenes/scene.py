@@ -48,12 +48,12 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from ._checks import as_array, as_float, as_int
-from .body import Body
-from .ellipsoid import CONVENTIONS
-from .simulate import METHODS, simulate
-from .summary import Summary, summarize
-from .trajectory import Trajectory
+from .._args import as_array, as_float, as_int
+from ..body import Body
+from ..geometry import CONVENTIONS
+from ..simulate import METHODS, simulate
+from ..summary import Summary, summarize
+from ..results import Trajectory
 
 if sys.version_info >= (3, 11):
     import tomllib

@@ -1,0 +1,37 @@
+"""Scenes: what is drawn and what is asked (:mod:`.scene`, loaded from TOML; the shipped scenes
+are the ``*.toml`` files of this folder), and the planner that computes only that
+(:mod:`.plan`)."""
+
+from .plan import Plan, SceneResult, execute, make_plan
+from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
+from .scene import (
+    CONVENTIONS,
+    FIGURES,
+    PAPER_SCENES,
+    SCENES,
+    Draw,
+    EllipsoidStyle,
+    Scene,
+    SceneError,
+    load_scene,
+)
+
+__all__ = [
+    "CONVENTIONS",
+    "FIGURES",
+    "PAPER_SCENES",
+    "SCENES",
+    "Draw",
+    "EllipsoidStyle",
+    "Scene",
+    "SceneError",
+    "load_scene",
+    "Plan",
+    "SceneResult",
+    "execute",
+    "make_plan",
+    "PAPER_INERTIA",
+    "SCENARIOS",
+    "Scenario",
+    "scenario",
+]
