@@ -96,8 +96,9 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
 def axis_shares(traj: Any) -> np.ndarray:
     """``L_k / |L|`` on each body axis at every frame, shape (frames, 3), from the total
     angular momentum in space turned back into body axes."""
-    l_body = traj.invariants()["momentum_body"]
-    return l_body / np.linalg.norm(l_body, axis=1, keepdims=True)
+    l_body = np.asarray(traj.invariants()["momentum_body"], dtype=np.float64)
+    shares: np.ndarray = l_body / np.linalg.norm(l_body, axis=1, keepdims=True)
+    return shares
 
 
 def flat_spin_estimate(body: Any, damper: Damper, omega0: Any, sigma0: Any = None,

@@ -98,13 +98,14 @@ class Deployment:
         """The tensor ``I(t)``, shape (3, 3) (a convenience for plots: runs evaluate the
         law in the core)."""
         k = int(np.searchsorted(self.times, t, side="right"))
+        tensors: np.ndarray = self.tensors
         if k == 0:
-            return self.tensors[0].copy()
+            return np.array(tensors[0])
         if k == len(self.times):
-            return self.tensors[-1].copy()
+            return np.array(tensors[-1])
         tau = (t - self.times[k - 1]) / (self.times[k] - self.times[k - 1])
         s = tau**3 * (10 - 15 * tau + 6 * tau**2)
-        return self.tensors[k - 1] + s * (self.tensors[k] - self.tensors[k - 1])
+        return np.array(tensors[k - 1] + s * (tensors[k] - tensors[k - 1]))
 
     def __repr__(self) -> str:
         return f"Deployment(times={self.times.tolist()}, knots={len(self.times)})"
