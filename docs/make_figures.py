@@ -20,6 +20,12 @@ KEEP = {
     "example-polhode.png": "fig2-polhode.png",
     "example-invariants.png": "fig2-invariants.png",
     "stable.png": "stable-paths.png",
+    "deployment-shares.png": "deployment-shares.png",
+    "deployment-omega.png": "deployment-omega.png",
+    "deployment-energy.png": "deployment-energy.png",
+    "explorer-1-shares.png": "explorer-1-shares.png",
+    "explorer-1-omega.png": "explorer-1-omega.png",
+    "explorer-1-energy.png": "explorer-1-energy.png",
 }
 MAPS = {"map-rates.png": "stability-map.png"}
 
