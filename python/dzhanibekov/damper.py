@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ._args import as_float
+from ._args import as_array, as_float
 from .body import Body, as_body
 
 __all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate"]
@@ -87,6 +87,7 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
     >>> 1000 < flat_spin_time(traj) < 2000
     True
     """
+    share = as_float("share", share, positive=True)
     shares = axis_shares(traj)
     on_major = np.sqrt((shares[:, _major_axes(traj.body)] ** 2).sum(axis=1))
     hit = np.flatnonzero(on_major >= share)
@@ -96,6 +97,8 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
 def axis_shares(traj: Any) -> np.ndarray:
     """``L_k / |L|`` on each body axis at every frame, shape (frames, 3), from the total
     angular momentum in space turned back into body axes."""
+    if not hasattr(traj, "invariants"):
+        raise TypeError(f"`traj` must be a Trajectory, got {type(traj).__name__}")
     l_body = np.asarray(traj.invariants()["momentum_body"], dtype=np.float64)
     shares: np.ndarray = l_body / np.linalg.norm(l_body, axis=1, keepdims=True)
     return shares
@@ -142,24 +145,35 @@ def flat_spin_estimate(body: Any, damper: Damper, omega0: Any, sigma0: Any = Non
     1280.0
     """
     b = as_body(body)
-    i = np.asarray(b.inertia)
+    if not isinstance(damper, Damper):
+        raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
+    w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
+    s = w if sigma0 is None else as_array("sigma0", sigma0, "(3,)", last=3, ndim=(1,))
+    share = as_float("share", share, positive=True)
+    if not share < 1:
+        raise ValueError(f"`share` must lie in (0, 1), got {share!r}")
+    with np.errstate(all="ignore"):
+        return _estimate(np.asarray(b.inertia, dtype=np.float64), damper, w, s, share)
+
+
+def _estimate(i: np.ndarray, damper: Damper, w: np.ndarray, s: np.ndarray,
+              share: float) -> float:
+    """`flat_spin_estimate` in float64 throughout (an overflow is infinity, not an error)."""
     axis = int(np.argmin(i))
-    ia = float(i[axis])
-    it = float(np.delete(i, axis).mean())
-    w = np.asarray(omega0, dtype=float)
-    s = w if sigma0 is None else np.asarray(sigma0, dtype=float)
-    h = i * w + damper.inertia * s
-    hn = float(np.linalg.norm(h))
-    if damper.damping == 0 or it <= ia or hn == 0:
+    ia = i[axis]
+    it = np.delete(i, axis).mean()
+    j, c = np.float64(damper.inertia), np.float64(damper.damping)
+    h = i * w + j * s
+    hn = np.sqrt(np.sum((h / np.abs(h).max()) ** 2)) * np.abs(h).max() if h.any() else 0.0
+    if c == 0 or not it > ia or not 0 < hn < np.inf:
         return math.inf
-    transverse = float(np.linalg.norm(np.delete(h, axis)))
-    theta0 = math.atan2(transverse, abs(float(h[axis])))
-    if theta0 == 0:
-        return math.inf
-    wp_tau = hn / it * damper.inertia / damper.damping
-    f = wp_tau**2 / (1 + wp_tau**2)
-    kappa = damper.damping * f * (it - ia) / (ia * it)
-    theta_f = math.asin(share)
+    transverse = np.hypot(*np.delete(h, axis))
+    theta0 = np.arctan2(transverse, abs(h[axis]))
+    theta_f = np.arcsin(share)
     if theta0 >= theta_f:
         return 0.0
-    return math.log(math.tan(theta_f) / math.tan(theta0)) / kappa
+    wp_tau = hn / it * (j / c)
+    f = 1.0 / (1.0 + 1.0 / wp_tau**2)
+    kappa = c * f * ((it - ia) / ia / it)
+    t = np.log(np.tan(theta_f) / np.tan(theta0)) / kappa
+    return float(t) if np.isfinite(t) and t >= 0 else math.inf

@@ -18,7 +18,11 @@ def _as_tensor(k: int, value: Any) -> np.ndarray:
     if isinstance(value, Body):
         tensor = getattr(value, "tensor", None)
         return np.array(tensor if tensor is not None else np.diag(value.inertia), dtype=float)
-    a = np.asarray(value, dtype=object)
+    try:
+        a = np.asarray(value, dtype=object)
+    except Exception as exc:  # ragged nesting and the like
+        raise TypeError(f"`inertia[{k}]` must be a Body, three moments or a 3 × 3 tensor: "
+                        f"{exc}") from None
     if a.shape == (3,):
         return np.diag(as_array(f"inertia[{k}]", value, "(3,)", last=3, ndim=(1,)))
     if a.shape == (3, 3):
@@ -78,13 +82,16 @@ class Deployment:
             raise ValueError("`times` must hold at least one knot time")
         if np.any(np.diff(t) <= 0):
             raise ValueError(f"`times` must be strictly increasing, got {t.tolist()}")
-        if isinstance(inertia, (str, bytes)) or not hasattr(inertia, "__len__"):
+        try:
+            if isinstance(inertia, (str, bytes)):
+                raise TypeError
+            items = list(inertia)
+        except TypeError:
             raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
-                            f"{type(inertia).__name__}")
-        items = list(inertia)
+                            f"{type(inertia).__name__}") from None
         if len(items) != len(t):
-            raise ValueError(f"`inertia` must give one body per knot time ({len(t)}), got "
-                             f"{len(items)}")
+            raise ValueError(f"`inertia` must give one body per knot time of `times` "
+                             f"({len(t)}), got {len(items)}")
         tensors = np.stack([_as_tensor(k, v) for k, v in enumerate(items)])
         for k, m in enumerate(tensors):
             if not np.allclose(m, m.T, rtol=0, atol=1e-12 * np.abs(m).max()):
@@ -109,4 +116,11 @@ class Deployment:
 
     def __repr__(self) -> str:
         return f"Deployment(times={self.times.tolist()}, knots={len(self.times)})"
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Deployment) and np.array_equal(self.times, other.times)
+                and np.array_equal(self.tensors, other.tensors))
+
+    def __hash__(self) -> int:
+        return hash((self.times.tobytes(), self.tensors.tobytes()))
 

@@ -50,6 +50,8 @@ def simulate_model(
 ) -> Trajectory:
     """Runs a deployment (`model` a :class:`Deployment`) or a body with a damper; see
     `dzhanibekov.simulate` for the arguments."""
+    if not isinstance(model, Deployment) and not isinstance(damper, Damper):
+        raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
     omega = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     q = as_array("q0", q0, "(4,)", last=4, ndim=(1,))
     t_end = as_float("t_end", t_end, positive=True)

@@ -430,7 +430,11 @@ def _flag(source: str, key: str, value: Any) -> bool:
 
 
 def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
-    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != n:
+    try:
+        sized = not isinstance(value, (str, bytes)) and len(value) == n
+    except TypeError:  # no length, or a 0-d array's
+        sized = False
+    if not sized:
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
     if any(isinstance(x, (bool, np.bool_)) for x in value):
         raise SceneError(source, key, f"must be a list of {n} numbers, got {value!r}")
