@@ -40,6 +40,8 @@ pub type DamperState = [f64; 10];
 pub struct DampedBody {
     inertia: Matrix3<f64>,
     inertia_inv: Matrix3<f64>,
+    /// The principal moments when the tensor is diagonal: products by three multiplications.
+    diagonal: Option<Vector3<f64>>,
     /// The sphere's moment `j`.
     sphere: f64,
     /// The damping coefficient `c`.
@@ -101,9 +103,12 @@ impl DampedBody {
                 (damping, sphere),
             ));
         }
+        let inertia = (inertia + inertia.transpose()) * 0.5;
+        let is_diagonal = (0..3).all(|i| (0..3).all(|j| i == j || inertia[(i, j)] == 0.0));
         Ok(Self {
-            inertia: (inertia + inertia.transpose()) * 0.5,
+            inertia,
             inertia_inv,
+            diagonal: is_diagonal.then(|| inertia.diagonal()),
             sphere,
             damping,
             rate,
@@ -149,8 +154,16 @@ impl OdeSystem<10> for DampedBody {
         let omega = omega_of(x);
         let sigma = sigma_of(x);
         let relative = sigma - omega;
-        let l = self.inertia * omega;
-        let domega = self.inertia_inv * (l.cross(&omega) + relative * self.damping) * s;
+        let domega = match self.diagonal {
+            Some(d) => {
+                let l = d.component_mul(&omega);
+                (l.cross(&omega) + relative * self.damping).component_div(&d) * s
+            }
+            None => {
+                let l = self.inertia * omega;
+                self.inertia_inv * (l.cross(&omega) + relative * self.damping) * s
+            }
+        };
         let dsigma = (sigma.cross(&omega) - relative * self.rate) * s;
         let dq = quaternion_increment([x[6], x[7], x[8], x[9]], omega, s);
         [
