@@ -34,8 +34,8 @@ use crate::ode::Stats;
 use crate::run::adaptive::Adaptive;
 use crate::run::step_size::plan;
 use crate::run::{
-    model_step, simulate as core_simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod,
-    ModelOutput,
+    model_step, simulate as core_simulate, simulate_model, simulate_models, FrameGrid, Keep,
+    Method, ModelMethod, ModelOutput,
 };
 
 impl From<Error> for PyErr {
@@ -360,6 +360,68 @@ fn simulate_deployment<'py>(
         simulate_model(&d, x0, &grid, method, cancel)
     })?;
     model_result(py, out, frames, None)
+}
+
+/// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
+/// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
+#[pyfunction]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_deployments<'py>(
+    py: Python<'py>,
+    times: Vec<Vec<f64>>,
+    tensors: Vec<Vec<f64>>,
+    omega0: Vec<[f64; 3]>,
+    q0: Vec<[f64; 4]>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let rows = times.len();
+    if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
+        return Err(PyValueError::new_err(
+            "`times`, `inertia`, `omega0` and `q0` must give the same number of runs (at least 1)",
+        ));
+    }
+    let mut systems = Vec::with_capacity(rows);
+    let mut x0s = Vec::with_capacity(rows);
+    for (row, (t, m)) in times.into_iter().zip(tensors).enumerate() {
+        if m.len() != 9 * t.len() {
+            return Err(PyValueError::new_err(format!(
+                "run {row}: `inertia` must hold one 3 × 3 tensor per knot time"
+            )));
+        }
+        let knots = m
+            .chunks_exact(9)
+            .map(nalgebra::Matrix3::from_row_slice)
+            .collect();
+        let d = Deployment::try_new(t, knots).map_err(|e| e.in_row(row))?;
+        let q = crate::run::normalized(q0[row]).map_err(|e| e.in_row(row))?;
+        x0s.push(d.state_from(0.0, omega0[row], q));
+        systems.push(d);
+    }
+    // one method and grid for all: the first run's planned step when `dt` is None
+    let (method, grid) = model_method_and_grid(
+        &systems[0],
+        &x0s[0],
+        method,
+        t_end,
+        frames,
+        dt,
+        max_steps,
+        rtol,
+        atol,
+    )?;
+    let out = detach(py, true, |cancel| {
+        simulate_models(&systems, &x0s, &grid, method, cancel)
+    })?;
+    out.into_iter()
+        .map(|o| model_result(py, o, frames, None))
+        .collect()
 }
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
@@ -794,6 +856,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_deployments, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;

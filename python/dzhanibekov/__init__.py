@@ -13,6 +13,7 @@ from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .body import Body, InertiaWarning
 from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
 from .deployment import Deployment
+from .models import simulate_deployments
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .flips import flip_period
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
@@ -40,6 +41,7 @@ __all__ = [
     "Body",
     "InertiaWarning",
     "Deployment",
+    "simulate_deployments",
     "Damper",
     "FLAT_SHARE",
     "axis_shares",

@@ -19,6 +19,7 @@ __all__ = [
     "simulate_batch",
     "simulate_damper",
     "simulate_deployment",
+    "simulate_deployments",
     "step_plan",
     "step_plan_batch",
     "sweep",
@@ -64,6 +65,19 @@ def simulate_deployment(
     rtol: float = 1e-9,
     atol: float = 1e-12,
 ) -> dict[str, Any]: ...
+def simulate_deployments(
+    times: list[list[float]],
+    tensors: list[list[float]],
+    omega0: list[tuple[float, float, float]],
+    q0: list[tuple[float, float, float, float]],
+    t_end: float,
+    frames: int,
+    dt: float | None,
+    method: str,
+    max_steps: int,
+    rtol: float = 1e-9,
+    atol: float = 1e-12,
+) -> list[dict[str, Any]]: ...
 def simulate_damper(
     inertia: tuple[float, float, float, float, float, float, float, float, float],
     sphere: float,

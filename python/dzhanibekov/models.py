@@ -17,7 +17,7 @@ from .damper import Damper
 from .deployment import Deployment
 from .results import Drift, Trajectory
 
-__all__ = ["simulate_model"]
+__all__ = ["simulate_model", "simulate_deployments"]
 
 
 def _drift(out: dict[str, Any]) -> Drift:
@@ -73,8 +73,7 @@ def simulate_model(
         out = _core.simulate_deployment(
             model.times, model.tensors.reshape(-1, 9), omega_t, q_t, t_end, frames, dt,
             method, max_steps, rtol_, atol_)
-        body = Body(np.linalg.eigvalsh(model.tensors[0]) if _off_diagonal(model.tensors[0])
-                    else model.tensors[0].diagonal())
+        body = _first_body(model)
     else:
         if not isinstance(damper, Damper):
             raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
@@ -102,6 +101,10 @@ def simulate_model(
         model=model if isinstance(model, Deployment) else damper,
         sigma=sigma,
     )
+    return _with_invariants(traj, out)
+
+
+def _with_invariants(traj: Trajectory, out: dict[str, Any]) -> Trajectory:
     traj._invariants.update(
         energy=out["energy"],
         momentum_body=out["momentum_body"],
@@ -109,6 +112,95 @@ def simulate_model(
         q_norm=np.linalg.norm(out["q"], axis=1),
     )
     return traj
+
+
+def simulate_deployments(
+    deployments: Any,
+    omega0: Any,
+    q0: Any = (1.0, 0.0, 0.0, 0.0),
+    t_end: float = 100.0,
+    frames: int = 201,
+    dt: float | None = 1e-3,
+    method: str = "rk4",
+    *,
+    rtol: float | None = None,
+    atol: float | None = None,
+    max_steps: int = 10**10,
+) -> list[Trajectory]:
+    """Runs several deployments at once on all cores: a sweep over deployment durations,
+    deployed moments or starts ("which deployments tumble?").
+
+    Parameters
+    ----------
+    deployments : sequence of Deployment
+        One per run.
+    omega0 : array_like, shape (3,) or (M, 3)
+        Initial body rates, shared or one row per run.
+    q0 : array_like, shape (4,) or (M, 4)
+        Initial attitudes, shared or one row per run.
+    t_end, frames, dt, method, rtol, atol, max_steps
+        As for :func:`~dzhanibekov.simulate`; every run shares the frame grid, and with
+        ``dt=None`` the step planned for the first run.
+
+    Returns
+    -------
+    list of Trajectory
+        One per run, each equal to its single run.
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`~dzhanibekov.simulate`; a run's error names its row.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> runs = dz.simulate_deployments(
+    ...     [dz.Deployment([10.0, 20.0], [(1, 2, 3), (1, 3, r)]) for r in (2.0, 4.0)],
+    ...     (0.01, 0.01, 1.0), t_end=200.0)
+    >>> [bool(dz.axis_shares(t)[:, 2].min() < 0) for t in runs]  # z turned over?
+    [True, False]
+    """
+    if isinstance(deployments, Deployment) or not hasattr(deployments, "__len__"):
+        raise TypeError("`deployments` must be a sequence of dz.Deployment")
+    items = list(deployments)
+    if not items or not all(isinstance(d, Deployment) for d in items):
+        raise TypeError("`deployments` must be a non-empty sequence of dz.Deployment")
+    m = len(items)
+    omega = as_array("omega0", omega0, "(3,) or (M, 3)", last=3, ndim=(1, 2))
+    q = as_array("q0", q0, "(4,) or (M, 4)", last=4, ndim=(1, 2))
+    omega = np.broadcast_to(omega, (m, 3)) if omega.ndim == 1 or len(omega) == 1 else omega
+    q = np.broadcast_to(q, (m, 4)) if q.ndim == 1 or len(q) == 1 else q
+    if len(omega) != m or len(q) != m:
+        raise ValueError(f"`omega0` and `q0` must have one row per deployment ({m}) or one "
+                         f"shared row, got {len(omega)} and {len(q)}")
+    t_end = as_float("t_end", t_end, positive=True)
+    frames = as_int("frames", frames, minimum=2)
+    max_steps = as_int("max_steps", max_steps, minimum=1)
+    dt = None if dt is None else as_float("dt", dt, positive=True)
+    if not isinstance(method, str):
+        raise TypeError(f"`method` must be a string, got {type(method).__name__}")
+    rtol_ = 1e-9 if rtol is None else as_float("rtol", rtol, positive=True)
+    atol_ = 1e-12 if atol is None else as_float("atol", atol, positive=True)
+    check_size(m * frames * 8 * 24, f"{m} runs of frames={frames}", "ask for fewer frames")
+    outs = _core.simulate_deployments(
+        [d.times.tolist() for d in items], [d.tensors.ravel().tolist() for d in items],
+        [tuple(r) for r in omega.tolist()], [tuple(r) for r in q.tolist()], t_end, frames,
+        dt, method, max_steps, rtol_, atol_)
+    t = t_end * (np.arange(frames) / (frames - 1))
+    return [
+        _with_invariants(Trajectory(
+            t=t, omega=out["omega"], q=out["q"], flip_times=None, body=_first_body(d),
+            method=method, dt=out["dt"], n_steps=out["n_steps"], nfev=out["nfev"],
+            drift=_drift(out), n_rejected=out["n_rejected"], model=d), out)
+        for d, out in zip(items, outs)
+    ]
+
+
+def _first_body(d: Deployment) -> Body:
+    """The body at the first knot, by its principal moments."""
+    m = d.tensors[0]
+    return Body(np.linalg.eigvalsh(m) if _off_diagonal(m) else m.diagonal())
 
 
 def _off_diagonal(m: np.ndarray) -> bool:

@@ -25,7 +25,9 @@ use crate::run::adaptive::{integrate_adaptive, Adaptive};
 
 mod models;
 
-pub use models::{model_step, simulate_model, ModelMethod, ModelOutput, MODEL_METHODS};
+pub use models::{
+    model_step, simulate_model, simulate_models, ModelMethod, ModelOutput, MODEL_METHODS,
+};
 
 /// What to do about a run that diverged.
 pub(crate) const DIVERGED_HINT: &str =

@@ -325,3 +325,25 @@ pub fn model_step<const N: usize, S: Model<N>>(
     let h_omega = (rtol / span).powf(0.25).min(0.5);
     h_omega / rate
 }
+
+/// Runs `systems[i]` from `x0s[i]` on all cores (rayon), each over `grid` with `method`.
+///
+/// # Errors
+/// The first failing run's error, naming its row ([`Error::Row`]).
+pub fn simulate_models<const N: usize, S: Model<N>>(
+    systems: &[S],
+    x0s: &[[f64; N]],
+    grid: &FrameGrid,
+    method: ModelMethod,
+    cancel: &AtomicBool,
+) -> Result<Vec<ModelOutput>> {
+    use rayon::prelude::*;
+    systems
+        .par_iter()
+        .zip(x0s.par_iter())
+        .enumerate()
+        .map(|(row, (sys, x0))| {
+            simulate_model(sys, *x0, grid, method, cancel).map_err(|e| e.in_row(row))
+        })
+        .collect()
+}

@@ -754,6 +754,8 @@ def check_polhodes(kwargs: dict[str, Any], result: Any, caught: list[warnings.Wa
 # -- bodies that change: deployments and dampers -------------------------------------------------------
 
 MODEL_METHODS = ("rk4", "rk4_projected", "dopri5", "dop853")
+STOWED_HOSTILE = (1.0, 2.0, 3.0)
+"""Moments where a Deployment is wanted."""
 
 
 @st.composite
@@ -870,6 +872,23 @@ def _model_entry(kind: str) -> Entry:
     )
 
 
+@st.composite
+def deployments_args(draw: st.DrawFn) -> dict[str, Any]:
+    runs = [draw(model_run_args("deployment")) for _ in range(draw(st.integers(1, 3)))]
+    first = runs[0]
+    kwargs = {k: v for k, v in first.items() if k not in ("body", "omega0", "q0")}
+    kwargs["deployments"] = [r["body"] for r in runs]
+    kwargs["omega0"] = first["omega0"] if draw(st.booleans()) else np.stack(
+        [np.asarray(r["omega0"], float) for r in runs])
+    return kwargs
+
+
+def check_deployments(kwargs: dict[str, Any], runs: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(runs, list) and len(runs) == len(kwargs["deployments"])
+    for traj in runs:
+        check_model_run(kwargs, traj, caught)
+
+
 # -- the table -----------------------------------------------------------------------------------------
 
 def _simulate_entry(method: str) -> Entry:
@@ -906,6 +925,20 @@ ENTRIES: dict[str, Entry] = {
     **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
     "simulate[deployment]": _model_entry("deployment"),
     "simulate[damper]": _model_entry("damper"),
+    "simulate_deployments": Entry(
+        call=dz.simulate_deployments,
+        valid=deployments_args(),
+        hostile={"deployments": st.sampled_from([[], [STOWED_HOSTILE], "x", None, 1.0]),
+                 "omega0": hostile_vector3(),
+                 "t_end": hostile_real(positive=True),
+                 "frames": hostile_int(2),
+                 "method": st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])},
+        check=check_deployments,
+        covers=(dz.simulate_deployments,),
+        warns=(dz.InertiaWarning,),
+        examples=30,
+        min_success=0.5,
+    ),
     "Deployment": Entry(
         call=dz.Deployment,
         valid=deployment_args(),

@@ -201,3 +201,19 @@ def test_free_runs_report_momentum_world_and_energy_too():
     traj = dz.simulate(STOWED, (0.1, 0.2, 1.0), t_end=10.0, frames=11)
     assert traj.momentum_world.shape == (11, 3) and traj.energy.shape == (11,)
     assert np.ptp(traj.energy) < 1e-9 * traj.energy[0]
+
+
+def test_which_deployments_tumble():
+    # stowed (1, 2, 3) about z, deployed to (1, 3, r): z is intermediate for r < 3 and tumbles,
+    # major for r > 3 and stays; each row of the batch is its single run
+    ratios = (2.0, 2.5, 3.5, 4.0)
+    deployments = [dz.Deployment([20.0, 30.0], [STOWED, (1.0, 3.0, r)]) for r in ratios]
+    runs = dz.simulate_deployments(deployments, (0.01, 0.01, 1.0), t_end=250.0, frames=251,
+                                   dt=1e-3)
+    tumbled = [bool(dz.axis_shares(t)[:, 2].min() < 0) for t in runs]
+    assert tumbled == [r < 3 for r in ratios]
+    single = dz.simulate(deployments[1], (0.01, 0.01, 1.0), t_end=250.0, frames=251, dt=1e-3)
+    np.testing.assert_array_equal(runs[1].omega, single.omega)
+    np.testing.assert_array_equal(runs[1].q, single.q)
+    with pytest.raises(TypeError, match="`deployments`"):
+        dz.simulate_deployments([STOWED], (0.0, 0.0, 1.0))
