@@ -217,3 +217,21 @@ def test_which_deployments_tumble():
     np.testing.assert_array_equal(runs[1].q, single.q)
     with pytest.raises(TypeError, match="`deployments`"):
         dz.simulate_deployments([STOWED], (0.0, 0.0, 1.0))
+
+
+def test_the_story_scenes_tell_their_stories():
+    deployment, explorer = dz.SCENES["deployment"], dz.SCENES["explorer-1"]
+    for scene in (deployment, explorer):
+        assert dz.Scene.from_toml(scene.to_toml(), scene.name) == scene
+    traj = deployment.run()
+    share_z = dz.axis_shares(traj)[:, 2]
+    assert deployment.deployment is not None
+    start, end = deployment.deployment.times[[0, -1]]
+    assert share_z[traj.t <= start].min() > 0.999 and share_z[traj.t >= end].min() < -0.9
+    traj = explorer.run()
+    assert explorer.damper is not None
+    measured = dz.flat_spin_time(traj)
+    estimate = dz.flat_spin_estimate(explorer.inertia, explorer.damper, explorer.omega0)
+    assert measured == pytest.approx(estimate, rel=0.15)
+    with pytest.raises(dz.SceneError, match="ask.flips"):
+        explorer.replace(flips=True)
