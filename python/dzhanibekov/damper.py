@@ -96,11 +96,12 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
 
 def axis_shares(traj: Any) -> np.ndarray:
     """``L_k / |L|`` on each body axis at every frame, shape (frames, 3), from the total
-    angular momentum in space turned back into body axes."""
+    angular momentum in body axes (0 where there is no angular momentum)."""
     if not hasattr(traj, "invariants"):
         raise TypeError(f"`traj` must be a Trajectory, got {type(traj).__name__}")
     l_body = np.asarray(traj.invariants()["momentum_body"], dtype=np.float64)
-    shares: np.ndarray = l_body / np.linalg.norm(l_body, axis=1, keepdims=True)
+    norm = np.linalg.norm(l_body, axis=1, keepdims=True)
+    shares: np.ndarray = np.divide(l_body, norm, out=np.zeros_like(l_body), where=norm > 0)
     return shares
 
 

@@ -592,12 +592,16 @@ def energy_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     fig = _figure_of(ax)
     _model_span(ax, result)
     energy = traj.energy
-    ax.plot(traj.t, energy / energy[0], color="#1f3b73", lw=1.3, label="E(t) / E(0)")
+    e0 = float(energy[0])
+    scale = e0 if e0 > 0 else 1.0
+    ax.plot(traj.t, energy / scale, color="#1f3b73", lw=1.3,
+            label="E(t) / E(0)" if e0 > 0 else "E(t)")
     ax.set_xlabel("t")
-    ax.set_ylabel("total kinetic energy / E(0)")
+    ax.set_ylabel("total kinetic energy / E(0)" if e0 > 0 else "total kinetic energy")
     ax.set_xlim(0, traj.t[-1])
     l_world = traj.momentum_world
-    drift = np.linalg.norm(l_world - l_world[0], axis=1).max() / np.linalg.norm(l_world[0])
+    l0 = float(np.linalg.norm(l_world[0]))
+    drift = np.linalg.norm(l_world - l_world[0], axis=1).max() / (l0 if l0 > 0 else 1.0)
     ax.set_title(_title(result) + f"\n|L_world(t) − L_world(0)| / |L| ≤ {drift:.1e}",
                  fontsize=9)
     ax.legend(loc="best", fontsize=8)
