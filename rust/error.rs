@@ -1,5 +1,7 @@
 //! The one error type of the core; the bindings map it to `ValueError`.
 
+use std::borrow::Cow;
+
 /// Everything the core refuses, each naming the argument at fault and what is allowed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum Error {
@@ -7,7 +9,7 @@ pub enum Error {
     #[error("`{name}` {allowed}, got {got}")]
     InvalidArgument {
         name: &'static str,
-        allowed: &'static str,
+        allowed: Cow<'static, str>,
         got: String,
     },
     /// A request whose output or step count is too large to honour.
@@ -26,7 +28,7 @@ pub enum Error {
     Unsupported {
         method: &'static str,
         model: &'static str,
-        supported: &'static str,
+        supported: String,
     },
     /// The caller asked the run to stop (Ctrl-C in Python).
     #[error("interrupted")]
@@ -52,12 +54,12 @@ impl Error {
 
     pub(crate) fn invalid(
         name: &'static str,
-        allowed: &'static str,
+        allowed: impl Into<Cow<'static, str>>,
         got: impl std::fmt::Debug,
     ) -> Self {
         Error::InvalidArgument {
             name,
-            allowed,
+            allowed: allowed.into(),
             got: format!("{got:?}"),
         }
     }

@@ -78,7 +78,7 @@ pub fn check_quaternions(q: &[f64]) -> Result<()> {
         if !(c.iter().all(|x| x.is_finite()) && c.iter().any(|x| *x != 0.0)) {
             return Err(Error::InvalidArgument {
                 name: "q",
-                allowed: "rows must be finite, non-zero quaternions",
+                allowed: "rows must be finite, non-zero quaternions".into(),
                 got: format!("row {row} = {c:?}"),
             });
         }
@@ -125,7 +125,8 @@ pub fn rotate_points_until(
         return Err(Error::InvalidArgument {
             name: "points",
             allowed: "must be finite, of magnitude at most 4.49e307 (larger coordinates \
-                      overflow when rotated)",
+                      overflow when rotated)"
+                .into(),
             got: format!("row {row} = {:?}", &points[3 * row..3 * row + 3]),
         });
     }
@@ -193,6 +194,25 @@ impl SyncPtr {
     fn get(self) -> *mut f64 {
         self.0
     }
+}
+
+/// `q / |q|`.
+///
+/// # Errors
+/// A zero or non-finite quaternion.
+pub fn normalized(q: [f64; 4]) -> Result<[f64; 4]> {
+    let largest = q.iter().fold(0.0_f64, |m, c| m.max(c.abs()));
+    if !(largest.is_finite() && largest > 0.0) {
+        return Err(Error::invalid(
+            "q0",
+            "must be a finite, non-zero quaternion (Q, U, V, W)",
+            q,
+        ));
+    }
+    // Scale first so that the norm neither overflows nor underflows.
+    let s = q.map(|c| c / largest);
+    let n = s.iter().map(|c| c * c).sum::<f64>().sqrt();
+    Ok(s.map(|c| c / n))
 }
 
 #[cfg(test)]

@@ -3,24 +3,22 @@
 //! again in the core, whose errors become `ValueError`.
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
-use std::time::Duration;
+use std::sync::atomic::AtomicBool;
 
-use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::ndarray::{Array2, Array3};
 use numpy::{
     IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyReadwriteArray3, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, Invariants};
 use crate::dynamics::{DampedBody, Deployment, Model};
 use crate::ensemble::batch::{
-    simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
+    plan_rows, simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
 };
 use crate::ensemble::lanes::Isa;
 use crate::ensemble::sweep::{sweep as core_sweep, RunSummary};
@@ -31,25 +29,49 @@ use crate::kinematics::rotate_points_until;
 use crate::mesh::ellipsoid;
 use crate::observe::Drift;
 use crate::ode::Stats;
-use crate::run::adaptive::Adaptive;
+use crate::run::registry::{
+    MethodInfo, DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_METHOD, DEFAULT_RTOL, METHODS,
+};
 use crate::run::step_size::plan;
+use crate::run::watchdog;
 use crate::run::{
-    model_step, simulate as core_simulate, simulate_model, simulate_models, FrameGrid, Keep,
-    Method, ModelMethod, ModelOutput,
+    method_and_grid, model_step, simulate as core_simulate, simulate_model, simulate_models,
+    FrameGrid, Keep, Method, ModelMethod, ModelOutput,
 };
 
+/// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
+/// (all `ValueError`s), a batch or sweep row's error with its row in `.row`.
 impl From<Error> for PyErr {
     fn from(e: Error) -> PyErr {
-        PyValueError::new_err(e.to_string())
+        Python::attach(|py| python_error(py, e))
     }
 }
 
-/// How often a long run looks for Ctrl-C.
-const SIGNAL_POLL: Duration = Duration::from_millis(50);
+fn python_error(py: Python<'_>, e: Error) -> PyErr {
+    let (row, error) = match e {
+        Error::Row { row, error } => (Some(row), *error),
+        error => (None, error),
+    };
+    let class = match error {
+        Error::Diverged { .. } => "DivergedError",
+        Error::TooLarge { .. } => "TooLargeError",
+        _ => "DzhanibekovError",
+    };
+    let message = error.to_string();
+    let raised = py
+        .import("dzhanibekov.errors")
+        .and_then(|errors| errors.getattr(class))
+        .and_then(|class| class.call1((message.as_str(), row)));
+    match raised {
+        Ok(exception) => PyErr::from_value(exception),
+        // only if the package is broken: the error still reaches the user
+        Err(_) => PyValueError::new_err(message),
+    }
+}
 
-/// Runs `work` without the GIL. Long work runs on a scoped helper thread while this thread
-/// polls for signals, so Ctrl-C sets `cancel` and surfaces as `KeyboardInterrupt` within a
-/// poll interval. Short work runs inline, sparing the thread start.
+/// Runs `work` without the GIL. Long work runs on a helper thread while this thread polls for
+/// signals (see [`watchdog::watch`]), so Ctrl-C sets `cancel` and surfaces as
+/// `KeyboardInterrupt` within a poll interval. Short work runs inline, sparing the thread start.
 ///
 /// Inputs borrowed by `work` must not be mutated by another Python thread during the call.
 fn detach<T: Send>(
@@ -57,29 +79,18 @@ fn detach<T: Send>(
     long: bool,
     work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
 ) -> PyResult<T> {
-    let cancel = AtomicBool::new(false);
     if !long {
+        let cancel = AtomicBool::new(false);
         return py.detach(|| work(&cancel)).map_err(PyErr::from);
     }
     let mut interrupt: Option<PyErr> = None;
     let outcome = py.detach(|| {
-        std::thread::scope(|scope| {
-            let (done_tx, done_rx) = mpsc::channel::<()>();
-            let cancel = &cancel;
-            let handle = scope.spawn(move || {
-                let result = work(cancel);
-                let _ = done_tx.send(());
-                result
-            });
-            while let Err(mpsc::RecvTimeoutError::Timeout) = done_rx.recv_timeout(SIGNAL_POLL) {
-                if interrupt.is_none() {
-                    if let Err(e) = Python::attach(|py| py.check_signals()) {
-                        interrupt = Some(e);
-                        cancel.store(true, Ordering::Relaxed);
-                    }
-                }
+        watchdog::watch(work, || match Python::attach(|py| py.check_signals()) {
+            Err(e) => {
+                interrupt = Some(e);
+                true
             }
-            handle.join()
+            Ok(()) => false,
         })
     });
     match (outcome, interrupt) {
@@ -134,15 +145,124 @@ impl PyRigidBody {
         let i = self.inner.inertia_body();
         format!("RigidBody(inertia=({}, {}, {}))", i.x, i.y, i.z)
     }
+
+    /// Pickles by the moments, which rebuild the same body.
+    fn __reduce__<'py>(
+        slf: &Bound<'py, Self>,
+    ) -> (Bound<'py, pyo3::types::PyType>, ((f64, f64, f64),)) {
+        let i = slf.get().inner.inertia_body();
+        (slf.get_type(), ((i.x, i.y, i.z),))
+    }
 }
 
-/// Steps above which a run goes to a helper thread and watches for Ctrl-C (about 5 ms).
-const LONG_RUN_STEPS: u64 = 200_000;
-/// Frames of the exact solution above which it does the same (about 5 ms).
-const LONG_EXACT_FRAMES: usize = 5_000;
+/// What the core knows about a method (its entry in the registry), read-only.
+#[pyclass(name = "MethodInfo", module = "dzhanibekov._core", frozen)]
+struct PyMethodInfo {
+    info: &'static MethodInfo,
+}
+
+#[pymethods]
+impl PyMethodInfo {
+    /// The name to pass as `method=`.
+    #[getter]
+    fn name(&self) -> &'static str {
+        self.info.name
+    }
+
+    /// The order of the global error; None for the exact solution.
+    #[getter]
+    fn order(&self) -> Option<u32> {
+        self.info.order
+    }
+
+    /// Whether the method chooses its own steps under `rtol` and `atol`.
+    #[getter]
+    fn adaptive(&self) -> bool {
+        self.info.adaptive()
+    }
+
+    /// What the method keeps to round-off, by the names of `Drift`'s fields.
+    #[getter]
+    fn keeps<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, self.info.keeps)
+    }
+
+    /// Right-hand-side evaluations per (accepted) step; 0 for a method that evaluates none.
+    #[getter]
+    fn rhs_per_step(&self) -> u64 {
+        self.info.rhs_per_step
+    }
+
+    /// Whether a batch runs it several rows at once in SIMD lanes.
+    #[getter]
+    fn batch(&self) -> bool {
+        self.info.batch
+    }
+
+    /// The models it can run.
+    #[getter]
+    fn models<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        PyTuple::new(py, self.info.models)
+    }
+
+    /// One line about it.
+    #[getter]
+    fn about(&self) -> &'static str {
+        self.info.about
+    }
+
+    /// Pickles by name: the entry is looked up again on load.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (&'static str,))> {
+        let lookup = py.import("dzhanibekov._core")?.getattr("method_info")?;
+        Ok((lookup, (self.info.name,)))
+    }
+
+    fn __repr__(&self) -> String {
+        let info = self.info;
+        let order = info.order.map_or("None".to_string(), |o| o.to_string());
+        format!(
+            "MethodInfo(name='{}', order={order}, adaptive={}, keeps={}, rhs_per_step={}, \
+             batch={}, models={})",
+            info.name,
+            py_bool(info.adaptive()),
+            py_tuple(info.keeps),
+            info.rhs_per_step,
+            py_bool(info.batch),
+            py_tuple(info.models),
+        )
+    }
+}
+
+fn py_bool(b: bool) -> &'static str {
+    if b {
+        "True"
+    } else {
+        "False"
+    }
+}
+
+/// Names as Python writes a tuple of strings.
+fn py_tuple(names: &[&str]) -> String {
+    match names {
+        [one] => format!("('{one}',)"),
+        _ => {
+            let quoted: Vec<String> = names.iter().map(|n| format!("'{n}'")).collect();
+            format!("({})", quoted.join(", "))
+        }
+    }
+}
+
+/// The registry entry of the method called `name`.
+#[pyfunction]
+fn method_info(name: &str) -> PyResult<PyMethodInfo> {
+    let method: Method = name.parse()?;
+    Ok(PyMethodInfo {
+        info: method.info(),
+    })
+}
 
 #[pyfunction]
-#[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (body, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -158,84 +278,58 @@ fn simulate<'py>(
     keep_flips: bool,
     rtol: f64,
     atol: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyRunResult> {
     let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
     };
     let body = body.inner;
-    let long = match method {
-        Method::Exact => frames > LONG_EXACT_FRAMES,
-        _ => method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS,
-    };
+    let long = watchdog::is_long(&method, &grid, 1);
     let out = detach(py, long, |cancel| {
         core_simulate(&body, omega0, q0, &grid, method, keep, cancel)
     })?;
-    let result = PyDict::new(py);
-    if keep_frames {
-        let omega = Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?;
-        let q = Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?;
-        result.set_item("omega", omega.into_pyarray(py))?;
-        result.set_item("q", q.into_pyarray(py))?;
-    }
-    result.set_item(
-        "flip_times",
-        Array1::from_vec(out.flip_times).into_pyarray(py),
-    )?;
-    let drift = PyDict::new(py);
-    drift.set_item("energy", out.drift.energy)?;
-    drift.set_item("momentum", out.drift.momentum)?;
-    drift.set_item("momentum_world", out.drift.momentum_world)?;
-    drift.set_item("q_norm", out.drift.q_norm)?;
-    result.set_item("drift", drift)?;
-    result.set_item("nfev", out.stats.nfev)?;
-    result.set_item("n_steps", out.stats.n_steps)?;
-    result.set_item("n_rejected", out.stats.n_rejected)?;
-    result.set_item("dt", out.dt)?;
-    Ok(result)
-}
-
-/// The method of a run and its frame grid.
-fn method_and_grid(
-    method: &str,
-    t_end: f64,
-    frames: usize,
-    dt: f64,
-    max_steps: u64,
-    rtol: f64,
-    atol: f64,
-) -> PyResult<(Method, FrameGrid)> {
-    let method = adaptive_method(method, rtol, atol, Some(dt))?;
-    let grid = match method {
-        // The exact solution takes no steps: `dt` and `max_steps` do not apply.
-        Method::Exact => FrameGrid::try_frames(t_end, frames)?,
-        _ if method.is_adaptive() => FrameGrid::frames_only(t_end, frames)?,
-        _ => FrameGrid::try_new(t_end, frames, dt, max_steps)?,
+    let (omega, q) = match keep_frames {
+        true => (
+            Some(Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?),
+            Some(Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?),
+        ),
+        false => (None, None),
     };
-    let method = method.with_adaptive(match method {
-        Method::Dopri5(a) | Method::Dop853(a) => a.with_max_steps(max_steps),
-        _ => Adaptive::default(),
-    });
-    Ok((method, grid))
+    let d = out.drift;
+    let t: Vec<f64> = (0..grid.frames()).map(|i| grid.time(i)).collect();
+    Ok(PyRunResult {
+        t: PyArray1::from_vec(py, t).unbind(),
+        omega: omega.map(|a| a.into_pyarray(py).unbind()),
+        q: q.map(|a| a.into_pyarray(py).unbind()),
+        flip_times: PyArray1::from_vec(py, out.flip_times).unbind(),
+        drift: (d.energy, d.momentum, d.momentum_world, d.q_norm),
+        nfev: out.stats.nfev,
+        n_steps: out.stats.n_steps,
+        n_rejected: out.stats.n_rejected,
+        dt: out.dt,
+    })
 }
 
-/// The method named `name`, with tolerances `rtol`, `atol` and first step `dt` if adaptive.
-fn adaptive_method(name: &str, rtol: f64, atol: f64, dt: Option<f64>) -> PyResult<Method> {
-    let method: Method = name.parse()?;
-    if !method.is_adaptive() {
-        return Ok(method);
-    }
-    let settings = Adaptive::try_new(rtol, atol)?;
-    Ok(method.with_adaptive(match dt {
-        Some(dt) => settings.with_first_step(dt)?,
-        None => settings,
-    }))
+/// One run's output: the frame times, frames (if kept) and flip times as arrays, the invariants' drift
+/// `(energy, momentum, momentum_world, q_norm)`, the run's cost and its step.
+#[pyclass(name = "RunResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PyRunResult {
+    /// The frame times (the frame grid's).
+    t: Py<PyArray1<f64>>,
+    omega: Option<Py<PyArray2<f64>>>,
+    q: Option<Py<PyArray2<f64>>>,
+    flip_times: Py<PyArray1<f64>>,
+    drift: (f64, f64, f64, f64),
+    nfev: u64,
+    n_steps: u64,
+    n_rejected: u64,
+    dt: f64,
 }
 
 /// The step a run will take and RK4's predicted drift at it (see `step_size::plan`).
 #[pyfunction]
-#[pyo3(signature = (body, omega0, t_end, frames, dt, method, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (body, omega0, t_end, frames, dt, method, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn step_plan<'py>(
     py: Python<'py>,
@@ -248,7 +342,7 @@ fn step_plan<'py>(
     rtol: f64,
     atol: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = adaptive_method(method, rtol, atol, None)?;
+    let method = Method::named(method, rtol, atol, None)?;
     let p = plan(&body.inner, omega0, t_end, frames, method, dt, rtol)?;
     let result = PyDict::new(py);
     result.set_item("dt", p.dt)?;
@@ -271,14 +365,14 @@ fn model_method_and_grid<const N: usize, S: Model<N>>(
     rtol: f64,
     atol: f64,
 ) -> PyResult<(ModelMethod, FrameGrid)> {
-    let method = ModelMethod::for_model(adaptive_method(method, rtol, atol, dt)?, S::NAME)?;
+    let method = ModelMethod::for_model(Method::named(method, rtol, atol, dt)?, S::NAME)?;
     let grid = match method {
         ModelMethod::Dopri5(_) | ModelMethod::Dop853(_) => FrameGrid::frames_only(t_end, frames)?,
         _ => {
             if let Some(dt) = dt {
                 FrameGrid::try_new(t_end, frames, dt, max_steps)?
             } else {
-                crate::run::step_size::check_rtol(rtol)?;
+                crate::ode::controller::check_rtol(rtol)?;
                 FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
             }
         }
@@ -307,7 +401,10 @@ fn model_result<'py>(
     result.set_item("omega", omega.into_pyarray(py))?;
     result.set_item("q", q.into_pyarray(py))?;
     result.set_item("momentum_world", l.into_pyarray(py))?;
-    result.set_item("energy", Array1::from_vec(out.energy).into_pyarray(py))?;
+    result.set_item(
+        "energy",
+        numpy::ndarray::Array1::from_vec(out.energy).into_pyarray(py),
+    )?;
     if let Some(name) = extra {
         let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
         result.set_item(name, x.into_pyarray(py))?;
@@ -352,10 +449,10 @@ fn simulate_deployment<'py>(
         .map(nalgebra::Matrix3::from_row_slice)
         .collect();
     let d = Deployment::try_new(times, tensors)?;
-    let x0 = d.state_from(0.0, omega0, crate::run::normalized(q0)?);
+    let x0 = d.state_from(0.0, omega0, crate::kinematics::normalized(q0)?);
     let (method, grid) =
         model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
-    let long = method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS;
+    let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
         simulate_model(&d, x0, &grid, method, cancel)
     })?;
@@ -400,7 +497,7 @@ fn simulate_deployments<'py>(
             .map(nalgebra::Matrix3::from_row_slice)
             .collect();
         let d = Deployment::try_new(t, knots).map_err(|e| e.in_row(row))?;
-        let q = crate::run::normalized(q0[row]).map_err(|e| e.in_row(row))?;
+        let q = crate::kinematics::normalized(q0[row]).map_err(|e| e.in_row(row))?;
         x0s.push(d.state_from(0.0, omega0[row], q));
         systems.push(d);
     }
@@ -448,10 +545,10 @@ fn simulate_damper<'py>(
     if !sigma0.iter().all(|s| s.is_finite()) {
         return Err(Error::invalid("sigma0", "must be three finite rates", sigma0).into());
     }
-    let x0 = DampedBody::state_from(omega0, sigma0, crate::run::normalized(q0)?);
+    let x0 = DampedBody::state_from(omega0, sigma0, crate::kinematics::normalized(q0)?);
     let (method, grid) =
         model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
-    let long = method.is_adaptive() || grid.n_steps() > LONG_RUN_STEPS;
+    let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
         simulate_model(&sys, x0, &grid, method, cancel)
     })?;
@@ -461,9 +558,6 @@ fn simulate_damper<'py>(
 fn internal(e: impl std::fmt::Display) -> PyErr {
     PyRuntimeError::new_err(format!("internal error in the dzhanibekov core: {e}"))
 }
-
-/// Point-frames above which rotation watches for Ctrl-C on a helper thread.
-const LONG_ROTATION: usize = 1 << 24;
 
 #[pyfunction]
 #[pyo3(signature = (q, points, out = None))]
@@ -480,7 +574,7 @@ fn rotate<'py>(
     let points = points
         .as_slice()
         .map_err(|_| PyValueError::new_err("`points` must be C-contiguous"))?;
-    let long = n.saturating_mul(p) > LONG_ROTATION;
+    let long = n.saturating_mul(p) > watchdog::LONG_ROTATION;
     match out {
         Some(mut out) => {
             if out.shape() != [n, p, 3] {
@@ -511,9 +605,6 @@ fn rotate<'py>(
     }
 }
 
-/// Rows above which the invariants are computed on a helper thread that watches for Ctrl-C.
-const LONG_INVARIANTS: usize = 1 << 22;
-
 /// Energy, body and world angular momentum and `|q|` at each row of `omega` and `q`.
 #[pyfunction]
 fn invariants<'py>(
@@ -535,7 +626,7 @@ fn invariants<'py>(
         ));
     }
     let inertia = body.inner.inertia_body();
-    let (energy, l_body, l_world, q_norm) = detach(py, n > LONG_INVARIANTS, |_| {
+    let (energy, l_body, l_world, q_norm) = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
         let (mut energy, mut l_body, mut l_world, mut q_norm) = (
             Vec::with_capacity(n),
             Vec::with_capacity(3 * n),
@@ -561,9 +652,6 @@ fn invariants<'py>(
     Ok(result)
 }
 
-/// Cells above which building a mesh watches for Ctrl-C on a helper thread.
-const LONG_MESH: usize = 1 << 20;
-
 /// A mesh as NumPy arrays: vertices `(V, 3)` and cells `(C, 4)`.
 type PyMesh<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
 
@@ -575,7 +663,7 @@ fn ellipsoid_mesh<'py>(
     n_around: usize,
     n_along: usize,
 ) -> PyResult<PyMesh<'py>> {
-    let long = n_around.saturating_mul(n_along) > LONG_MESH;
+    let long = n_around.saturating_mul(n_along) > watchdog::LONG_MESH;
     let mesh = detach(py, long, |_| ellipsoid(semi_axes, n_around, n_along))?;
     let (v, c) = (mesh.n_vertices(), mesh.n_cells());
     let vertices = Array2::from_shape_vec((v, 3), mesh.vertices).map_err(internal)?;
@@ -672,12 +760,6 @@ fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOpt
     })
 }
 
-/// Whether `runs` runs over `grid` are long enough to watch for Ctrl-C on a helper thread.
-fn long_batch(runs: usize, grid: &FrameGrid, method: Method) -> bool {
-    let work = (runs as u64).saturating_mul(grid.n_steps().max(grid.frames() as u64));
-    method.is_adaptive() || work > LONG_RUN_STEPS
-}
-
 /// Per-row values as a NumPy array.
 fn column<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyArray1<T>> {
     PyArray1::from_vec(py, v)
@@ -714,7 +796,7 @@ fn stats_columns(result: &Bound<'_, PyDict>, stats: &[Stats], dt: Vec<f64>) -> P
 
 /// Many runs over one frame grid: rows of `inertia` (or one), `omega0`, `q0` (or one).
 #[pyfunction]
-#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = 1e-9, atol = 1e-12, threads = None, isa = None))]
+#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, keep_frames, keep_flips, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, threads = None, isa = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch<'py>(
     py: Python<'py>,
@@ -740,7 +822,7 @@ fn simulate_batch<'py>(
         frames: keep_frames,
         flips: keep_flips,
     };
-    let long = long_batch(starts.len(), &grid, method);
+    let long = watchdog::is_long(&method, &grid, starts.len());
     let out = detach(py, long, |cancel| {
         core_simulate_batch(&starts, &grid, method, keep, &options, cancel)
     })?;
@@ -762,7 +844,7 @@ fn simulate_batch<'py>(
 
 /// Many runs summarised, no frames kept (see `crate::ensemble::sweep`).
 #[pyfunction]
-#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, threads = None, isa = None))]
+#[pyo3(signature = (inertia, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, threads = None, isa = None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -782,7 +864,7 @@ fn sweep<'py>(
     let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
     let options = batch_options(threads, isa)?;
     let starts = starts(&inertia, &omega0, &q0)?;
-    let long = long_batch(starts.len(), &grid, method);
+    let long = watchdog::is_long(&method, &grid, starts.len());
     let runs = detach(py, long, |cancel| {
         core_sweep(&starts, &grid, method, &options, cancel)
     })?;
@@ -804,7 +886,7 @@ fn sweep<'py>(
 /// `step_plan` for each row of a batch: arrays of the planned step, the step taken, the rate
 /// bound and RK4's predicted drift.
 #[pyfunction]
-#[pyo3(signature = (inertia, omega0, t_end, frames, dt, method, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (inertia, omega0, t_end, frames, dt, method, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn step_plan_batch<'py>(
     py: Python<'py>,
@@ -817,22 +899,14 @@ fn step_plan_batch<'py>(
     rtol: f64,
     atol: f64,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let method = adaptive_method(method, rtol, atol, None)?;
+    let method = Method::named(method, rtol, atol, None)?;
     let identity = [1.0, 0.0, 0.0, 0.0];
     let starts = Start::rows(
         values("inertia", &inertia)?,
         values("omega0", &omega0)?,
         &identity,
     )?;
-    let plans = py.detach(|| {
-        starts
-            .iter()
-            .enumerate()
-            .map(|(i, s)| {
-                plan(&s.body, s.omega0, t_end, frames, method, dt, rtol).map_err(|e| e.in_row(i))
-            })
-            .collect::<Result<Vec<_>, Error>>()
-    })?;
+    let plans = py.detach(|| plan_rows(&starts, t_end, frames, method, dt, rtol))?;
     let result = PyDict::new(py);
     let of = |f: fn(&crate::run::step_size::StepPlan) -> f64| -> Vec<f64> {
         plans.iter().map(f).collect()
@@ -853,6 +927,15 @@ fn instruction_sets() -> Vec<&'static str> {
 #[pymodule]
 fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
+    m.add_class::<PyMethodInfo>()?;
+    m.add_class::<PyRunResult>()?;
+    m.add_function(wrap_pyfunction!(method_info, m)?)?;
+    let methods: Vec<PyMethodInfo> = METHODS.iter().map(|info| PyMethodInfo { info }).collect();
+    m.add("METHODS", PyTuple::new(m.py(), methods)?)?;
+    m.add("DEFAULT_METHOD", DEFAULT_METHOD)?;
+    m.add("DEFAULT_RTOL", DEFAULT_RTOL)?;
+    m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
+    m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;

@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 use nalgebra::Matrix3;
 
 use dzhanibekov::dynamics::{DampedBody, Deployment};
-use dzhanibekov::run::adaptive::Adaptive;
+use dzhanibekov::ode::controller::Adaptive;
 use dzhanibekov::run::{
     simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod, ModelOutput,
 };

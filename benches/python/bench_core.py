@@ -140,7 +140,7 @@ def bench_simulate(steps: int) -> None:
     # scipy at a matching accuracy: fig. 3a to T = 100, where RK4 at dt = 1e-3 errs by ~1e-10
     from scipy.integrate import solve_ivp
 
-    s = dz.scenario("fig3a")
+    s = dz.SCENES["fig3a"]
     ref = s.run(dt=1e-3)
     ix, iy, iz = INERTIA
 

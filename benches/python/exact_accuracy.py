@@ -25,7 +25,7 @@ from dzhanibekov import _core  # noqa: E402
 def main() -> None:
     print("case     | ω vs mpmath, T=1000 | ω, q vs longdouble Taylor      | drift to T=1e6")
     for name in ("example", "fig3a", "fig3b", "fig3c"):
-        s = dz.scenario(name)
+        s = dz.SCENES[name]
         scale = np.abs(s.omega0).max()
         traj = dz.simulate(s.body, s.omega0, s.q0, t_end=1000.0, frames=201, method="exact")
         e_mp = np.abs(traj.omega - ExactOmegaMP(s.inertia, s.omega0)(traj.t)).max() / scale

@@ -10,30 +10,28 @@ point arrays without trigonometry; this package is the thin Python side.
 
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .body import Body, InertiaWarning
+from .body import PAPER_INERTIA, Body, InertiaWarning
 from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
 from .deployment import Deployment
 from .models import simulate_deployments
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
+from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
 from .scenes import (
-    PAPER_INERTIA,
     PAPER_SCENES,
-    SCENARIOS,
     SCENES,
     Plan,
-    Scenario,
     Scene,
     SceneError,
     SceneResult,
     execute,
     load_scene,
     make_plan,
-    scenario,
 )
-from .simulate import METHODS, rotate, simulate
+from .methods import METHODS, MethodInfo
+from .simulate import rotate, simulate
 from .summary import Summary, summarize
 
 __all__ = [
@@ -47,12 +45,16 @@ __all__ = [
     "axis_shares",
     "flat_spin_time",
     "flat_spin_estimate",
+    "DzhanibekovError",
+    "DivergedError",
+    "TooLargeError",
     "Trajectory",
     "Drift",
     "simulate",
     "rotate",
     "flip_period",
     "METHODS",
+    "MethodInfo",
     "StepSizeWarning",
     "MAX_PREDICTED_DRIFT",
     "BOX_SIZE",
@@ -60,9 +62,6 @@ __all__ = [
     "box_vertices",
     "box_edges",
     "PAPER_INERTIA",
-    "SCENARIOS",
-    "Scenario",
-    "scenario",
     "summarize",
     "Summary",
     "Scene",

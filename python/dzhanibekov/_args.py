@@ -12,6 +12,8 @@ from typing import Any
 
 import numpy as np
 
+from .errors import TooLargeError
+
 __all__ = ["as_float", "as_int", "as_array", "check_size", "MAX_INT"]
 
 MAX_INT = 2**63 - 1
@@ -127,7 +129,7 @@ def check_size(nbytes: int, what: str, hint: str) -> None:
         return
     room = memory_available()
     if room is not None and nbytes > room[0]:
-        raise ValueError(
+        raise TooLargeError(
             f"{what} would need {nbytes / 1e9:.3g} GB ({nbytes} bytes), more than this "
             f"machine's {room[0] / 1e9:.3g} GB of {room[1]}; {hint}"
         )

@@ -6,7 +6,14 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "DEFAULT_ATOL",
+    "DEFAULT_MAX_STEPS",
+    "DEFAULT_METHOD",
+    "DEFAULT_RTOL",
+    "METHODS",
+    "MethodInfo",
     "RigidBody",
+    "RunResult",
     "__version__",
     "ellipj",
     "ellipk",
@@ -14,6 +21,7 @@ __all__ = [
     "flip_period",
     "instruction_sets",
     "invariants",
+    "method_info",
     "rotate",
     "simulate",
     "simulate_batch",
@@ -25,6 +33,54 @@ __all__ = [
     "sweep",
 ]
 __version__: str
+METHODS: tuple[MethodInfo, ...]
+DEFAULT_METHOD: str
+DEFAULT_RTOL: float
+DEFAULT_ATOL: float
+DEFAULT_MAX_STEPS: int
+
+@final
+class MethodInfo:
+    @property
+    def name(self) -> str: ...
+    @property
+    def order(self) -> int | None: ...
+    @property
+    def adaptive(self) -> bool: ...
+    @property
+    def keeps(self) -> tuple[str, ...]: ...
+    @property
+    def rhs_per_step(self) -> int: ...
+    @property
+    def batch(self) -> bool: ...
+    @property
+    def models(self) -> tuple[str, ...]: ...
+    @property
+    def about(self) -> str: ...
+    def __reduce__(self) -> tuple[Any, tuple[str]]: ...
+
+def method_info(name: str) -> MethodInfo: ...
+
+@final
+class RunResult:
+    @property
+    def t(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def q(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def flip_times(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def drift(self) -> tuple[float, float, float, float]: ...
+    @property
+    def nfev(self) -> int: ...
+    @property
+    def n_steps(self) -> int: ...
+    @property
+    def n_rejected(self) -> int: ...
+    @property
+    def dt(self) -> float: ...
 
 @final
 class RigidBody:
@@ -37,6 +93,7 @@ class RigidBody:
     def satisfies_triangle_inequality(self) -> bool: ...
     @property
     def intermediate_axis(self) -> int | None: ...
+    def __reduce__(self) -> tuple[Any, tuple[tuple[float, float, float]]]: ...
 
 def simulate(
     body: RigidBody,
@@ -49,9 +106,9 @@ def simulate(
     max_steps: int,
     keep_frames: bool,
     keep_flips: bool,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
-) -> dict[str, Any]: ...
+    rtol: float = ...,
+    atol: float = ...,
+) -> RunResult: ...
 def simulate_deployment(
     times: npt.NDArray[np.float64],
     tensors: npt.NDArray[np.float64],
@@ -100,8 +157,8 @@ def step_plan(
     frames: int,
     dt: float | None,
     method: str,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    rtol: float = ...,
+    atol: float = ...,
 ) -> dict[str, float]: ...
 @overload
 def rotate(
@@ -133,8 +190,8 @@ def simulate_batch(
     max_steps: int,
     keep_frames: bool,
     keep_flips: bool,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    rtol: float = ...,
+    atol: float = ...,
     threads: int | None = None,
     isa: str | None = None,
 ) -> dict[str, Any]: ...
@@ -147,8 +204,8 @@ def sweep(
     dt: float,
     method: str,
     max_steps: int,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    rtol: float = ...,
+    atol: float = ...,
     threads: int | None = None,
     isa: str | None = None,
 ) -> dict[str, Any]: ...
@@ -159,7 +216,7 @@ def step_plan_batch(
     frames: int,
     dt: float | None,
     method: str,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
+    rtol: float = ...,
+    atol: float = ...,
 ) -> dict[str, npt.NDArray[np.float64]]: ...
 def instruction_sets() -> list[str]: ...

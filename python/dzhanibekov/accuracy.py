@@ -20,6 +20,7 @@ from typing import Any
 
 from . import _core
 from ._args import as_float
+from .methods import DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_RTOL, METHODS, is_adaptive
 
 __all__ = [
     "ADAPTIVE_METHODS",
@@ -30,20 +31,8 @@ __all__ = [
     "StepSizeWarning",
 ]
 
-ADAPTIVE_METHODS = ("dopri5", "dop853")
+ADAPTIVE_METHODS = tuple(name for name, m in METHODS.items() if m.adaptive)
 """Methods that choose their own steps under `rtol` and `atol`."""
-
-GUARDED_METHODS = ("rk4", "rk4_projected")
-"""Methods whose step is checked against RK4's predicted dissipation."""
-
-DEFAULT_RTOL = 1e-9
-"""Relative tolerance of the adaptive methods, and the accuracy ``dt=None`` aims at."""
-
-DEFAULT_ATOL = 1e-12
-"""Absolute tolerance of the adaptive methods: on ``q``, and on ``ω`` in units of ``Ω``."""
-
-DEFAULT_MAX_STEPS = 10**10
-"""Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""
 
 
 MAX_PREDICTED_DRIFT = 1e-6
@@ -93,7 +82,7 @@ def check_tolerances(
     method: str, dt: Any, rtol: Any, atol: Any
 ) -> tuple[float | None, float, float]:
     """``(dt, rtol, atol)`` checked against each other and `method`, defaults filled in."""
-    adaptive = method in ADAPTIVE_METHODS
+    adaptive = is_adaptive(method)
     if not adaptive:
         if atol is not None:
             raise ValueError(f"`atol` applies to the adaptive methods {ADAPTIVE_METHODS} only")
@@ -116,7 +105,8 @@ def warn_step(plan: Mapping[str, float], method: str, dt_given: bool, rtol: floa
     drift = plan["predicted_drift"]
     # a step chosen for an accuracy answers to that accuracy
     tolerance = MAX_PREDICTED_DRIFT if dt_given else max(rtol, MAX_PREDICTED_DRIFT)
-    if method in GUARDED_METHODS and drift > tolerance:
+    # the core predicts RK4's dissipation for the methods it threatens, 0 for the others
+    if drift > tolerance:
         h_rate = plan["step"] * plan["rate_bound"]
         if h_rate >= _WOBBLE_LIMIT:
             why = (

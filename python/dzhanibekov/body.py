@@ -11,6 +11,11 @@ from ._args import as_array, as_float
 __all__ = ["Body", "InertiaWarning", "as_body"]
 
 
+PAPER_INERTIA = (52.0833, 27.0833, 41.6666)
+"""The paper's principal moments (Ix, Iy, Iz), as printed. The box formula gives them with x
+and y swapped (erratum 2, see the README); either way z is the intermediate axis."""
+
+
 class InertiaWarning(UserWarning):
     """Principal moments that no real mass distribution has (the triangle inequality fails)."""
 

@@ -30,142 +30,22 @@ cluster, and the result is the same, bit for bit, as on one machine.
 from __future__ import annotations
 
 import math
-import re
 import warnings
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from functools import cached_property
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 from tqdm import tqdm
 
 from . import _core
 from ._args import as_array, as_float, as_int, check_size
-from .accuracy import DEFAULT_MAX_STEPS, check_tolerances, warn_step
+from .accuracy import check_tolerances, warn_step
 from .body import Body, InertiaWarning
-from .results import Drift, Trajectory
+from .errors import DzhanibekovError
+from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, check_method
+from .results import Batch, BatchDrift, Sweep, trusted_body
 
 __all__ = ["Batch", "BatchDrift", "simulate_batch", "Sweep", "sweep", "grid", "DEFAULT_BLOCK"]
-
-
-class BatchDrift(NamedTuple):
-    """The invariants' largest drift over the frames, one value per run (see `Drift`)."""
-
-    energy: np.ndarray
-    """Relative: ``max |E(t) - E(0)| / E(0)``."""
-    momentum: np.ndarray
-    """Relative change of ``|L|``."""
-    momentum_world: np.ndarray
-    """``max |L_world(t) - L_world(0)| / |L(0)|``."""
-    q_norm: np.ndarray
-    """``max ||q(t)| - 1|``."""
-
-    def reshape(self, shape: tuple[int, ...]) -> BatchDrift:
-        """The same values in `shape`."""
-        return BatchDrift(*(np.reshape(v, shape) for v in self))
-
-
-@dataclass(frozen=True, eq=False)
-class Batch:
-    """Frames of M free rotations over one frame grid, run-major.
-
-    ``batch[i]`` is run i as a :class:`Trajectory`, equal bit for bit to ``simulate`` of
-    its inputs alone (with the same ``dt``).
-
-    Attributes
-    ----------
-    t : ndarray, shape (frames,)
-        Frame times, shared by every run.
-    omega : ndarray, shape (M, frames, 3)
-        Body-frame angular velocity ``(u, v, w)`` of each run.
-    q : ndarray, shape (M, frames, 4)
-        Body-to-world unit quaternion, scalar first, of each run.
-    flip_times : tuple of M ndarrays, or None
-        Each run's flip times (see :func:`~dzhanibekov.simulate`); None if not asked for.
-    inertia : ndarray, shape (M, 3)
-        Each run's principal moments.
-    method : str
-    dt : ndarray, shape (M,)
-        The step each run took (for an adaptive method, its mean accepted step).
-    n_steps, nfev, n_rejected : ndarray of int64, shape (M,)
-        Steps, right-hand-side evaluations and rejected steps of each run.
-    drift : BatchDrift
-        The invariants' largest drift over the frames, per run.
-    """
-
-    t: np.ndarray
-    omega: np.ndarray
-    q: np.ndarray
-    _flip_times: np.ndarray | None = field(repr=False)
-    """Every run's flip times, one after the other; run i's are
-    ``_flip_times[_flip_offsets[i]:_flip_offsets[i + 1]]``."""
-    _flip_offsets: np.ndarray | None = field(repr=False)
-    inertia: np.ndarray
-    method: str
-    dt: np.ndarray
-    n_steps: np.ndarray
-    nfev: np.ndarray
-    n_rejected: np.ndarray
-    drift: BatchDrift
-
-    def __len__(self) -> int:
-        return len(self.omega)
-
-    @cached_property
-    def flip_times(self) -> tuple[np.ndarray, ...] | None:
-        """Each run's flip times (see :func:`~dzhanibekov.simulate`), a tuple of M arrays
-        (views); None if flips were not asked for."""
-        if self._flip_times is None or self._flip_offsets is None:
-            return None
-        bounds = self._flip_offsets.tolist()
-        return tuple(self._flip_times[a:b] for a, b in zip(bounds[:-1], bounds[1:]))
-
-    def __getitem__(self, i: int) -> Trajectory:
-        """Run `i` as a :class:`Trajectory` (views of the batch's arrays)."""
-        if not isinstance(i, (int, np.integer)) or isinstance(i, bool):
-            raise TypeError(f"a batch is indexed by run number, got {type(i).__name__}")
-        i = range(len(self))[i]  # negative indices, and IndexError beyond
-        return Trajectory(
-            t=self.t,
-            omega=self.omega[i],
-            q=self.q[i],
-            flip_times=self._run_flip_times(i),
-            body=_body(self.inertia[i]),
-            method=self.method,
-            dt=float(self.dt[i]),
-            n_steps=int(self.n_steps[i]),
-            nfev=int(self.nfev[i]),
-            drift=Drift(*(float(d[i]) for d in self.drift)),
-            n_rejected=int(self.n_rejected[i]),
-        )
-
-    def _run_flip_times(self, i: int) -> np.ndarray | None:
-        if self._flip_times is None or self._flip_offsets is None:
-            return None
-        return self._flip_times[int(self._flip_offsets[i]):int(self._flip_offsets[i + 1])]
-
-    @property
-    def flips(self) -> np.ndarray | None:
-        """How many times each run flipped, shape (M,); None if flips were not asked for."""
-        if self._flip_offsets is None:
-            return None
-        counts: np.ndarray = np.diff(self._flip_offsets)
-        return counts
-
-    def __repr__(self) -> str:
-        return (
-            f"Batch(runs={len(self)}, frames={len(self.t)}, t_end={self.t[-1]:g}, "
-            f"method={self.method!r})"
-        )
-
-
-def _body(inertia: np.ndarray) -> Body:
-    """A Body of moments the core has already accepted (no second warning)."""
-    body = Body.__new__(Body)
-    ix, iy, iz = (float(i) for i in inertia)
-    body._core = _core.RigidBody((ix, iy, iz))
-    return body
 
 
 def batch_rows(
@@ -209,14 +89,13 @@ def _array(name: str, value: Any, width: int, max_batch_ndim: int | None) -> np.
 
 
 def row_error(exc: ValueError, offset: int, shape: tuple[int, ...]) -> ValueError:
-    """The core's error about row ``r`` of a block starting at row `offset` of starts of
-    `shape`, naming the row among all the starts (and its index, for several axes)."""
-    match = re.match(r"row (\d+): (.*)", str(exc), flags=re.S)
-    if match is None:
+    """The core's error about row ``exc.row`` of a block starting at row `offset` of starts of
+    `shape`, about that row among all the starts (with its index, for several axes)."""
+    if not isinstance(exc, DzhanibekovError) or exc.row is None:
         return exc
-    flat = offset + int(match.group(1))
-    where = f"row {flat}" if len(shape) <= 1 else f"row {flat} ({_index(flat, shape)})"
-    return ValueError(f"{where}: {match.group(2)}")
+    flat = offset + exc.row
+    index = tuple(int(i) for i in np.unravel_index(flat, shape)) if len(shape) > 1 else None
+    return exc.at(flat, index)
 
 
 def _index(flat: int, shape: tuple[int, ...]) -> str:
@@ -287,13 +166,10 @@ def plan_batch_step(
 
 def checked_run(t_end: Any, frames: Any, method: Any, max_steps: Any) -> tuple[float, int, int]:
     """The arguments shared by every run of a batch or sweep, checked."""
-    from .simulate import METHODS
-
     t_end_ = as_float("t_end", t_end, positive=True)
     frames_ = as_int("frames", frames, minimum=2)
     max_steps_ = as_int("max_steps", max_steps, minimum=1)
-    if method not in METHODS:
-        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    check_method(method)
     return t_end_, frames_, max_steps_
 
 
@@ -373,82 +249,6 @@ _PROGRESS_DELAY = 1.0
 """Seconds before the progress bar shows (`progress=None`): quick sweeps show none."""
 
 
-@dataclass(frozen=True, eq=False)
-class Sweep:
-    """What every run of a sweep measured, shaped as the sweep's starts.
-
-    With starts of shape ``S + (3,)`` (say ``(n_u, n_v, 3)`` from :func:`grid`), each
-    per-run array has shape ``S``.
-
-    Attributes
-    ----------
-    inertia, omega0 : ndarray, shape S + (3,)
-        Each run's principal moments and initial body rates.
-    q0 : ndarray, shape S + (4,)
-        Each run's initial attitude, as given.
-    flips : ndarray of int64, shape S
-        How many times each run flipped (see :func:`~dzhanibekov.simulate`).
-    first_flip : ndarray, shape S
-        The time of the first flip; NaN if none.
-    period : ndarray, shape S
-        The measured flip period, the mean time between consecutive flips; NaN with fewer
-        than two flips.
-    exact_period : ndarray, shape S
-        The exact flip period ``2K(m)/λ`` (:func:`~dzhanibekov.flip_period`); ``inf`` for
-        motions that never flip.
-    tilt : ndarray, shape S
-        The largest tilt of the spin axis, radians in ``[0, π]``: the largest angle, over
-        the initial state and every step, between the angular momentum ``L`` and the body
-        axis nearest ``L`` at ``t = 0`` (directed to its side): ``arccos(min_t s I_k ω_k(t)
-        / |L(0)|)``. Below 90° that axis only wobbles about ``L``; above, it turned over
-        (every start nearest the intermediate axis, and starts beyond the separatrix that
-        circulate the other stable axis). 0 for a body at rest. For ``method="exact"``,
-        measured at the frames.
-    drift : BatchDrift
-        Each run's largest drift of the invariants over the frames.
-    t_end : float
-    method : str
-    dt : ndarray, shape S
-        The step each run took (its mean accepted step for an adaptive method).
-    n_steps, nfev : ndarray of int64, shape S
-    """
-
-    inertia: np.ndarray
-    omega0: np.ndarray
-    q0: np.ndarray
-    flips: np.ndarray
-    first_flip: np.ndarray
-    period: np.ndarray
-    exact_period: np.ndarray
-    tilt: np.ndarray
-    drift: BatchDrift
-    t_end: float
-    method: str
-    dt: np.ndarray
-    n_steps: np.ndarray
-    nfev: np.ndarray
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The shape of the starts, and of each per-run array."""
-        return tuple(self.flips.shape)
-
-    def __len__(self) -> int:
-        return int(self.flips.size)
-
-    @property
-    def tilt_degrees(self) -> np.ndarray:
-        """`tilt` in degrees."""
-        degrees: np.ndarray = np.degrees(self.tilt)
-        return degrees
-
-    def __repr__(self) -> str:
-        return (
-            f"Sweep(shape={self.shape}, t_end={self.t_end:g}, method={self.method!r}, "
-            f"flipped={int(np.count_nonzero(self.flips))})"
-        )
-
-
 def grid(*axes: Any) -> np.ndarray:
     """Every combination of the given values: the starts of a map.
 
@@ -520,7 +320,7 @@ def sweep(
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = 1e-3,
-    method: str = "rk4",
+    method: str = DEFAULT_METHOD,
     *,
     rtol: float | None = None,
     atol: float | None = None,

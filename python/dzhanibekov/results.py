@@ -1,16 +1,33 @@
-"""The result of a run."""
+"""The results of runs, one family: a :class:`Trajectory` (one run's frames), a
+:class:`Summary` (one run without frames), a :class:`Batch` (many runs' frames) and a
+:class:`Sweep` (many runs, one number each). All tell ``flips`` (how many), ``t_end`` and a
+``verdict`` in words, the same way; all pickle and copy (they are plain arrays and numbers).
+
+>>> import dzhanibekov as dz
+>>> traj = dz.simulate(dz.Body(dz.PAPER_INERTIA), (0.01, 0.01, 1.0), t_end=100.0)
+>>> traj.flips, traj.t_end, traj.verdict
+(2, 100.0, '2 flips in [0, 100]')
+"""
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Any, NamedTuple
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+from typing import Any, NamedTuple, overload
 
 import numpy as np
 
 from . import _core
 from .body import Body
 
-__all__ = ["Drift", "Trajectory"]
+__all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "verdict"]
+
+
+def verdict(flips: int, t_end: float) -> str:
+    """A run's stability verdict in words: how often it flipped in ``[0, t_end]``."""
+    if not flips:
+        return f"no flip in [0, {t_end:g}]"
+    return f"{flips} flip{'s' if flips > 1 else ''} in [0, {t_end:g}]"
 
 
 class Drift(NamedTuple):
@@ -108,11 +125,316 @@ class Trajectory:
         return self.invariants()["energy"]
 
     @property
+    def t_end(self) -> float:
+        """The end of the run: the last frame's time."""
+        return float(self.t[-1])
+
+    @property
+    def flips(self) -> int | None:
+        """How many times the body flipped; None if flips were not asked for."""
+        return None if self.flip_times is None else len(self.flip_times)
+
+    @property
+    def verdict(self) -> str | None:
+        """The run's stability verdict in words (None if flips were not asked for)."""
+        return None if self.flips is None else verdict(self.flips, self.t_end)
+
+    @property
     def _flip_count(self) -> int | str:
-        return "?" if self.flip_times is None else len(self.flip_times)
+        return "?" if self.flips is None else self.flips
 
     def __repr__(self) -> str:
         return (
             f"Trajectory(frames={len(self.t)}, t_end={self.t[-1]:g}, method={self.method!r}, "
             f"n_steps={self.n_steps}, flips={self._flip_count})"
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class Summary:
+    """What a run measured, without its frames.
+
+    Attributes
+    ----------
+    flip_times : ndarray, shape (n_flips,)
+        Times of the flips (half-turns of the intermediate axis relative to the angular
+        momentum; see the README), located within the step.
+    drift : Drift
+        The invariants' largest drift over the frame times.
+    t_end : float
+    body : Body
+    method : str
+    dt : float
+        The step actually taken.
+    n_steps, nfev : int
+        Steps taken and right-hand-side evaluations.
+    """
+
+    flip_times: np.ndarray
+    drift: Drift
+    t_end: float
+    body: Body
+    method: str
+    dt: float
+    n_steps: int
+    nfev: int
+
+    @property
+    def flips(self) -> int:
+        """How many times the body flipped."""
+        return len(self.flip_times)
+
+    @property
+    def verdict(self) -> str:
+        """The run's stability verdict in words: how often it flipped in ``[0, t_end]``."""
+        return verdict(self.flips, self.t_end)
+
+    def __repr__(self) -> str:
+        return (
+            f"Summary(flips={self.flips}, t_end={self.t_end:g}, method={self.method!r}, "
+            f"n_steps={self.n_steps})"
+        )
+
+
+class BatchDrift(NamedTuple):
+    """The invariants' largest drift over the frames, one value per run (see `Drift`)."""
+
+    energy: np.ndarray
+    """Relative: ``max |E(t) - E(0)| / E(0)``."""
+    momentum: np.ndarray
+    """Relative change of ``|L|``."""
+    momentum_world: np.ndarray
+    """``max |L_world(t) - L_world(0)| / |L(0)|``."""
+    q_norm: np.ndarray
+    """``max ||q(t)| - 1|``."""
+
+    def reshape(self, shape: tuple[int, ...]) -> BatchDrift:
+        """The same values in `shape`."""
+        return BatchDrift(*(np.reshape(v, shape) for v in self))
+
+
+@dataclass(frozen=True, eq=False)
+class Batch:
+    """Frames of M free rotations over one frame grid, run-major.
+
+    ``batch[i]`` is run i as a :class:`Trajectory`, equal bit for bit to ``simulate`` of
+    its inputs alone (with the same ``dt``).
+
+    Attributes
+    ----------
+    t : ndarray, shape (frames,)
+        Frame times, shared by every run.
+    omega : ndarray, shape (M, frames, 3)
+        Body-frame angular velocity ``(u, v, w)`` of each run.
+    q : ndarray, shape (M, frames, 4)
+        Body-to-world unit quaternion, scalar first, of each run.
+    flip_times : tuple of M ndarrays, or None
+        Each run's flip times (see :func:`~dzhanibekov.simulate`); None if not asked for.
+    inertia : ndarray, shape (M, 3)
+        Each run's principal moments.
+    method : str
+    dt : ndarray, shape (M,)
+        The step each run took (for an adaptive method, its mean accepted step).
+    n_steps, nfev, n_rejected : ndarray of int64, shape (M,)
+        Steps, right-hand-side evaluations and rejected steps of each run.
+    drift : BatchDrift
+        The invariants' largest drift over the frames, per run.
+    """
+
+    t: np.ndarray
+    omega: np.ndarray
+    q: np.ndarray
+    _flip_times: np.ndarray | None = field(repr=False)
+    """Every run's flip times, one after the other; run i's are
+    ``_flip_times[_flip_offsets[i]:_flip_offsets[i + 1]]``."""
+    _flip_offsets: np.ndarray | None = field(repr=False)
+    inertia: np.ndarray
+    method: str
+    dt: np.ndarray
+    n_steps: np.ndarray
+    nfev: np.ndarray
+    n_rejected: np.ndarray
+    drift: BatchDrift
+
+    def __len__(self) -> int:
+        return len(self.omega)
+
+    @cached_property
+    def flip_times(self) -> tuple[np.ndarray, ...] | None:
+        """Each run's flip times (see :func:`~dzhanibekov.simulate`), a tuple of M arrays
+        (views); None if flips were not asked for."""
+        if self._flip_times is None or self._flip_offsets is None:
+            return None
+        bounds = self._flip_offsets.tolist()
+        return tuple(self._flip_times[a:b] for a, b in zip(bounds[:-1], bounds[1:]))
+
+    @overload
+    def __getitem__(self, i: int) -> Trajectory: ...
+
+    @overload
+    def __getitem__(self, i: slice) -> Batch: ...
+
+    def __getitem__(self, i: int | slice) -> Trajectory | Batch:
+        """Run `i` as a :class:`Trajectory` (views of the batch's arrays); a slice of runs as a
+        :class:`Batch`."""
+        if isinstance(i, slice):
+            return self._runs(range(len(self))[i])
+        if not isinstance(i, (int, np.integer)) or isinstance(i, bool):
+            raise TypeError(f"a batch is indexed by run number or a slice, got {type(i).__name__}")
+        i = range(len(self))[i]  # negative indices, and IndexError beyond
+        return Trajectory(
+            t=self.t,
+            omega=self.omega[i],
+            q=self.q[i],
+            flip_times=self._run_flip_times(i),
+            body=trusted_body(self.inertia[i]),
+            method=self.method,
+            dt=float(self.dt[i]),
+            n_steps=int(self.n_steps[i]),
+            nfev=int(self.nfev[i]),
+            drift=Drift(*(float(d[i]) for d in self.drift)),
+            n_rejected=int(self.n_rejected[i]),
+        )
+
+    def _run_flip_times(self, i: int) -> np.ndarray | None:
+        if self._flip_times is None or self._flip_offsets is None:
+            return None
+        return self._flip_times[int(self._flip_offsets[i]):int(self._flip_offsets[i + 1])]
+
+    def _runs(self, rows: range) -> Batch:
+        """The runs `rows` (a range with a step) as a batch of their own."""
+        take = slice(rows.start, rows.stop, rows.step) if len(rows) else slice(0, 0)
+        times, offsets = self._flip_times, self._flip_offsets
+        if times is not None and offsets is not None:
+            kept = [times[int(offsets[i]):int(offsets[i + 1])] for i in rows]
+            times = np.concatenate(kept) if kept else times[:0]
+            offsets = np.concatenate([[0], np.cumsum([len(k) for k in kept], dtype=np.int64)])
+        return replace(self, omega=self.omega[take], q=self.q[take], _flip_times=times,
+                       _flip_offsets=offsets, inertia=self.inertia[take], dt=self.dt[take],
+                       n_steps=self.n_steps[take], nfev=self.nfev[take],
+                       n_rejected=self.n_rejected[take],
+                       drift=BatchDrift(*(d[take] for d in self.drift)))
+
+    @property
+    def t_end(self) -> float:
+        """The end of the runs: the last frame's time."""
+        return float(self.t[-1])
+
+    @property
+    def verdict(self) -> tuple[str, ...] | None:
+        """Each run's stability verdict in words; None if flips were not asked for."""
+        flips = self.flips
+        return None if flips is None else tuple(verdict(int(n), self.t_end) for n in flips)
+
+    @property
+    def flips(self) -> np.ndarray | None:
+        """How many times each run flipped, shape (M,); None if flips were not asked for."""
+        if self._flip_offsets is None:
+            return None
+        counts: np.ndarray = np.diff(self._flip_offsets)
+        return counts
+
+    def __repr__(self) -> str:
+        return (
+            f"Batch(runs={len(self)}, frames={len(self.t)}, t_end={self.t[-1]:g}, "
+            f"method={self.method!r})"
+        )
+
+
+def trusted_body(inertia: np.ndarray) -> Body:
+    """A Body of moments the core has already accepted (no second warning)."""
+    body = Body.__new__(Body)
+    ix, iy, iz = (float(i) for i in inertia)
+    body._core = _core.RigidBody((ix, iy, iz))
+    return body
+
+
+@dataclass(frozen=True, eq=False)
+class Sweep:
+    """What every run of a sweep measured, shaped as the sweep's starts.
+
+    With starts of shape ``S + (3,)`` (say ``(n_u, n_v, 3)`` from :func:`grid`), each
+    per-run array has shape ``S``.
+
+    Attributes
+    ----------
+    inertia, omega0 : ndarray, shape S + (3,)
+        Each run's principal moments and initial body rates.
+    q0 : ndarray, shape S + (4,)
+        Each run's initial attitude, as given.
+    flips : ndarray of int64, shape S
+        How many times each run flipped (see :func:`~dzhanibekov.simulate`).
+    first_flip : ndarray, shape S
+        The time of the first flip; NaN if none.
+    period : ndarray, shape S
+        The measured flip period, the mean time between consecutive flips; NaN with fewer
+        than two flips.
+    exact_period : ndarray, shape S
+        The exact flip period ``2K(m)/λ`` (:func:`~dzhanibekov.flip_period`); ``inf`` for
+        motions that never flip.
+    tilt : ndarray, shape S
+        The largest tilt of the spin axis, radians in ``[0, π]``: the largest angle, over
+        the initial state and every step, between the angular momentum ``L`` and the body
+        axis nearest ``L`` at ``t = 0`` (directed to its side): ``arccos(min_t s I_k ω_k(t)
+        / |L(0)|)``. Below 90° that axis only wobbles about ``L``; above, it turned over
+        (every start nearest the intermediate axis, and starts beyond the separatrix that
+        circulate the other stable axis). 0 for a body at rest. For ``method="exact"``,
+        measured at the frames.
+    drift : BatchDrift
+        Each run's largest drift of the invariants over the frames.
+    t_end : float
+    method : str
+    dt : ndarray, shape S
+        The step each run took (its mean accepted step for an adaptive method).
+    n_steps, nfev : ndarray of int64, shape S
+    """
+
+    inertia: np.ndarray
+    omega0: np.ndarray
+    q0: np.ndarray
+    flips: np.ndarray
+    first_flip: np.ndarray
+    period: np.ndarray
+    exact_period: np.ndarray
+    tilt: np.ndarray
+    drift: BatchDrift
+    t_end: float
+    method: str
+    dt: np.ndarray
+    n_steps: np.ndarray
+    nfev: np.ndarray
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of the starts, and of each per-run array."""
+        return tuple(self.flips.shape)
+
+    def __len__(self) -> int:
+        return int(self.flips.size)
+
+    @property
+    def verdict(self) -> np.ndarray:
+        """Each run's stability verdict in words, shape S."""
+        words = [verdict(int(n), self.t_end) for n in self.flips.ravel()]
+        return np.array(words, dtype=object).reshape(self.shape)
+
+    def __getitem__(self, key: Any) -> Sweep:
+        """The runs at `key` (NumPy indexing over the starts' shape S) as a sweep."""
+        if isinstance(key, tuple) and len(key) > len(self.shape) or self.shape == ():
+            raise IndexError(f"too many indices for a sweep of shape {self.shape}")
+        per_run = {name: getattr(self, name)[key] for name in
+                   ("flips", "first_flip", "period", "exact_period", "tilt", "dt", "n_steps",
+                    "nfev", "inertia", "omega0", "q0")}
+        return replace(self, drift=BatchDrift(*(d[key] for d in self.drift)), **per_run)
+
+    @property
+    def tilt_degrees(self) -> np.ndarray:
+        """`tilt` in degrees."""
+        degrees: np.ndarray = np.degrees(self.tilt)
+        return degrees
+
+    def __repr__(self) -> str:
+        return (
+            f"Sweep(shape={self.shape}, t_end={self.t_end:g}, method={self.method!r}, "
+            f"flipped={int(np.count_nonzero(self.flips))})"
         )

@@ -9,18 +9,16 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float, as_int, check_size
-from .accuracy import DEFAULT_MAX_STEPS, plan_step
+from .accuracy import plan_step
 from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .damper import Damper
 from .deployment import Deployment
 from .models import simulate_model
+from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
 from .results import Drift, Trajectory
 
 __all__ = ["METHODS", "simulate", "rotate"]
-
-METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853", "exact")
-"""The methods on offer (see `simulate`): integrators, and the closed-form solution."""
 
 MAX_COORDINATE = float(np.finfo(np.float64).max / 4)
 """The largest body-point coordinate `rotate` takes: a rotated coordinate sums three terms
@@ -73,7 +71,7 @@ def simulate(
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = 1e-3,
-    method: str = "rk4",
+    method: str = DEFAULT_METHOD,
     *,
     rtol: float | None = None,
     atol: float | None = None,
@@ -233,18 +231,20 @@ def simulate(
         rtol_,
         atol_,
     )
+    if out.omega is None or out.q is None:
+        raise RuntimeError("internal error in the dzhanibekov core: frames were not kept")
     return Trajectory(
-        t=t_end * (np.arange(frames) / (frames - 1)),
-        omega=out["omega"],
-        q=out["q"],
-        flip_times=out["flip_times"] if flips else None,
+        t=out.t,
+        omega=out.omega,
+        q=out.q,
+        flip_times=out.flip_times if flips else None,
         body=body,
         method=method,
-        dt=out["dt"],
-        n_steps=out["n_steps"],
-        nfev=out["nfev"],
-        drift=Drift(**out["drift"]),
-        n_rejected=out["n_rejected"],
+        dt=out.dt,
+        n_steps=out.n_steps,
+        nfev=out.nfev,
+        drift=Drift(*out.drift),
+        n_rejected=out.n_rejected,
     )
 
 
@@ -261,8 +261,7 @@ def _checked(
     t_end = as_float("t_end", t_end, positive=True)
     frames = as_int("frames", frames, minimum=2)
     max_steps = as_int("max_steps", max_steps, minimum=1)
-    if method not in METHODS:
-        raise ValueError(f"`method` must be one of {METHODS}, got {method!r}")
+    check_method(method)
     return body, omega0, q0, t_end, frames, max_steps
 
 

@@ -7,66 +7,18 @@ frames: its memory does not grow with `frames` or with the run's length.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from . import _core
-from .accuracy import DEFAULT_MAX_STEPS, plan_step
+from .accuracy import plan_step
 from .body import Body
+from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD
 from .simulate import _checked
-from .results import Drift
+from .results import Drift, Summary
 
 __all__ = ["Summary", "summarize"]
-
-
-@dataclass(frozen=True, eq=False)
-class Summary:
-    """What a run measured, without its frames.
-
-    Attributes
-    ----------
-    flip_times : ndarray, shape (n_flips,)
-        Times of the flips (half-turns of the intermediate axis relative to the angular
-        momentum; see the README), located within the step.
-    drift : Drift
-        The invariants' largest drift over the frame times.
-    t_end : float
-    body : Body
-    method : str
-    dt : float
-        The step actually taken.
-    n_steps, nfev : int
-        Steps taken and right-hand-side evaluations.
-    """
-
-    flip_times: np.ndarray
-    drift: Drift
-    t_end: float
-    body: Body
-    method: str
-    dt: float
-    n_steps: int
-    nfev: int
-
-    @property
-    def flips(self) -> int:
-        """How many times the body flipped."""
-        return len(self.flip_times)
-
-    @property
-    def verdict(self) -> str:
-        """The run's stability verdict in words: how often it flipped in ``[0, t_end]``."""
-        if not self.flips:
-            return f"no flip in [0, {self.t_end:g}]"
-        return f"{self.flips} flip{'s' if self.flips > 1 else ''} in [0, {self.t_end:g}]"
-
-    def __repr__(self) -> str:
-        return (
-            f"Summary(flips={self.flips}, t_end={self.t_end:g}, method={self.method!r}, "
-            f"n_steps={self.n_steps})"
-        )
 
 
 def summarize(
@@ -76,7 +28,7 @@ def summarize(
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = 1e-3,
-    method: str = "rk4",
+    method: str = DEFAULT_METHOD,
     *,
     rtol: float | None = None,
     atol: float | None = None,
@@ -121,12 +73,12 @@ def summarize(
         rtol_, atol_,
     )
     return Summary(
-        flip_times=out["flip_times"],
-        drift=Drift(**out["drift"]),
+        flip_times=out.flip_times,
+        drift=Drift(*out.drift),
         t_end=t_end,
         body=body,
         method=method,
-        dt=out["dt"],
-        n_steps=out["n_steps"],
-        nfev=out["nfev"],
+        dt=out.dt,
+        n_steps=out.n_steps,
+        nfev=out.nfev,
     )

@@ -114,6 +114,39 @@ impl Invariants {
     }
 }
 
+/// `Ω = √(2E / I_min)`: an upper bound of `|ω(t)|` over the whole motion from `omega0`.
+///
+/// # Example
+/// ```
+/// use approx::assert_relative_eq;
+/// let body = dzhanibekov::RigidBody::try_new([1.0, 2.0, 3.0]).unwrap();
+/// // spin about the axis of least inertia: the bound is the spin rate itself
+/// assert_relative_eq!(dzhanibekov::dynamics::rate_bound(&body, [4.0, 0.0, 0.0]), 4.0);
+/// ```
+pub fn rate_bound(body: &RigidBody, omega0: [f64; 3]) -> f64 {
+    let i = body.inertia_body();
+    let i_min = i.min();
+    // Σ (I_k / I_min) ω_k², with the largest |ω_k| factored out so that nothing overflows.
+    let big = omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs()));
+    if big == 0.0 || !big.is_finite() {
+        return big;
+    }
+    let s: f64 = (0..3)
+        .map(|k| i[k] / i_min * (omega0[k] / big).powi(2))
+        .sum();
+    big * s.sqrt()
+}
+
+/// `max(1, |I_j − I_k| / I_i)` over the axes: the motion's frequencies are at most this times
+/// [`rate_bound`]. It is 1 for every body that meets the triangle inequality; moments that no
+/// body has, such as `(1, 1, 10)`, precess faster than `Ω` (9 times, there).
+pub fn frequency_factor(body: &RigidBody) -> f64 {
+    let i = body.inertia_body();
+    (0..3).fold(1.0_f64, |m, k| {
+        m.max((i[(k + 1) % 3] - i[(k + 2) % 3]).abs() / i[k])
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,12 +18,12 @@ use crate::dynamics::{state_from, FreeRigidBody, State};
 use crate::ensemble::lanes::{advance, Isa, Lanes, Span};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
+use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::ode::Stats;
-use crate::run::{
-    finite_drift, normalized, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT,
-};
+use crate::run::step_size::{plan, StepPlan};
+use crate::run::{finite_drift, simulate, FrameGrid, Keep, Method, CHECK_EVERY, DIVERGED_HINT};
 
 /// Runs integrated together in one group of SIMD lanes: two AVX-512 vectors, four AVX2 ones.
 pub const LANES: usize = 16;
@@ -71,7 +71,7 @@ impl Start {
         {
             return Err(Error::InvalidArgument {
                 name: "inertia, omega0, q0",
-                allowed: "must have shapes (M, 3) or (3,), (M, 3), and (M, 4) or (4,)",
+                allowed: "must have shapes (M, 3) or (3,), (M, 3), and (M, 4) or (4,)".into(),
                 got: format!(
                     "{} / 3, {} / 3 and {} / 4 rows",
                     inertia.len(),
@@ -499,8 +499,8 @@ pub fn simulate_batch(
     };
     let stop = Stop::new(cancel);
     let rows: Vec<RowOutput> = options.install(|| {
-        let parts = if method == Method::Rk4 {
-            rk4_rows(isa, starts, grid, keep, &mut omega, &mut q, &stop)
+        let parts = if method.info().batch {
+            lane_rows(isa, method, starts, grid, keep, &mut omega, &mut q, &stop)
         } else {
             single_rows(starts, grid, method, keep, &mut omega, &mut q, &stop)
         };
@@ -543,8 +543,12 @@ fn frame_chunks<'a>(
         .collect()
 }
 
-fn rk4_rows(
+/// The rows in groups of [`LANES`] run in SIMD lanes ([`crate::ensemble::lanes`]): the
+/// methods whose registry entry says `batch`.
+#[allow(clippy::too_many_arguments)]
+fn lane_rows(
     isa: Isa,
+    method: Method,
     starts: &[Start],
     grid: &FrameGrid,
     keep: Keep,
@@ -565,7 +569,7 @@ fn rk4_rows(
         .enumerate()
         .map(|(g, (group, frames))| {
             if group.iter().any(needs_scaling) {
-                return single_group(group, g * LANES, grid, keep, frames, stop);
+                return single_group(group, g * LANES, grid, method, keep, frames, stop);
             }
             let runs = stop.watch(run_group(isa, group, g * LANES, grid, watch, frames, stop))?;
             Ok(runs
@@ -574,13 +578,35 @@ fn rk4_rows(
                     flip_times: run.flip_times,
                     drift: run.drift,
                     stats: Stats {
-                        nfev: 4 * n_steps,
+                        nfev: method.info().rhs_per_step * n_steps,
                         n_steps,
                         n_rejected: 0,
                     },
                     dt: grid.step_size(),
                 })
                 .collect())
+        })
+        .collect()
+}
+
+/// The step each start's run will take and what it predicts (see
+/// [`crate::run::step_size::plan`]); an error names its row.
+///
+/// # Errors
+/// As [`crate::run::step_size::plan`], in a row.
+pub fn plan_rows(
+    starts: &[Start],
+    t_end: f64,
+    frames: usize,
+    method: Method,
+    dt: Option<f64>,
+    rtol: f64,
+) -> Result<Vec<StepPlan>> {
+    starts
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            plan(&s.body, s.omega0, t_end, frames, method, dt, rtol).map_err(|e| e.in_row(i))
         })
         .collect()
 }
@@ -597,6 +623,7 @@ fn single_group(
     group: &[Start],
     first_row: usize,
     grid: &FrameGrid,
+    method: Method,
     keep: Keep,
     mut frames: Frames,
     stop: &Stop,
@@ -605,15 +632,7 @@ fn single_group(
     let mut rows = Vec::with_capacity(group.len());
     for (l, s) in group.iter().enumerate() {
         stop.check()?;
-        let run = simulate(
-            &s.body,
-            s.omega0,
-            s.q0,
-            grid,
-            Method::Rk4,
-            keep,
-            stop.cancel,
-        );
+        let run = simulate(&s.body, s.omega0, s.q0, grid, method, keep, stop.cancel);
         let run = stop.watch(run.map_err(|e| e.in_row(first_row + l)))?;
         if let Some((omega, q)) = &mut frames {
             omega[3 * l * n_frames..3 * (l + 1) * n_frames].copy_from_slice(&run.omega);

@@ -19,11 +19,12 @@ use crate::ensemble::batch::{
 use crate::error::{Error, Result};
 use crate::exact::{flip_period, flip_period_of_rates, representable_period, ExactMotion};
 use crate::float::RateScale;
+use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
 use crate::ode::Stats;
 use crate::run::{
-    finite_drift, normalized, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
+    finite_drift, run_method, time_from_unit, to_unit, FrameGrid, Method, CHECK_EVERY,
 };
 
 /// What one run of a sweep measured.
@@ -77,11 +78,13 @@ pub fn sweep(
     let isa = options.isa()?;
     let stop = Stop::new(cancel);
     options.install(|| {
-        let parts: Vec<Result<Vec<RunSummary>>> = if method == Method::Rk4 {
+        let parts: Vec<Result<Vec<RunSummary>>> = if method.info().batch {
             starts
                 .par_chunks(LANES)
                 .enumerate()
-                .map(|(g, group)| stop.watch(rk4_group(isa, group, g * LANES, grid, &stop)))
+                .map(|(g, group)| {
+                    stop.watch(lane_group(isa, method, group, g * LANES, grid, &stop))
+                })
                 .collect()
         } else {
             starts
@@ -99,8 +102,9 @@ pub fn sweep(
     })
 }
 
-fn rk4_group(
+fn lane_group(
     isa: crate::ensemble::lanes::Isa,
+    method: Method,
     group: &[Start],
     first_row: usize,
     grid: &FrameGrid,
@@ -119,8 +123,7 @@ fn rk4_group(
             .map(|(l, start)| {
                 stop.check()?;
                 stop.watch(
-                    single(start, grid, Method::Rk4, stop.cancel)
-                        .map_err(|e| e.in_row(first_row + l)),
+                    single(start, grid, method, stop.cancel).map_err(|e| e.in_row(first_row + l)),
                 )
             })
             .collect();
@@ -138,7 +141,7 @@ fn rk4_group(
                 exact_period: exact_period(start).map_err(|e| e.in_row(first_row + l))?,
                 drift: run.drift,
                 stats: Stats {
-                    nfev: 4 * n_steps,
+                    nfev: method.info().rhs_per_step * n_steps,
                     n_steps,
                     n_rejected: 0,
                 },
@@ -200,7 +203,7 @@ fn single_unscaled(
     let mut tilt = TiltMonitor::new(body, &omega);
     let mut flips = FlipTally::default();
     let exact_period = exact_period(start)?;
-    let (stats, dt) = if method == Method::Exact {
+    let (stats, dt) = if !method.info().takes_steps() {
         let motion = ExactMotion::try_new(body, start.omega0, q0)?;
         for i in 0..grid.frames() {
             if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {

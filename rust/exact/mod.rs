@@ -204,7 +204,7 @@ impl ExactMotion {
                 omega0,
             ));
         }
-        let q0 = crate::run::normalized(q0)?;
+        let q0 = crate::kinematics::normalized(q0)?;
         let q0 = UnitQuaternion::new_unchecked(Quaternion::new(q0[0], q0[1], q0[2], q0[3]));
         let omega = Vector3::from(omega0);
         let inertia = body.inertia_body();

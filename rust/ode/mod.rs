@@ -2,6 +2,7 @@
 //! Fixed-step methods implement [`Stepper`]; adaptive Runge–Kutta pairs implement
 //! [`EmbeddedPair`] and are driven by [`crate::run::adaptive`].
 
+pub mod controller;
 pub(crate) mod embedded;
 
 pub use embedded::{DenseOutput, EmbeddedPair, EmbeddedStep};

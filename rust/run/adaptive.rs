@@ -18,127 +18,18 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use crate::dynamics::rate_bound;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
 use crate::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem, Stats};
-use crate::run::step_size::{check_rtol, rate_bound};
-use crate::run::FrameGrid;
+use crate::run::grid::FrameGrid;
+
+use crate::ode::controller::Controller;
+pub use crate::ode::controller::{Adaptive, MIN_RTOL};
 
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
 const CHECK_EVERY: u64 = 1 << 10;
-
-/// The settings of an adaptive run.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Adaptive {
-    /// Relative tolerance of the local error.
-    pub rtol: f64,
-    /// Absolute tolerance: on `q`, and on `ω` in units of the rate bound `Ω`.
-    pub atol: f64,
-    /// The first step tried; `None` picks `(rtol + atol)^(1/(q+1)) / Ω`.
-    pub first_step: Option<f64>,
-    /// Refuse runs needing more step attempts than this.
-    pub max_steps: u64,
-}
-
-/// The smallest relative tolerance allowed: 100 ulps, below which the error estimate is
-/// round-off.
-pub const MIN_RTOL: f64 = 100.0 * f64::EPSILON;
-
-impl Default for Adaptive {
-    fn default() -> Self {
-        Self {
-            rtol: 1e-9,
-            atol: 1e-12,
-            first_step: None,
-            max_steps: u64::MAX,
-        }
-    }
-}
-
-impl Adaptive {
-    /// Settings with the given tolerances.
-    ///
-    /// # Errors
-    /// `rtol` must lie in `[100 ε, 1)` and `atol` be positive and finite.
-    ///
-    /// # Example
-    /// ```
-    /// use dzhanibekov::run::adaptive::Adaptive;
-    /// assert!(Adaptive::try_new(1e-10, 1e-12).is_ok());
-    /// assert!(Adaptive::try_new(1e-17, 1e-12).is_err());
-    /// ```
-    pub fn try_new(rtol: f64, atol: f64) -> Result<Self> {
-        check_rtol(rtol)?;
-        if !(atol.is_finite() && atol > 0.0) {
-            return Err(Error::invalid("atol", "must be positive and finite", atol));
-        }
-        Ok(Self {
-            rtol,
-            atol,
-            ..Self::default()
-        })
-    }
-
-    /// The same settings with a first step.
-    ///
-    /// # Errors
-    /// `h` must be positive and finite.
-    pub fn with_first_step(self, h: f64) -> Result<Self> {
-        if !(h.is_finite() && h > 0.0) {
-            return Err(Error::invalid("dt", "must be positive and finite", h));
-        }
-        Ok(Self {
-            first_step: Some(h),
-            ..self
-        })
-    }
-
-    /// The same settings with a cap on step attempts.
-    pub fn with_max_steps(self, max_steps: u64) -> Self {
-        Self { max_steps, ..self }
-    }
-
-    /// The first step tried for a pair whose estimate has order `error_order`, at rate bound
-    /// `rate`, over `t_end`: scale-free, so that it follows `(ω, t) → (s ω, t / s)`.
-    pub fn first_step_for(&self, error_order: u32, rate: f64, t_end: f64) -> f64 {
-        let h = match self.first_step {
-            Some(h) => h,
-            None if rate > 0.0 && rate.is_finite() => {
-                (self.rtol + self.atol).powf(1.0 / (error_order + 1) as f64) / rate
-            }
-            None => t_end,
-        };
-        h.min(t_end)
-    }
-}
-
-/// The step-size controller's constants: Hairer's defaults for each pair.
-struct Controller {
-    alpha: f64,
-    beta: f64,
-    safety: f64,
-    min_factor: f64,
-    max_factor: f64,
-}
-
-impl Controller {
-    fn for_pair(error_order: u32) -> Self {
-        // DOPRI5: β = 0.04, factors in [0.2, 10]; DOP853: β = 0, factors in [1/3, 6].
-        let (beta, min_factor, max_factor) = if error_order < 6 {
-            (0.04, 0.2, 10.0)
-        } else {
-            (0.0, 1.0 / 3.0, 6.0)
-        };
-        Self {
-            alpha: 1.0 / (error_order + 1) as f64 - 0.75 * beta,
-            beta,
-            safety: 0.9,
-            min_factor,
-            max_factor,
-        }
-    }
-}
 
 /// Integrates `sys` from `x0` over the frames of `grid` with the pair `pair` under `settings`,
 /// showing every accepted step and every frame to `obs`. Returns the final state and the

@@ -1,7 +1,8 @@
 //! Runs of the models beyond the constant free body ([`crate::dynamics::Model`]: deployments,
 //! damped bodies) over the frame grid, by the methods that can run them.
 //!
-//! The methods' right to run a model is declared here once ([`ModelMethod::for_model`]):
+//! The methods' right to run a model is declared once, in the registry
+//! ([`super::registry`], each method's `models`), and read by [`ModelMethod::for_model`]:
 //! RK4, RK4 projected onto the model's kept invariants (`|L|`, `L_world` and `|q|`; never the
 //! energy, which these models change), DOPRI5 and DOP853. The closed form and the splittings
 //! belong to the constant free body and refuse the others by name.
@@ -16,13 +17,10 @@ use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::kinematics::rotation_matrix;
+use crate::ode::controller::Adaptive;
 use crate::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, Stats, Stepper};
-use crate::run::adaptive::Adaptive;
 
-use super::{FrameGrid, Method, CHECK_EVERY, DIVERGED_HINT};
-
-/// The methods that run every model.
-pub const MODEL_METHODS: &str = "'rk4', 'rk4_projected', 'dopri5', 'dop853'";
+use super::{FrameGrid, Method, CHECK_EVERY, DIVERGED_HINT, METHODS};
 
 /// A method able to run a [`Model`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -47,15 +45,21 @@ impl ModelMethod {
     /// assert!(e.to_string().starts_with("method 'exact' cannot run model 'deployment'"));
     /// ```
     pub fn for_model(method: Method, model: &'static str) -> Result<Self> {
+        let runs = method.info().models.contains(&model);
         match method {
-            Method::Rk4 => Ok(Self::Rk4),
-            Method::Rk4Projected => Ok(Self::Rk4Projected),
-            Method::Dopri5(a) => Ok(Self::Dopri5(a)),
-            Method::Dop853(a) => Ok(Self::Dop853(a)),
-            Method::Exact | Method::Splitting | Method::Splitting4 => Err(Error::Unsupported {
+            Method::Rk4 if runs => Ok(Self::Rk4),
+            Method::Rk4Projected if runs => Ok(Self::Rk4Projected),
+            Method::Dopri5(a) if runs => Ok(Self::Dopri5(a)),
+            Method::Dop853(a) if runs => Ok(Self::Dop853(a)),
+            _ => Err(Error::Unsupported {
                 method: method.name(),
                 model,
-                supported: MODEL_METHODS,
+                supported: METHODS
+                    .iter()
+                    .filter(|m| m.models.contains(&model))
+                    .map(|m| format!("'{}'", m.name))
+                    .collect::<Vec<_>>()
+                    .join(", "),
             }),
         }
     }

@@ -19,47 +19,17 @@
 //! **The step for an accuracy.** A method of order `p` run for `T` with step `h` makes a
 //! global error (on well-conditioned orbits, where it grows linearly: a phase error) of about
 //! `C_p · ΩT · (hΩ)^p`, relative to `Ω` for the rates and absolute for `q`. Solving for `h`
-//! with the constants [`ERROR_CONSTANT_RK4`], [`ERROR_CONSTANT_SPLITTING2`] and
-//! [`ERROR_CONSTANT_SPLITTING4`] gives the step `dt = None` takes. Near the separatrix the
+//! with each method's constant (its [`StepRule`] in [`crate::run::registry`]) gives the step
+//! `dt = None` takes. Near the separatrix the
 //! error grows faster than linearly and this rule does not hold (no fixed rule can).
 
 use crate::body::RigidBody;
 use crate::error::{Error, Result};
-use crate::run::adaptive::MIN_RTOL;
-use crate::run::{FrameGrid, Method};
+use crate::ode::controller::check_rtol;
+use crate::run::grid::FrameGrid;
+use crate::run::registry::{Method, StepRule};
 
-/// `Ω = √(2E / I_min)`: an upper bound of `|ω(t)|` over the whole motion from `omega0`.
-///
-/// # Example
-/// ```
-/// use approx::assert_relative_eq;
-/// let body = dzhanibekov::RigidBody::try_new([1.0, 2.0, 3.0]).unwrap();
-/// // spin about the axis of least inertia: the bound is the spin rate itself
-/// assert_relative_eq!(dzhanibekov::run::step_size::rate_bound(&body, [4.0, 0.0, 0.0]), 4.0);
-/// ```
-pub fn rate_bound(body: &RigidBody, omega0: [f64; 3]) -> f64 {
-    let i = body.inertia_body();
-    let i_min = i.min();
-    // Σ (I_k / I_min) ω_k², with the largest |ω_k| factored out so that nothing overflows.
-    let big = omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs()));
-    if big == 0.0 || !big.is_finite() {
-        return big;
-    }
-    let s: f64 = (0..3)
-        .map(|k| i[k] / i_min * (omega0[k] / big).powi(2))
-        .sum();
-    big * s.sqrt()
-}
-
-/// `max(1, |I_j − I_k| / I_i)` over the axes: the motion's frequencies are at most this times
-/// [`rate_bound`]. It is 1 for every body that meets the triangle inequality; moments that no
-/// body has, such as `(1, 1, 10)`, precess faster than `Ω` (9 times, there).
-pub fn frequency_factor(body: &RigidBody) -> f64 {
-    let i = body.inertia_body();
-    (0..3).fold(1.0_f64, |m, k| {
-        m.max((i[(k + 1) % 3] - i[(k + 2) % 3]).abs() / i[k])
-    })
-}
+pub use crate::dynamics::{frequency_factor, rate_bound};
 
 /// `|R(iy)|²` for RK4's stability function `R(z) = 1 + z + z²/2 + z³/6 + z⁴/24`.
 pub fn rk4_gain_squared(y: f64) -> f64 {
@@ -84,37 +54,9 @@ pub fn rk4_predicted_drift(h: f64, rate: f64, n_steps: f64) -> f64 {
     (n_steps * log_gain).exp_m1().abs()
 }
 
-/// `C_p` of the error model `C_p · ΩT · (hΩ)^p` for RK4 (also used for `rk4_projected`).
-/// Measured over 300 radians (`ΩT = 300`) at `hΩ = 0.1–0.4` on 42 orbits (seven bodies,
-/// symmetric tops and the paper's among them, spun about each axis with two wobble sizes)
-/// against scipy's DOP853 at `rtol = 1e-13`, the largest `C` was 1.2e-3 (median 1.6e-4);
-/// this is twice that. (The quaternion's own phase error alone gives `1/3840`.)
-pub const ERROR_CONSTANT_RK4: f64 = 1.0 / 400.0;
-/// `C_p` for Strang's splitting: measured at most 0.086 (median 2.1e-3; the largest on a
-/// symmetric top spun in its equatorial plane), this is twice that.
-pub const ERROR_CONSTANT_SPLITTING2: f64 = 1.0 / 6.0;
-/// `C_p` for the fourth-order splitting: measured at most 2.3e-4 (median 2.9e-5).
-pub const ERROR_CONSTANT_SPLITTING4: f64 = 1.0 / 2000.0;
-
 /// The largest `hΩ` the accuracy rule picks: beyond it the error model (leading term only)
 /// no longer describes the method.
 pub const MAX_STEP_RATE: f64 = 0.5;
-
-/// Checks a relative tolerance: at least 100 ulps, below 1.
-///
-/// # Errors
-/// Names `rtol`.
-pub fn check_rtol(rtol: f64) -> Result<f64> {
-    if (MIN_RTOL..1.0).contains(&rtol) {
-        Ok(rtol)
-    } else {
-        Err(Error::invalid(
-            "rtol",
-            "must be at least 100 ulps (2.2e-14) and below 1",
-            rtol,
-        ))
-    }
-}
 
 /// The step at which a method of `order` with error constant `constant` is predicted to meet
 /// `rtol` over `t_end` at rate bound `rate` (see the module docs); at most `t_end`.
@@ -195,51 +137,42 @@ pub fn plan(
             omega0,
         ));
     }
-    if matches!(method, Method::Exact) {
-        FrameGrid::try_frames(t_end, frames)?;
-        return Ok(StepPlan {
-            dt: 0.0,
-            step: 0.0,
-            rate_bound: rate,
-            predicted_drift: 0.0,
-        });
-    }
-    if let Method::Dopri5(a) | Method::Dop853(a) = method {
-        FrameGrid::frames_only(t_end, frames)?;
-        let a = match dt {
-            Some(h) => a.with_first_step(h)?,
-            None => a,
-        };
-        let error_order = if matches!(method, Method::Dopri5(_)) {
-            4
-        } else {
-            7
-        };
-        let h = a.first_step_for(error_order, rate, t_end);
-        return Ok(StepPlan {
-            dt: h,
-            step: h,
-            rate_bound: rate,
-            predicted_drift: 0.0,
-        });
-    }
+    let info = method.info();
+    let constant = match info.step_rule {
+        StepRule::NoSteps => {
+            FrameGrid::try_frames(t_end, frames)?;
+            return Ok(StepPlan {
+                dt: 0.0,
+                step: 0.0,
+                rate_bound: rate,
+                predicted_drift: 0.0,
+            });
+        }
+        StepRule::Adaptive { error_order } => {
+            FrameGrid::frames_only(t_end, frames)?;
+            let a = method.adaptive_settings().unwrap_or_default();
+            let a = match dt {
+                Some(h) => a.with_first_step(h)?,
+                None => a,
+            };
+            let h = a.first_step_for(error_order, rate, t_end);
+            return Ok(StepPlan {
+                dt: h,
+                step: h,
+                rate_bound: rate,
+                predicted_drift: 0.0,
+            });
+        }
+        StepRule::Accuracy { constant } => constant,
+    };
     let dt = match dt {
         Some(dt) => dt,
-        None => {
-            let constant = match method {
-                Method::Splitting => ERROR_CONSTANT_SPLITTING2,
-                Method::Splitting4 => ERROR_CONSTANT_SPLITTING4,
-                _ => ERROR_CONSTANT_RK4,
-            };
-            step_for_accuracy(method.order(), constant, rate, t_end, rtol)?
-        }
+        None => step_for_accuracy(method.order(), constant, rate, t_end, rtol)?,
     };
     let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX)?;
-    let predicted_drift = match method {
-        Method::Rk4 | Method::Rk4Projected => {
-            rk4_predicted_drift(grid.step_size(), rate, grid.n_steps() as f64)
-        }
-        _ => 0.0,
+    let predicted_drift = match info.rk4_dissipation {
+        true => rk4_predicted_drift(grid.step_size(), rate, grid.n_steps() as f64),
+        false => 0.0,
     };
     Ok(StepPlan {
         dt,

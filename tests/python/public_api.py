@@ -516,7 +516,7 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     dt = t_end / ((frames - 1) * steps)
     if not (math.isfinite(dt) and dt > 0):
         dt = t_end
-    method = draw(st.sampled_from(dz.METHODS))
+    method = draw(st.sampled_from(tuple(dz.METHODS)))
     chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(FIGURES), unique=True, max_size=3)))
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
@@ -564,7 +564,7 @@ def scene_hostile() -> dict[str, st.SearchStrategy[Any]]:
         "frames": hostile_int(2, huge=False),
         "q0": hostile_quaternion(),
         "dt": hostile_real(positive=True),
-        "method": hostile_name(dz.METHODS),
+        "method": hostile_name(tuple(dz.METHODS)),
         "box": hostile_vector3(positive=True).filter(lambda v: v is not None),
         "signal_point": vec3.filter(lambda v: v is not None),
         "flips": st.one_of(st.sampled_from(["yes", 1, 0.0, None])),
@@ -895,9 +895,9 @@ def _simulate_entry(method: str) -> Entry:
     return Entry(
         call=dz.simulate,
         valid=run_args(method),
-        hostile=run_hostile(dz.METHODS),
+        hostile=run_hostile(tuple(dz.METHODS)),
         check=check_run,
-        covers=(dz.simulate, dz.Trajectory, dz.Drift, dz.METHODS),
+        covers=(dz.simulate, dz.Trajectory, dz.Drift, dz.METHODS, dz.MethodInfo),
         warns=(dz.StepSizeWarning, dz.InertiaWarning),
         min_success=0.2,
     )
@@ -978,8 +978,8 @@ ENTRIES: dict[str, Entry] = {
     ),
     "summarize": Entry(
         call=dz.summarize,
-        valid=st.sampled_from(dz.METHODS).flatmap(lambda m: run_args(m, flips=False)),
-        hostile=run_hostile(dz.METHODS, flips=False),
+        valid=st.sampled_from(tuple(dz.METHODS)).flatmap(lambda m: run_args(m, flips=False)),
+        hostile=run_hostile(tuple(dz.METHODS), flips=False),
         check=check_summary,
         covers=(dz.summarize, dz.Summary),
         warns=(dz.StepSizeWarning, dz.InertiaWarning),
@@ -1032,14 +1032,6 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.box_vertices, dz.BOX_SIZE),
         min_success=0.9,
     ),
-    "scenario": Entry(
-        call=dz.scenario,
-        valid=st.sampled_from(sorted(dz.SCENES)).map(lambda n: {"name": n}),
-        hostile={"name": hostile_name(tuple(dz.SCENES))},
-        check=lambda kw, s, c: check_loaded(kw, s, c),
-        covers=(dz.scenario, dz.SCENARIOS, dz.SCENES, dz.PAPER_SCENES, dz.PAPER_INERTIA),
-        min_success=1.0,
-    ),
     "Scene": Entry(
         call=dz.Scene,
         valid=scene_fields(),
@@ -1067,7 +1059,7 @@ ENTRIES: dict[str, Entry] = {
         valid=scene_paths().map(lambda p: {"path": p}),
         hostile={"path": hostile_paths()},
         check=check_loaded,
-        covers=(dz.load_scene,),
+        covers=(dz.load_scene, dz.SCENES, dz.PAPER_SCENES, dz.PAPER_INERTIA),
         named_by_value=("path",),
         warns=(dz.InertiaWarning,),
         min_success=0.9,
@@ -1121,4 +1113,7 @@ NOT_CALLED = {
     "box_edges": "takes no arguments: test_hostile calls it once",
     "Scenario": "another name of Scene",
     "FLAT_SHARE": "a constant, the default of flat_spin_time",
+    "DzhanibekovError": "an exception class, raised by the core (test_errors.py)",
+    "DivergedError": "an exception class, raised by the core (test_errors.py)",
+    "TooLargeError": "an exception class, raised by the core (test_errors.py)",
 }

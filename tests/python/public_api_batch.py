@@ -37,7 +37,7 @@ def batch_args(draw: st.DrawFn, *, flips: bool = True) -> dict[str, Any]:
     """A run's arguments (as extreme as `run_args` makes them) turned into a batch of 1 to 5
     runs: rates (M, 3) near the drawn ones (0.5 to 2 times, another direction among them),
     moments shared or (M, 3), attitudes shared or (M, 4)."""
-    method = draw(st.sampled_from(dz.METHODS))
+    method = draw(st.sampled_from(tuple(dz.METHODS)))
     kwargs = draw(run_args(method, flips=flips))
     m = draw(st.integers(1, 5))
     body = kwargs["body"]
@@ -79,7 +79,7 @@ def looks_valid(value: Any, width: int, max_ndim: int, *, positive: bool = False
 def batch_hostile(*, flips: bool = True, max_ndim: int = 1) -> dict[str, st.SearchStrategy[Any]]:
     """A run's hostile values that are no batch either, plus batches spoilt in one row and
     mismatched batch axes."""
-    hostile = dict(run_hostile(dz.METHODS, flips=flips))
+    hostile = dict(run_hostile(tuple(dz.METHODS), flips=flips))
     rows3 = real_arrays((3, 3), st.floats(0.5, 2.0))
     rows4 = real_arrays((3, 4), st.floats(0.5, 2.0))
     hostile["omega0"] = st.one_of(hostile["omega0"], hostile_array((None, 3), rows3),

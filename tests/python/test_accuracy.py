@@ -14,7 +14,7 @@ def scaled_error(y, ref, atol, rtol=0.0):
 
 @pytest.mark.parametrize("name", ["fig3b", "fig3c"])
 def test_rk4_matches_dop853_on_the_papers_well_conditioned_cases(name):
-    s = dz.scenario(name)
+    s = dz.SCENES[name]
     traj = s.run(dt=1e-3)
     omega, q = dop853(s.inertia, np.array(s.omega0), s.q0, traj.t)
     scale = np.max(np.abs(s.omega0))

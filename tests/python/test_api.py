@@ -60,12 +60,14 @@ def test_box_data():
 
 
 def test_presets_are_the_papers():
-    assert set(dz.SCENARIOS) == {"example", "fig3a", "fig3b", "fig3c"}
-    assert dz.scenario("stable-smallest").omega0 == (0.01, 1.0, 0.01)
-    assert dz.scenario("fig3c").t_end == 900 and dz.scenario("fig3b").omega0 == (0.01, 0.1, 0.03)
-    assert all(s.inertia == dz.PAPER_INERTIA for s in dz.SCENARIOS.values())
-    with pytest.raises(ValueError, match="the presets are"):
-        dz.scenario("fig4")
+    assert set(dz.PAPER_SCENES) == {"example", "fig3a", "fig3b", "fig3c"}
+    assert dz.SCENES["stable-smallest"].omega0 == (0.01, 1.0, 0.01)
+    assert dz.SCENES["fig3c"].t_end == 900 and dz.SCENES["fig3b"].omega0 == (0.01, 0.1, 0.03)
+    assert all(dz.SCENES[n].inertia == dz.PAPER_INERTIA for n in dz.PAPER_SCENES)
+    with pytest.raises(KeyError):
+        dz.SCENES["fig4"]
+    # the aliases of the unreleased 0.1.0 are gone
+    assert not any(hasattr(dz, n) for n in ("Scenario", "SCENARIOS", "scenario"))
 
 
 @pytest.mark.parametrize("inertia, omega0", [

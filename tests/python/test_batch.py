@@ -78,8 +78,12 @@ def test_a_batch_of_one_is_a_batch_and_one_dimensional_input_is_a_single_run(pap
     assert_same_run(batch[-1], single)
     with pytest.raises(IndexError):
         batch[1]
+    # a slice of runs is a batch (issue 10); other keys are refused by name
+    one = batch[0:1]
+    assert isinstance(one, dz.Batch) and len(one) == 1
+    assert_same_run(one[0], single)
     with pytest.raises(TypeError, match="run number"):
-        batch[0:1]
+        batch[0.5]
 
 
 def test_empty_batch(paper_body):

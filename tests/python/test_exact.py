@@ -105,7 +105,7 @@ def test_exact_matches_dop853_in_both_regimes_for_every_axis_ordering(rng, perm)
 
 @pytest.mark.parametrize("name", ["example", "fig3a", "fig3b", "fig3c"])
 def test_exact_omega_matches_mpmath_to_1e_12_up_to_t_1000_on_the_papers_cases(name):
-    s = dz.scenario(name)
+    s = dz.SCENES[name]
     traj = dz.simulate(s.body, s.omega0, t_end=1000.0, frames=201, method="exact")
     ref = ExactOmegaMP(s.inertia, s.omega0)(traj.t)
     assert scaled(traj.omega, ref, np.abs(s.omega0).max()) <= 1e-12
@@ -119,7 +119,7 @@ def test_exact_state_matches_extended_precision_taylor_to_1e_12(name, t_end):
     # (u0 = v0 = 5e-6) each pass near the unstable axis amplifies its round-off, so its own
     # error reaches 1e-13 by t = 95 and 1e-7 by t = 1000; there ω is checked against
     # mpmath to t = 1000 above, and q by eq. 1 between frames and by the invariants below.
-    s = dz.scenario(name)
+    s = dz.SCENES[name]
     traj = dz.simulate(s.body, s.omega0, s.q0, t_end=t_end, frames=201, method="exact")
     omega, q = taylor_longdouble(s.inertia, s.omega0, s.q0, traj.t,
                                  h=0.25 if name == "fig3a" else 0.5)
@@ -130,7 +130,7 @@ def test_exact_state_matches_extended_precision_taylor_to_1e_12(name, t_end):
 def test_papers_example_satisfies_eq_1_between_frames_to_t_1000():
     # Restarted at each frame, DOP853 must land on the next frame: ω and q obey eq. 1
     # everywhere, including the attitude about L that only the exact method keeps there.
-    s = dz.scenario("example")
+    s = dz.SCENES["example"]
     traj = dz.simulate(s.body, s.omega0, t_end=1000.0, frames=101, method="exact")
     for i in range(0, 100, 7):
         omega, q = dop853(s.inertia, traj.omega[i], traj.q[i], traj.t[i:i + 2])
@@ -143,7 +143,7 @@ def test_invariants_hold_to_round_off_at_t_1e6(name, rng):
     if name == "random":
         inertia, omega0, q0 = physical_moments(rng), rng.normal(size=3), rng.normal(size=4)
     else:
-        s = dz.scenario(name)
+        s = dz.SCENES[name]
         inertia, omega0, q0 = s.inertia, s.omega0, s.q0
     traj = dz.simulate(dz.Body(inertia), omega0, q0, t_end=1e6, frames=201, method="exact")
     inv = traj.invariants()

@@ -9,7 +9,7 @@ import dzhanibekov as dz
 
 @pytest.mark.parametrize("name", ["example", "fig3a", "fig3b", "fig3c"])
 def test_invariants_are_kept_on_the_papers_scenarios(name):
-    traj = dz.scenario(name).run()
+    traj = dz.SCENES[name].run()
     inv = traj.invariants()
     e0, l0 = inv["energy"][0], inv["momentum_world"][0]
     # relative drift at dt = 1e-3 over the paper's spans: round-off level
@@ -48,7 +48,7 @@ def test_the_printed_dv_row_does_not_keep_the_quaternion_norm():
     _, q_printed = dop853(dz.PAPER_INERTIA, omega0, (1, 0, 0, 0), t, law="printed", rtol=1e-10)
     assert np.linalg.norm(q_printed[-1]) > 10.0
 
-    traj = dz.scenario("fig3a").run()
+    traj = dz.SCENES["fig3a"].run()
     assert np.abs(np.linalg.norm(traj.q, axis=1) - 1).max() < 1e-11
 
 
@@ -63,5 +63,5 @@ def test_the_space_frame_law_keeps_the_norm_but_not_the_world_momentum():
     l_world = np.einsum("nij,nj->ni", quaternion_matrix(q_space), inertia * omega)
     assert np.linalg.norm(l_world - l_world[0], axis=1).max() / np.linalg.norm(l_world[0]) > 0.5
 
-    traj = dz.scenario("fig3a").run()
+    traj = dz.SCENES["fig3a"].run()
     assert traj.drift.momentum_world < 1e-11

@@ -41,7 +41,7 @@ def workload(i: int) -> None:
     """One of everything: runs of each method keeping 2001 frames (a leak of their buffers
     would be 100 kB a call), the other public functions, and errors raised in Python and in
     the core."""
-    method = dz.METHODS[i % len(dz.METHODS)]
+    method = tuple(dz.METHODS)[i % len(dz.METHODS)]
     traj = dz.simulate(BODY, W, t_end=5.0, frames=2001, method=method)
     traj.invariants()
     dz.summarize(BODY, W, t_end=5.0, method=method)

@@ -161,8 +161,6 @@ def test_plans_and_results_take_only_their_own_kind():
         dz.execute(dz.SCENES["fig3a"])
     with pytest.raises(TypeError, match="`scene` must be a Scene or a SceneResult"):
         plotting.path_figure(np.zeros(3))
-    with pytest.raises(ValueError, match="`name` must name a shipped scene"):
-        dz.scenario(-7)
 
 
 def test_scene_files_that_are_not_text_or_not_paths_are_named(tmp_path):

@@ -63,7 +63,7 @@ def test_out_is_written_in_place(rng):
 
 
 def test_the_signal_point_flips_over_on_fig3a():
-    traj = dz.scenario("fig3a").run()
+    traj = dz.SCENES["fig3a"].run()
     path = dz.rotate(traj.q, dz.SIGNAL_POINT)
     np.testing.assert_allclose(np.linalg.norm(path, axis=1), 13.0, rtol=1e-12)
     np.testing.assert_allclose(path[0], (0.0, 0.0, 13.0), atol=1e-15)

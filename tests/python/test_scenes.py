@@ -70,13 +70,11 @@ def test_a_scene_built_in_python_round_trips(tmp_path):
     assert s.replace(t_end=6.0).t_end == 6.0
 
 
-def test_every_shipped_scene_runs_and_the_paper_scenes_match_the_scenarios():
+def test_every_shipped_scene_runs():
     for name, s in dz.SCENES.items():
         traj = s.run(t_end=min(s.t_end, 10.0))
         assert traj.q.shape == (s.frames, 4), name
-    assert dz.SCENARIOS == {n: dz.SCENES[n] for n in dz.PAPER_SCENES}
-    assert dz.scenario("stable-largest") is dz.SCENES["stable-largest"]
-    assert dz.Scenario is dz.Scene
+    assert set(dz.PAPER_SCENES) <= set(dz.SCENES)
 
 
 def test_a_box_gives_the_moments_and_moments_give_the_drawn_box():

@@ -36,7 +36,7 @@ from ..body import InertiaWarning, as_body
 from ..damper import axis_shares, flat_spin_time
 from ..geometry import box_edges
 from .. import _core
-from ..scenes.plan import SceneResult, execute, make_plan
+from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..results import Trajectory
 
@@ -213,7 +213,6 @@ def phases_figure(scene: Scene | SceneResult, *, columns: int = 4,
     columns = as_int("columns", columns, minimum=1, maximum=1000)
     result = compute(scene)
     _need(result, "phases panel")
-    from ..scenes.plan import phase_frames  # the frames the plan rotated the objects at
 
     frames = phase_frames(result.scene)
     rows = -(-len(frames) // columns)

@@ -26,8 +26,10 @@ from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
 from matplotlib.figure import Figure
 
+from .._args import as_array, as_int
+from ..body import PAPER_INERTIA
+from ..ensemble import Sweep, grid, sweep
 from .figures import _figure_of
-from ..ensemble import Sweep
 
 __all__ = [
     "stability_map", "separatrix_gap", "map_sweep", "map_figure", "render_maps", "QUANTITIES",
@@ -61,7 +63,6 @@ def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
     -------
     ndarray, shape (...)
     """
-    from .._args import as_array
 
     inertia = as_array("inertia", inertia, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
     omega = as_array("omega", omega, "(..., 3)", last=3, ndim=tuple(range(1, 10)))
@@ -255,9 +256,6 @@ def map_sweep(kind: str, *, size: int = 81, t_end: float = 200.0, dt: float = 1e
     progress : bool, optional
         As for :func:`~dzhanibekov.sweep`.
     """
-    from .._args import as_int
-    from ..scenes.scenarios import PAPER_INERTIA
-    from ..ensemble import grid, sweep
 
     size = as_int("size", size, minimum=2)
     if kind == "rates":

@@ -3,7 +3,6 @@ are the ``*.toml`` files of this folder), and the planner that computes only tha
 (:mod:`.plan`)."""
 
 from .plan import Plan, SceneResult, execute, make_plan
-from .scenarios import PAPER_INERTIA, SCENARIOS, Scenario, scenario
 from .scene import (
     CONVENTIONS,
     FIGURES,
@@ -32,8 +31,4 @@ __all__ = [
     "SceneResult",
     "execute",
     "make_plan",
-    "PAPER_INERTIA",
-    "SCENARIOS",
-    "Scenario",
-    "scenario",
 ]

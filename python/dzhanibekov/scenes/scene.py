@@ -53,7 +53,8 @@ from ..body import Body
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS
-from ..simulate import METHODS, simulate
+from ..methods import DEFAULT_METHOD, METHODS
+from ..simulate import simulate
 from ..summary import Summary, summarize
 from ..results import Trajectory
 
@@ -100,7 +101,10 @@ class SceneError(ValueError):
     def __init__(self, source: str, key: str | None, message: str) -> None:
         where = f"{source}: " if key is None else f"{source}: `{key}` "
         super().__init__(where + message)
-        self.source, self.key = source, key
+        self.source, self.key, self.detail = source, key, message
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (type(self), (self.source, self.key, self.detail), self.__dict__)
 
 
 @dataclass(frozen=True)
@@ -150,7 +154,6 @@ class Scene:
     """A run and what to draw or ask of it. Construct it directly or load a TOML file with
     :func:`load_scene`; both are checked the same way (:class:`SceneError`).
 
-    The first fields are those of the former ``Scenario``, in the same order.
     """
 
     name: str
@@ -161,7 +164,7 @@ class Scene:
     frames: int
     q0: tuple[float, float, float, float] = (1.0, 0.0, 0.0, 0.0)
     dt: float = 1e-3
-    method: str = "rk4"
+    method: str = DEFAULT_METHOD
     box: tuple[float, float, float] | None = None
     """Edges of the box drawn (along x, y, z); None: the uniform box with these moments."""
     signal_point: tuple[float, float, float] = (0.0, 0.0, 13.0)

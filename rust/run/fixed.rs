@@ -1,0 +1,107 @@
+//! Driving a fixed-step method over a frame grid.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::dynamics::{FreeRigidBody, State};
+use crate::error::{Error, Result};
+use crate::observe::Observer;
+use crate::ode::{Stats, Stepper};
+use crate::run::grid::FrameGrid;
+
+/// What to do about a run that diverged.
+pub(crate) const DIVERGED_HINT: &str =
+    "the step is far beyond the method's stability limit; take a smaller dt";
+
+/// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
+pub(crate) const CHECK_EVERY: u64 = 1 << 14;
+
+/// Integrates `sys` from `x0` over `grid` with a fixed-step method, showing frames (and steps,
+/// if asked) to `obs`. Returns the final state (in the method's own variables, see
+/// [`Stepper::to_internal`]) and the run's cost.
+///
+/// # Errors
+/// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
+/// being finite.
+pub fn integrate<M, O>(
+    method: &M,
+    sys: &FreeRigidBody,
+    x0: State,
+    grid: &FrameGrid,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<(State, Stats)>
+where
+    M: Stepper<7, FreeRigidBody>,
+    O: Observer,
+{
+    obs.frame(0, 0.0, &x0);
+    let mut x = method.to_internal(sys, &x0);
+    let n = grid.substeps();
+    for i in 1..grid.frames() {
+        let (ta, tb) = (grid.time(i - 1), grid.time(i));
+        let h = (tb - ta) / n as f64;
+        let mut done = 0;
+        while done < n {
+            let chunk = (n - done).min(CHECK_EVERY);
+            x = advance(method, sys, obs, x, ta, h, done..done + chunk, (n, tb));
+            done += chunk;
+            check(&x, ta + done as f64 * h, cancel)?;
+        }
+        obs.frame(i, tb, &method.to_state(sys, &x));
+    }
+    let n_steps = grid.n_steps();
+    Ok((
+        x,
+        Stats {
+            nfev: n_steps * M::RHS_PER_STEP,
+            n_steps,
+            n_rejected: 0,
+        },
+    ))
+}
+
+/// Steps `range` of the `n` substeps from `ta` (the last lands exactly on `tb`). The state
+/// goes in and out by value so that it lives in registers across the loop.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn advance<M, O>(
+    method: &M,
+    sys: &FreeRigidBody,
+    obs: &mut O,
+    mut x: State,
+    ta: f64,
+    h: f64,
+    range: std::ops::Range<u64>,
+    (n, tb): (u64, f64),
+) -> State
+where
+    M: Stepper<7, FreeRigidBody>,
+    O: Observer,
+{
+    for k in range {
+        let t = ta + k as f64 * h;
+        if O::WANTS_STEPS {
+            let before = method.to_state(sys, &x);
+            method.step(sys, t, h, &mut x);
+            let t1 = if k + 1 == n { tb } else { t + h };
+            obs.step(t, &before, t1, &method.to_state(sys, &x));
+        } else {
+            method.step(sys, t, h, &mut x);
+        }
+    }
+    x
+}
+
+#[inline]
+fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Interrupted);
+    }
+    if !x.iter().all(|v| v.is_finite()) {
+        return Err(Error::Diverged {
+            t,
+            hint: DIVERGED_HINT,
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,113 @@
+//! The frame grid of a run: frames exactly at `t_end · i / (frames − 1)`, equal substeps between
+//! them no longer than `dt`. Only frames reach the observers' storage, so the memory of a run
+//! is set by `frames`, never by the step count.
+
+use crate::error::{Error, Result};
+
+/// The frame times of a run and the substeps between them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameGrid {
+    t_end: f64,
+    frames: usize,
+    substeps: u64,
+}
+
+impl FrameGrid {
+    /// `frames` frames over `[0, t_end]` with substeps no longer than `dt`.
+    ///
+    /// # Errors
+    /// `t_end` and `dt` must be positive and finite, `frames` at least 2, and the run's total
+    /// step count at most `max_steps`.
+    ///
+    /// # Example
+    /// ```
+    /// let grid = dzhanibekov::run::FrameGrid::try_new(100.0, 201, 1e-3, u64::MAX).unwrap();
+    /// assert_eq!(grid.n_steps(), 100_000);
+    /// assert_eq!(grid.time(200), 100.0);
+    /// ```
+    pub fn try_new(t_end: f64, frames: usize, dt: f64, max_steps: u64) -> Result<Self> {
+        if !(t_end.is_finite() && t_end > 0.0) {
+            return Err(Error::invalid(
+                "t_end",
+                "must be positive and finite",
+                t_end,
+            ));
+        }
+        if frames < 2 {
+            return Err(Error::invalid("frames", "must be at least 2", frames));
+        }
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(Error::invalid("dt", "must be positive and finite", dt));
+        }
+        let intervals = (frames - 1) as f64;
+        let substeps = (t_end / intervals / dt).ceil().max(1.0);
+        let total = substeps * intervals;
+        if total.is_nan() || total > max_steps as f64 {
+            return Err(Error::TooLarge {
+                what: "the run",
+                needed: format!("{total:.3e} steps (t_end / dt)"),
+                limit: format!("max_steps = {max_steps}"),
+                hint: "raise max_steps, or take a larger dt",
+            });
+        }
+        Ok(Self {
+            t_end,
+            frames,
+            substeps: substeps as u64,
+        })
+    }
+
+    /// Frames only, for a method that takes no steps (`method = "exact"`).
+    ///
+    /// # Errors
+    /// `t_end` must be positive and finite, and `frames` at least 2.
+    pub fn try_frames(t_end: f64, frames: usize) -> Result<Self> {
+        let mut grid = Self::try_new(t_end, frames, t_end, u64::MAX)?;
+        grid.substeps = 0;
+        Ok(grid)
+    }
+
+    /// The frames alone, for a method that chooses its own steps: one "substep" per frame.
+    ///
+    /// # Errors
+    /// As [`FrameGrid::try_new`] for `t_end` and `frames`.
+    pub fn frames_only(t_end: f64, frames: usize) -> Result<Self> {
+        Self::try_new(t_end, frames, t_end.max(f64::MIN_POSITIVE), u64::MAX)
+    }
+
+    pub fn frames(&self) -> usize {
+        self.frames
+    }
+
+    pub fn t_end(&self) -> f64 {
+        self.t_end
+    }
+
+    /// Substeps between consecutive frames.
+    pub fn substeps(&self) -> u64 {
+        self.substeps
+    }
+
+    /// Steps in the whole run.
+    pub fn n_steps(&self) -> u64 {
+        self.substeps * (self.frames as u64 - 1)
+    }
+
+    /// The time of frame `i`; exactly `t_end` for the last.
+    pub fn time(&self, i: usize) -> f64 {
+        self.t_end * (i as f64 / (self.frames - 1) as f64)
+    }
+
+    /// The step actually taken, at most the `dt` asked for; 0 for a grid without steps.
+    pub fn step_size(&self) -> f64 {
+        if self.substeps == 0 {
+            return 0.0;
+        }
+        self.t_end / (self.frames - 1) as f64 / self.substeps as f64
+    }
+
+    /// The same frames and substeps over a span of `t_end` (a span in other units).
+    pub(crate) fn with_t_end(&self, t_end: f64) -> Self {
+        Self { t_end, ..*self }
+    }
+}

@@ -1,0 +1,384 @@
+//! The methods on offer, each declared once with its facts. The driver ([`run_method`]), the
+//! step planner ([`crate::run::step_size`]), the batch and sweep kernels and the Python
+//! bindings read these facts here; no other module names a method.
+//!
+//! Adding a method: its stepper (a [`crate::ode::Stepper`] or [`crate::ode::EmbeddedPair`])
+//! in its own file, a variant of [`Method`], its entry in [`METHODS`] and its arm in
+//! [`run_method`].
+
+use std::str::FromStr;
+use std::sync::atomic::AtomicBool;
+
+use crate::dynamics::{FreeRigidBody, State, DAMPER, DEPLOYMENT, FREE};
+use crate::error::{Error, Result};
+use crate::integrators::{Dop853, Dopri5, Rk4};
+use crate::observe::Observer;
+use crate::ode::controller::Adaptive;
+pub use crate::ode::controller::{DEFAULT_ATOL, DEFAULT_RTOL};
+use crate::ode::{EmbeddedPair, Stats, Stepper};
+use crate::rigid::{Rk4Projected, Splitting2, Splitting4};
+use crate::run::adaptive::integrate_adaptive;
+use crate::run::fixed::integrate;
+use crate::run::grid::FrameGrid;
+
+/// The method `simulate` runs unless told otherwise: the paper's.
+pub const DEFAULT_METHOD: &str = "rk4";
+/// Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4).
+pub const DEFAULT_MAX_STEPS: u64 = 10_000_000_000;
+
+/// The invariants a method can keep to round-off, by the names of [`crate::observe::Drift`].
+pub const ENERGY: &str = "energy";
+/// `|L|`.
+pub const MOMENTUM: &str = "momentum";
+/// `L_world`.
+pub const MOMENTUM_WORLD: &str = "momentum_world";
+/// `|q| = 1`.
+pub const Q_NORM: &str = "q_norm";
+
+/// The integration methods on offer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Method {
+    /// Classic fixed-step fourth-order Runge–Kutta, the paper's method.
+    Rk4,
+    /// The closed-form solution ([`crate::exact`]): frames evaluated directly, no steps.
+    Exact,
+    /// RK4, each step projected back onto the energy, `|L|`, `L_world` and `|q| = 1`.
+    Rk4Projected,
+    /// Strang's splitting into exact rotations about the body axes (order 2).
+    Splitting,
+    /// Suzuki's composition of the splitting (order 4).
+    Splitting4,
+    /// Dormand–Prince 5(4) with error control and dense output.
+    Dopri5(Adaptive),
+    /// DOP853: Dormand–Prince 8(5,3) with error control and dense output.
+    Dop853(Adaptive),
+}
+
+/// How `dt = None` picks a method's step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum StepRule {
+    /// No steps: the method evaluates the solution at the frames.
+    NoSteps,
+    /// A fixed step from the error model `C · ΩT · (hΩ)^order` (see
+    /// [`crate::run::step_size`]) with this `C`.
+    Accuracy {
+        /// `C` of the error model.
+        constant: f64,
+    },
+    /// Error control; the first step from the order of the error estimate.
+    Adaptive {
+        /// Order of the error estimate.
+        error_order: u32,
+    },
+}
+
+/// What is known about a method before it runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MethodInfo {
+    /// The method with its default settings.
+    pub method: Method,
+    /// The name users pass.
+    pub name: &'static str,
+    /// The order of the global error; `None` for the exact solution.
+    pub order: Option<u32>,
+    /// How `dt = None` picks the step; whether the method chooses its own steps.
+    pub step_rule: StepRule,
+    /// What it keeps to round-off (names of [`crate::observe::Drift`]).
+    pub keeps: &'static [&'static str],
+    /// Right-hand-side evaluations per (accepted) step; 0 for a method that evaluates none.
+    pub rhs_per_step: u64,
+    /// Whether batches run it several rows at once in SIMD lanes ([`crate::ensemble::lanes`]).
+    pub batch: bool,
+    /// Whether RK4's silent dissipation of `|q|` is predicted for it before a run (the
+    /// projection hides the drift, not the error behind it).
+    pub rk4_dissipation: bool,
+    /// The models ([`crate::dynamics`]) it can run.
+    pub models: &'static [&'static str],
+    /// One line for users.
+    pub about: &'static str,
+}
+
+impl MethodInfo {
+    /// Whether the method chooses its own steps (then `dt` is only the first one tried).
+    pub fn adaptive(&self) -> bool {
+        matches!(self.step_rule, StepRule::Adaptive { .. })
+    }
+
+    /// Whether the method takes steps at all.
+    pub fn takes_steps(&self) -> bool {
+        !matches!(self.step_rule, StepRule::NoSteps)
+    }
+}
+
+const ALL_INVARIANTS: &[&str] = &[ENERGY, MOMENTUM, MOMENTUM_WORLD, Q_NORM];
+const FREE_ONLY: &[&str] = &[FREE];
+/// Every model: the free body, deployments and damped bodies.
+const EVERY_MODEL: &[&str] = &[FREE, DEPLOYMENT, DAMPER];
+
+/// The rhs evaluations of a fixed-step method.
+const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
+    M::RHS_PER_STEP
+}
+
+/// The registry, in the order users see it.
+pub const METHODS: [MethodInfo; 7] = [
+    MethodInfo {
+        method: Method::Rk4,
+        name: "rk4",
+        order: Some(4),
+        // Measured over 300 radians (`ΩT = 300`) at `hΩ = 0.1–0.4` on 42 orbits (seven bodies,
+        // symmetric tops and the paper's among them, spun about each axis with two wobble
+        // sizes) against scipy's DOP853 at `rtol = 1e-13`, the largest `C` was 1.2e-3 (median
+        // 1.6e-4); this is twice that. (The quaternion's own phase error alone gives 1/3840.)
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 400.0,
+        },
+        keeps: &[],
+        rhs_per_step: fixed::<Rk4>(),
+        batch: true,
+        rk4_dissipation: true,
+        models: EVERY_MODEL,
+        about: "classic fixed-step fourth-order Runge–Kutta, the paper's method",
+    },
+    MethodInfo {
+        method: Method::Rk4Projected,
+        name: "rk4_projected",
+        order: Some(4),
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 400.0, // as RK4's
+        },
+        keeps: ALL_INVARIANTS,
+        rhs_per_step: fixed::<Rk4Projected>(),
+        batch: false,
+        rk4_dissipation: true,
+        models: EVERY_MODEL,
+        about: "RK4, each step projected back onto the energy, |L|, L_world and |q| = 1",
+    },
+    MethodInfo {
+        method: Method::Splitting,
+        name: "splitting",
+        order: Some(2),
+        // measured at most 0.086 (median 2.1e-3; the largest on a symmetric top spun in its
+        // equatorial plane), this is twice that
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 6.0,
+        },
+        keeps: &[MOMENTUM, MOMENTUM_WORLD, Q_NORM],
+        rhs_per_step: fixed::<Splitting2>(),
+        batch: false,
+        rk4_dissipation: false,
+        models: FREE_ONLY,
+        about: "Strang's splitting into exact rotations about the body axes (order 2; energy \
+                error bounded)",
+    },
+    MethodInfo {
+        method: Method::Splitting4,
+        name: "splitting4",
+        order: Some(4),
+        // measured at most 2.3e-4 (median 2.9e-5)
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 2000.0,
+        },
+        keeps: &[MOMENTUM, MOMENTUM_WORLD, Q_NORM],
+        rhs_per_step: fixed::<Splitting4>(),
+        batch: false,
+        rk4_dissipation: false,
+        models: FREE_ONLY,
+        about: "Suzuki's fourth-order composition of the splitting",
+    },
+    MethodInfo {
+        method: Method::Dopri5(Adaptive::DEFAULT),
+        name: "dopri5",
+        order: Some(<Dopri5 as EmbeddedPair<7, FreeRigidBody>>::ORDER),
+        step_rule: StepRule::Adaptive {
+            error_order: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::ERROR_ORDER,
+        },
+        keeps: &[],
+        rhs_per_step: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
+        batch: false,
+        rk4_dissipation: false,
+        models: EVERY_MODEL,
+        about: "Dormand–Prince 5(4) with error control and dense output",
+    },
+    MethodInfo {
+        method: Method::Dop853(Adaptive::DEFAULT),
+        name: "dop853",
+        order: Some(<Dop853 as EmbeddedPair<7, FreeRigidBody>>::ORDER),
+        step_rule: StepRule::Adaptive {
+            error_order: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::ERROR_ORDER,
+        },
+        keeps: &[],
+        rhs_per_step: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
+        batch: false,
+        rk4_dissipation: false,
+        models: EVERY_MODEL,
+        about: "Dormand–Prince 8(5,3) (Hairer's DOP853) with error control and dense output",
+    },
+    MethodInfo {
+        method: Method::Exact,
+        name: "exact",
+        order: None,
+        step_rule: StepRule::NoSteps,
+        keeps: ALL_INVARIANTS,
+        rhs_per_step: 0,
+        batch: false,
+        rk4_dissipation: false,
+        models: FREE_ONLY,
+        about: "the closed-form solution (Jacobi elliptic functions), evaluated at the frames",
+    },
+];
+
+impl Method {
+    /// This method's entry in [`METHODS`].
+    pub fn info(&self) -> &'static MethodInfo {
+        let kind = std::mem::discriminant(self);
+        match METHODS
+            .iter()
+            .find(|m| std::mem::discriminant(&m.method) == kind)
+        {
+            Some(info) => info,
+            None => unreachable!("every method has an entry in METHODS"),
+        }
+    }
+
+    /// The method's name.
+    pub fn name(&self) -> &'static str {
+        self.info().name
+    }
+
+    /// Whether the method chooses its own steps (then `dt` is only the first one tried).
+    pub fn is_adaptive(&self) -> bool {
+        self.info().adaptive()
+    }
+
+    /// An adaptive method's settings.
+    pub fn adaptive_settings(&self) -> Option<Adaptive> {
+        match self {
+            Method::Dopri5(a) | Method::Dop853(a) => Some(*a),
+            _ => None,
+        }
+    }
+
+    /// The method named `name`; an adaptive one with tolerances `rtol`, `atol` and first step
+    /// `first_step` (others ignore them).
+    ///
+    /// # Errors
+    /// An unknown name; bad tolerances or first step for an adaptive method.
+    pub fn named(name: &str, rtol: f64, atol: f64, first_step: Option<f64>) -> Result<Self> {
+        let method: Method = name.parse()?;
+        if !method.is_adaptive() {
+            return Ok(method);
+        }
+        let settings = Adaptive::try_new(rtol, atol)?;
+        Ok(method.with_adaptive(match first_step {
+            Some(h) => settings.with_first_step(h)?,
+            None => settings,
+        }))
+    }
+
+    /// The same method capped at `max_steps` step attempts, if adaptive (a fixed-step method's
+    /// cap is its grid's, see [`FrameGrid::try_new`]).
+    pub fn with_max_steps(self, max_steps: u64) -> Self {
+        match self.adaptive_settings() {
+            Some(a) => self.with_adaptive(a.with_max_steps(max_steps)),
+            None => self,
+        }
+    }
+
+    /// The same method with adaptive `settings` (unchanged for a fixed-step method).
+    pub fn with_adaptive(self, settings: Adaptive) -> Self {
+        match self {
+            Method::Dopri5(_) => Method::Dopri5(settings),
+            Method::Dop853(_) => Method::Dop853(settings),
+            fixed => fixed,
+        }
+    }
+
+    /// The order of the method's global error (`u32::MAX` for the exact solution, which has
+    /// no truncation error).
+    pub fn order(&self) -> u32 {
+        self.info().order.unwrap_or(u32::MAX)
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+
+    /// The method of the given name, adaptive ones with default tolerances.
+    fn from_str(s: &str) -> Result<Self> {
+        match METHODS.iter().find(|m| m.name == s) {
+            Some(info) => Ok(info.method),
+            None => {
+                let names: Vec<String> = METHODS.iter().map(|m| format!("'{}'", m.name)).collect();
+                Err(Error::invalid(
+                    "method",
+                    format!("must be one of {}", names.join(", ")),
+                    s,
+                ))
+            }
+        }
+    }
+}
+
+impl FrameGrid {
+    /// The grid of a run of `method`: frames and substeps no longer than `dt` for a fixed step,
+    /// the frames alone for a method that chooses its own steps or takes none (`dt` and
+    /// `max_steps` do not apply to the exact solution; `max_steps` caps an adaptive method's
+    /// attempts, see [`Method::with_max_steps`]).
+    ///
+    /// # Errors
+    /// As [`FrameGrid::try_new`].
+    pub fn for_method(
+        method: &Method,
+        t_end: f64,
+        frames: usize,
+        dt: f64,
+        max_steps: u64,
+    ) -> Result<Self> {
+        match method.info().step_rule {
+            StepRule::NoSteps => Self::try_frames(t_end, frames),
+            StepRule::Adaptive { .. } => Self::frames_only(t_end, frames),
+            StepRule::Accuracy { .. } => Self::try_new(t_end, frames, dt, max_steps),
+        }
+    }
+}
+
+/// Runs `method` over `grid` from `x0`, showing frames (and steps, if asked) to `obs`.
+pub(crate) fn run_method<O: Observer>(
+    method: Method,
+    sys: &FreeRigidBody,
+    x0: State,
+    grid: &FrameGrid,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<Stats> {
+    let body = sys.body();
+    let (_, stats) = match method {
+        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
+        // `simulate` evaluates the exact solution before it gets here: nothing to step.
+        Method::Exact => (x0, Stats::default()),
+        Method::Rk4Projected => {
+            integrate(&Rk4Projected::new(body, &x0), sys, x0, grid, obs, cancel)?
+        }
+        Method::Splitting => integrate(&Splitting2::new(body, &x0), sys, x0, grid, obs, cancel)?,
+        Method::Splitting4 => integrate(&Splitting4::new(body, &x0), sys, x0, grid, obs, cancel)?,
+        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, obs, cancel)?,
+        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, obs, cancel)?,
+    };
+    Ok(stats)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_method_parses_back_from_its_name_to_its_own_entry() {
+        for info in &METHODS {
+            let m: Method = info.name.parse().unwrap();
+            assert_eq!(m.info().name, info.name);
+        }
+        let err = "rk5".parse::<Method>().unwrap_err().to_string();
+        assert!(err.contains("'dop853'") && err.contains("rk5"), "{err}");
+    }
+}
