@@ -27,6 +27,12 @@ KEEP = {
     "stable.png": "stable-paths.png",
     "wing-nut-phases.png": "wing-nut-phases.png",
     "wing-nut-omega.png": "wing-nut-omega.png",
+    "deployment-shares.png": "deployment-shares.png",
+    "deployment-omega.png": "deployment-omega.png",
+    "deployment-energy.png": "deployment-energy.png",
+    "explorer-1-shares.png": "explorer-1-shares.png",
+    "explorer-1-omega.png": "explorer-1-omega.png",
+    "explorer-1-energy.png": "explorer-1-energy.png",
 }
 MAPS = {"map-rates.png": "stability-map.png"}
 

@@ -23,6 +23,13 @@ pub enum Error {
     /// The state stopped being finite: the step is far beyond the method's stability limit.
     #[error("the run diverged (non-finite state) at t = {t}: {hint}")]
     Diverged { t: f64, hint: &'static str },
+    /// A method asked to run a model it cannot run.
+    #[error("method '{method}' cannot run model '{model}'; use one of {supported}")]
+    Unsupported {
+        method: &'static str,
+        model: &'static str,
+        supported: String,
+    },
     /// The caller asked the run to stop (Ctrl-C in Python).
     #[error("interrupted")]
     Interrupted,

@@ -19,6 +19,7 @@ use pyo3::types::{PyDict, PyTuple};
 use crate::body::RigidBody;
 use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
+use crate::dynamics::{DampedBody, Deployment, Model};
 use crate::ensemble::batch::{
     plan_rows, simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
 };
@@ -36,7 +37,10 @@ use crate::run::registry::{
 };
 use crate::run::step_size::plan;
 use crate::run::watchdog;
-use crate::run::{method_and_grid, simulate as core_simulate, Keep, Method};
+use crate::run::{
+    method_and_grid, model_step, simulate as core_simulate, simulate_model, simulate_models,
+    FrameGrid, Keep, Method, ModelMethod, ModelOutput,
+};
 
 /// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
 /// (all `ValueError`s), a batch or sweep row's error with its row in `.row`.
@@ -418,6 +422,209 @@ fn step_plan<'py>(
     result.set_item("rate_bound", p.rate_bound)?;
     result.set_item("predicted_drift", p.predicted_drift)?;
     Ok(result)
+}
+
+/// The method and frame grid of a model run: `dt = None` picks [`model_step`].
+#[allow(clippy::too_many_arguments)]
+fn model_method_and_grid<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    method: &str,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<(ModelMethod, FrameGrid)> {
+    let method = ModelMethod::for_model(Method::named(method, rtol, atol, dt)?, S::NAME)?;
+    let grid = match method {
+        ModelMethod::Dopri5(_) | ModelMethod::Dop853(_) => FrameGrid::frames_only(t_end, frames)?,
+        _ => {
+            if let Some(dt) = dt {
+                FrameGrid::try_new(t_end, frames, dt, max_steps)?
+            } else {
+                crate::ode::controller::check_rtol(rtol)?;
+                FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
+            }
+        }
+    };
+    let method = match method {
+        ModelMethod::Dopri5(a) => ModelMethod::Dopri5(a.with_max_steps(max_steps)),
+        ModelMethod::Dop853(a) => ModelMethod::Dop853(a.with_max_steps(max_steps)),
+        fixed => fixed,
+    };
+    Ok((method, grid))
+}
+
+/// A model run's frames as a dict of arrays.
+fn model_result<'py>(
+    py: Python<'py>,
+    out: ModelOutput,
+    frames: usize,
+    extra: Option<&str>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let result = PyDict::new(py);
+    let omega = Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?;
+    let q = Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?;
+    let l = Array2::from_shape_vec((frames, 3), out.momentum_world).map_err(internal)?;
+    let lb = Array2::from_shape_vec((frames, 3), out.momentum_body).map_err(internal)?;
+    result.set_item("momentum_body", lb.into_pyarray(py))?;
+    result.set_item("omega", omega.into_pyarray(py))?;
+    result.set_item("q", q.into_pyarray(py))?;
+    result.set_item("momentum_world", l.into_pyarray(py))?;
+    result.set_item(
+        "energy",
+        numpy::ndarray::Array1::from_vec(out.energy).into_pyarray(py),
+    )?;
+    if let Some(name) = extra {
+        let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
+        result.set_item(name, x.into_pyarray(py))?;
+    }
+    result.set_item("nfev", out.stats.nfev)?;
+    result.set_item("n_steps", out.stats.n_steps)?;
+    result.set_item("n_rejected", out.stats.n_rejected)?;
+    result.set_item("dt", out.dt)?;
+    Ok(result)
+}
+
+/// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
+#[pyfunction]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_deployment<'py>(
+    py: Python<'py>,
+    times: PyReadonlyArray1<'py, f64>,
+    tensors: PyReadonlyArray2<'py, f64>,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let times = times
+        .as_slice()
+        .map_err(|_| PyValueError::new_err("`times` must be C-contiguous"))?
+        .to_vec();
+    let rows = values("inertia", &tensors)?;
+    if tensors.shape()[1] != 9 {
+        return Err(PyValueError::new_err(
+            "`inertia` must have rows of 9 (3 × 3 tensors)",
+        ));
+    }
+    let tensors = rows
+        .chunks_exact(9)
+        .map(nalgebra::Matrix3::from_row_slice)
+        .collect();
+    let d = Deployment::try_new(times, tensors)?;
+    let x0 = d.state_from(0.0, omega0, crate::kinematics::normalized(q0)?);
+    let (method, grid) =
+        model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
+    let out = detach(py, long, |cancel| {
+        simulate_model(&d, x0, &grid, method, cancel)
+    })?;
+    model_result(py, out, frames, None)
+}
+
+/// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
+/// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
+#[pyfunction]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_deployments<'py>(
+    py: Python<'py>,
+    times: Vec<Vec<f64>>,
+    tensors: Vec<Vec<f64>>,
+    omega0: Vec<[f64; 3]>,
+    q0: Vec<[f64; 4]>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    let rows = times.len();
+    if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
+        return Err(PyValueError::new_err(
+            "`times`, `inertia`, `omega0` and `q0` must give the same number of runs (at least 1)",
+        ));
+    }
+    let mut systems = Vec::with_capacity(rows);
+    let mut x0s = Vec::with_capacity(rows);
+    for (row, (t, m)) in times.into_iter().zip(tensors).enumerate() {
+        if m.len() != 9 * t.len() {
+            return Err(PyValueError::new_err(format!(
+                "run {row}: `inertia` must hold one 3 × 3 tensor per knot time"
+            )));
+        }
+        let knots = m
+            .chunks_exact(9)
+            .map(nalgebra::Matrix3::from_row_slice)
+            .collect();
+        let d = Deployment::try_new(t, knots).map_err(|e| e.in_row(row))?;
+        let q = crate::kinematics::normalized(q0[row]).map_err(|e| e.in_row(row))?;
+        x0s.push(d.state_from(0.0, omega0[row], q));
+        systems.push(d);
+    }
+    // one method and grid for all: the first run's planned step when `dt` is None
+    let (method, grid) = model_method_and_grid(
+        &systems[0],
+        &x0s[0],
+        method,
+        t_end,
+        frames,
+        dt,
+        max_steps,
+        rtol,
+        atol,
+    )?;
+    let out = detach(py, true, |cancel| {
+        simulate_models(&systems, &x0s, &grid, method, cancel)
+    })?;
+    out.into_iter()
+        .map(|o| model_result(py, o, frames, None))
+        .collect()
+}
+
+/// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
+#[pyfunction]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_damper<'py>(
+    py: Python<'py>,
+    inertia: [f64; 9],
+    sphere: f64,
+    damping: f64,
+    omega0: [f64; 3],
+    sigma0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
+    if !sigma0.iter().all(|s| s.is_finite()) {
+        return Err(Error::invalid("sigma0", "must be three finite rates", sigma0).into());
+    }
+    let x0 = DampedBody::state_from(omega0, sigma0, crate::kinematics::normalized(q0)?);
+    let (method, grid) =
+        model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
+    let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
+    let out = detach(py, long, |cancel| {
+        simulate_model(&sys, x0, &grid, method, cancel)
+    })?;
+    model_result(py, out, frames, Some("sigma"))
 }
 
 fn internal(e: impl std::fmt::Display) -> PyErr {
@@ -828,6 +1035,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
     m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_deployments, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;

@@ -19,6 +19,9 @@ from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
+from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
+from .deployment import Deployment
+from .models import simulate_deployments
 from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
@@ -45,6 +48,13 @@ __all__ = [
     "Body",
     "InertiaWarning",
     "MeshError",
+    "Deployment",
+    "simulate_deployments",
+    "Damper",
+    "FLAT_SHARE",
+    "axis_shares",
+    "flat_spin_time",
+    "flat_spin_estimate",
     "DzhanibekovError",
     "DivergedError",
     "TooLargeError",

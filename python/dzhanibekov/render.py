@@ -20,7 +20,7 @@ import numpy as np
 from .plotting.movie import animate
 from .scenes.plan import SceneResult
 from .plotting.figures import FIGURE_FUNCTIONS, compute, fig3_figure
-from .scenes.scene import PAPER_SCENES, SCENES, Scene
+from .scenes.scene import PAPER_SCENES, SCENES, STORY_SCENES, Scene
 
 __all__ = ["render_scene", "render_paper", "output_folder", "OutputError", "MAX_JSON_FLIP_TIMES"]
 
@@ -195,15 +195,17 @@ def render_paper(folder: str | Path, *, dt: float | None = None,
                  progress: bool | None = None, fps: int | None = None,
                  size: int | None = None) -> tuple[list[Path], list[SceneResult]]:
     """Writes every figure of the paper and its animation into `folder`, those of the wing
-    nut of its Fig. 1 and those of the stable counter-examples: each shipped scene's files
+    nut of its Fig. 1, those of the stable counter-examples and of the bodies that change
+    (:data:`STORY_SCENES`: a deployment, Explorer 1): each shipped scene's files
     (:func:`render_scene`), plus
     ``fig3.png`` (Fig. 3 a–c side by side) and ``stable.png`` (the counter-examples' paths).
 
     `dt` overrides the scenes' step. Returns the files written and the computed scenes.
     """
     folder = Path(folder)
-    names: Sequence[str] = list(PAPER_SCENES) + ["wing-nut"] + [
-        n for n in SCENES if n.startswith("stable-")]
+    names: Sequence[str] = (list(PAPER_SCENES) + ["wing-nut"]
+                            + [n for n in SCENES if n.startswith("stable-")]
+                            + list(STORY_SCENES))
     results = {}
     written: list[Path] = []
     for name in names:

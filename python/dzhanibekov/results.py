@@ -77,6 +77,17 @@ class Trajectory:
         The invariants' largest drift over the frames.
     n_rejected : int
         Steps an adaptive method tried and rejected; 0 for fixed-step methods.
+    model : Deployment or Damper or None
+        The model beyond the constant body that was run, if any (then `body` is the body at
+        ``t = 0``, its principal moments).
+    sigma : ndarray, shape (frames, 3), or None
+        A damper's absolute angular velocity in body axes; None without a damper.
+    momentum_world : ndarray, shape (frames, 3)
+        Total angular momentum in space (body, plus damper where there is one); constant
+        for the exact motion of every model.
+    energy : ndarray, shape (frames,)
+        Total kinetic energy: constant for the free body, changed by a deployment's internal
+        work, never rising with a damper.
     """
 
     t: np.ndarray
@@ -90,6 +101,8 @@ class Trajectory:
     nfev: int
     drift: Drift
     n_rejected: int = 0
+    model: Any = None
+    sigma: np.ndarray | None = None
     _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def invariants(self) -> dict[str, np.ndarray]:
@@ -157,6 +170,16 @@ class Trajectory:
         """
         angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
         return angles
+
+    @property
+    def momentum_world(self) -> np.ndarray:
+        """Total angular momentum in space at every frame, shape (frames, 3)."""
+        return self.invariants()["momentum_world"]
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Total kinetic energy at every frame, shape (frames,)."""
+        return self.invariants()["energy"]
 
     @property
     def t_end(self) -> float:

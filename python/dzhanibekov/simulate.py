@@ -13,6 +13,9 @@ from ._swap import check_not_swapped
 from .accuracy import check_tolerances, plan_step
 from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
+from .damper import Damper
+from .deployment import Deployment
+from .models import simulate_model
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
 from .results import Drift, Trajectory
 from .rotations import quaternions_of
@@ -25,7 +28,7 @@ each at most the largest coordinate, so nothing larger than this can overflow.""
 
 @overload
 def simulate(
-    body: Body | Sequence[float],
+    body: Body | Deployment | Sequence[float],
     omega0: Sequence[float],
     q0: Sequence[float] = ...,
     t_end: float = ...,
@@ -39,6 +42,8 @@ def simulate(
     max_steps: int = ...,
     threads: int | None = ...,
     progress: bool | None = ...,
+    damper: Damper | None = ...,
+    sigma0: Sequence[float] | None = ...,
 ) -> Trajectory: ...
 
 
@@ -58,6 +63,8 @@ def simulate(
     max_steps: int = ...,
     threads: int | None = ...,
     progress: bool | None = ...,
+    damper: Damper | None = ...,
+    sigma0: Any = ...,
 ) -> Trajectory | Batch: ...
 
 
@@ -76,6 +83,8 @@ def simulate(
     max_steps: int = DEFAULT_MAX_STEPS,
     threads: int | None = None,
     progress: bool | None = None,
+    damper: Damper | None = None,
+    sigma0: Any = None,
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
@@ -94,10 +103,14 @@ def simulate(
 
     Parameters
     ----------
-    body : Body, list of Body, or array_like, shape (3,) or (M, 3)
+    body : Body, list of Body, Deployment, or array_like, shape (3,) or (M, 3)
         The body (any :class:`Body`: from a tensor, a solid, parts, a mesh), or its
         principal moments ``(Ix, Iy, Iz)``; one row (or one Body of a list) per run of a
-        batch. A 3×3 array is refused (use :meth:`Body.from_tensor`).
+        batch. A 3×3 array is refused (use :meth:`Body.from_tensor`). A
+        :class:`Deployment` runs a body whose inertia changes in a prescribed way
+        (``dL/dt = L × ω``, ``ω = I(t)⁻¹ L``) by the methods that run it (``"rk4"``,
+        ``"rk4_projected"`` onto ``|L|``, ``L_world`` and ``|q|``, ``"dopri5"``,
+        ``"dop853"``); flips are not located, and ``energy`` shows the internal work.
     omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
         axes (for a body from a tensor, those of the tensor; the run changes to principal
@@ -161,6 +174,14 @@ def simulate(
         per block of 1024 runs: None (default) shows it for batches of more than one block
         when stderr is a terminal and the batch takes more than a second; True always;
         False never. A single run shows none.
+    damper : Damper, optional
+        A spherical viscous nutation damper inside the body (see :class:`Damper`): its three
+        rates join the state; the trajectory gains ``sigma`` (frames, 3), and
+        ``momentum_world`` and ``energy`` count body and damper. Runs by ``"rk4"``,
+        ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``), ``"dopri5"`` and
+        ``"dop853"``; the other methods refuse it by name. Flips are not located.
+    sigma0 : array_like, shape (3,), optional
+        The damper's initial absolute rate in body axes; co-rotating (``omega0``) if None.
 
     Returns
     -------
@@ -210,6 +231,12 @@ def simulate(
     ((2, 201, 3), array([2, 0]))
     """
     q0 = quaternions_of(q0)
+    if isinstance(body, Deployment) or damper is not None:
+        checked_threads(threads)
+        return simulate_model(body, omega0, q0, t_end, frames, dt, method, damper=damper,
+                              sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps)
+    if sigma0 is not None:
+        raise ValueError("`sigma0` is the damper's initial rate: pass `damper` too")
     if is_batch(body, omega0, q0):
         return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
                               flips=flips, max_steps=max_steps, threads=threads,

@@ -23,10 +23,13 @@ use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer}
 use crate::ode::controller::Adaptive;
 use crate::ode::Stats;
 
+mod models;
+
 pub use fixed::integrate;
 pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
 pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
+pub use models::{model_step, simulate_model, simulate_models, ModelMethod, ModelOutput};
 pub(crate) use registry::run_method;
 pub use registry::{Method, MethodInfo, METHODS};
 

@@ -9,7 +9,7 @@
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 
-use crate::dynamics::{FreeRigidBody, State, FREE};
+use crate::dynamics::{FreeRigidBody, State, DAMPER, DEPLOYMENT, FREE};
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::observe::Observer;
@@ -112,6 +112,8 @@ impl MethodInfo {
 
 const ALL_INVARIANTS: &[&str] = &[ENERGY, MOMENTUM, MOMENTUM_WORLD, Q_NORM];
 const FREE_ONLY: &[&str] = &[FREE];
+/// Every model: the free body, deployments and damped bodies.
+const EVERY_MODEL: &[&str] = &[FREE, DEPLOYMENT, DAMPER];
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -135,7 +137,7 @@ pub const METHODS: [MethodInfo; 7] = [
         rhs_per_step: fixed::<Rk4>(),
         batch: true,
         rk4_dissipation: true,
-        models: FREE_ONLY,
+        models: EVERY_MODEL,
         about: "classic fixed-step fourth-order Runge–Kutta, the paper's method",
     },
     MethodInfo {
@@ -149,7 +151,7 @@ pub const METHODS: [MethodInfo; 7] = [
         rhs_per_step: fixed::<Rk4Projected>(),
         batch: false,
         rk4_dissipation: true,
-        models: FREE_ONLY,
+        models: EVERY_MODEL,
         about: "RK4, each step projected back onto the energy, |L|, L_world and |q| = 1",
     },
     MethodInfo {
@@ -195,7 +197,7 @@ pub const METHODS: [MethodInfo; 7] = [
         rhs_per_step: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        models: EVERY_MODEL,
         about: "Dormand–Prince 5(4) with error control and dense output",
     },
     MethodInfo {
@@ -209,7 +211,7 @@ pub const METHODS: [MethodInfo; 7] = [
         rhs_per_step: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        models: EVERY_MODEL,
         about: "Dormand–Prince 8(5,3) (Hairer's DOP853) with error control and dense output",
     },
     MethodInfo {

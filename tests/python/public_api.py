@@ -40,6 +40,7 @@ from hostile import (
     inertias,
     layouts,
     log_uniform,
+    positive_floats,
     quaternions,
     real_arrays,
     scaled,
@@ -823,6 +824,144 @@ def check_polhodes(kwargs: dict[str, Any], result: Any, caught: list[warnings.Wa
             np.testing.assert_allclose(two_e, expected, rtol=1e-9)
 
 
+# -- bodies that change: deployments and dampers -------------------------------------------------------
+
+MODEL_METHODS = ("rk4", "rk4_projected", "dopri5", "dop853")
+STOWED_HOSTILE = (1.0, 2.0, 3.0)
+"""Moments where a Deployment is wanted."""
+
+
+@st.composite
+def deployment_args(draw: st.DrawFn) -> dict[str, Any]:
+    """Knot times (increasing, of any scale) and the body at each: moments, tensors, Bodies."""
+    k = draw(st.integers(1, 4))
+    start = draw(st.floats(-1e6, 1e6))
+    gaps = draw(st.lists(log_uniform(1e-6, 1e6), min_size=k - 1, max_size=k - 1))
+    times = np.cumsum([start, *gaps])
+    if np.any(np.diff(times) <= 0):
+        times = start + np.arange(k, dtype=float)
+    knots: list[Any] = []
+    for _ in range(k):
+        moments = draw(inertias())
+        kind = draw(st.integers(0, 2))
+        knots.append(moments if kind == 0 else np.diag(moments) if kind == 1 else quiet_body(moments))
+    return {"times": draw(layouts(times)), "inertia": knots}
+
+
+def check_deployment(kwargs: dict[str, Any], d: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(d, dz.Deployment)
+    assert d.tensors.shape == (len(d.times), 3, 3) and np.isfinite(d.tensors).all()
+    assert (np.diff(d.times) > 0).all()
+    np.testing.assert_array_equal(d.inertia_at(float(d.times[0]) - 1.0), d.tensors[0])
+
+
+def check_damper(kwargs: dict[str, Any], d: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(d, dz.Damper) and d.inertia > 0 and d.damping >= 0
+
+
+@st.composite
+def model_run_args(draw: st.DrawFn, kind: str) -> dict[str, Any]:
+    """A moderate run of a deployment or a damped body (the models are run in the user's
+    units: no extreme rates)."""
+    inertia = draw(inertias().filter(lambda i: i.max() / i.min() < 1e6 and i.max() < 1e100
+                                     and i.min() > 1e-100))
+    omega0 = scaled(draw(directions(3)), draw(st.sampled_from([0, -10, 0, 3])))
+    if not 1e-6 < rate_bound(inertia, omega0) < 1e6:
+        omega0 = np.array([0.3, -0.4, 1.0])
+    rate = rate_bound(inertia, omega0)
+    method = draw(st.sampled_from(MODEL_METHODS))
+    kwargs: dict[str, Any] = dict(
+        omega0=draw(layouts(omega0)), q0=draw(quaternions().flatmap(layouts)),
+        t_end=draw(log_uniform(1e-3, 20.0)) / rate, frames=draw(valid_int(2, 50)),
+        dt=draw(log_uniform(1e-2, 0.5)) / rate, method=method)
+    if kind == "deployment":
+        second = draw(inertias().filter(lambda i: i.max() / i.min() < 1e6))
+        second = second / second.max() * inertia.max()
+        span = float(kwargs["t_end"])
+        kwargs["body"] = dz.Deployment([0.2 * span, 0.6 * span], [inertia, second])
+    else:
+        kwargs["body"] = draw(bodies(inertia))
+        # the damper's own time j / c stays above the step: explicit methods past their
+        # stability limit on it (h c / j ≈ 2.8 for RK4) are not what this entry tests
+        j = float(inertia.min()) * draw(log_uniform(1e-3, 1.0))
+        kwargs["damper"] = dz.Damper(j, j * rate * draw(log_uniform(1e-3, 1.0)))
+        if draw(st.booleans()):
+            kwargs["sigma0"] = draw(layouts(scaled(draw(directions(3)), 0) * rate))
+    if method in ADAPTIVE_METHODS:
+        kwargs.update(rtol=draw(log_uniform(1e-12, 1e-4)), dt=None)
+    return kwargs
+
+
+def check_model_run(kwargs: dict[str, Any], traj: Any, caught: list[warnings.WarningMessage]) -> None:
+    frames = int(kwargs["frames"])
+    for name, shape in (("omega", (frames, 3)), ("q", (frames, 4)), ("momentum_world", (frames, 3)),
+                        ("energy", (frames,))):
+        value = getattr(traj, name)
+        assert value.shape == shape and np.isfinite(value).all(), name
+    l_world = traj.momentum_world
+    scale = np.abs(l_world[0]).max()
+    if scale > 0 and kwargs["method"] != "rk4":
+        # kept by the law; projected and adaptive runs keep it closely
+        assert np.abs(l_world - l_world[0]).max() <= 1e-3 * scale
+    if "damper" in kwargs:
+        assert traj.sigma.shape == (frames, 3)
+        energy = traj.energy
+        assert energy.max() <= energy[0] * (1 + 1e-3) + 1e-300
+        shares = dz.axis_shares(traj) if scale > 0 else None
+        assert shares is None or np.isfinite(shares).all()
+        t_flat = dz.flat_spin_time(traj)
+        assert math.isnan(t_flat) or 0 <= t_flat <= float(kwargs["t_end"])
+
+
+@st.composite
+def estimate_args(draw: st.DrawFn) -> dict[str, Any]:
+    inertia = draw(inertias())
+    return {"body": draw(bodies(inertia)),
+            "damper": dz.Damper(draw(valid_positive()), draw(positive_floats())),
+            "omega0": draw(layouts(scaled(draw(directions(3)), draw(st.sampled_from([0, -100, 100]))))),
+            **({"share": draw(st.floats(0.01, 0.999))} if draw(st.booleans()) else {})}
+
+
+def check_estimate(kwargs: dict[str, Any], t: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(t, float) and (t >= 0 or math.isnan(t)), t
+
+
+def _model_entry(kind: str) -> Entry:
+    hostile = {k: v for k, v in run_hostile(dz.METHODS, flips=False).items()
+               if k in ("omega0", "q0", "t_end", "frames", "method", "max_steps")}
+    if kind == "damper":
+        hostile |= {"damper": st.one_of(st.just(0.5), st.just("damper"), st.just((0.1, 0.2))),
+                    "sigma0": hostile_vector3().filter(lambda v: v is not None)}
+    hostile["method"] = st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])
+    return Entry(
+        call=dz.simulate,
+        valid=model_run_args(kind),
+        hostile=hostile,
+        check=check_model_run,
+        covers=(dz.simulate, dz.axis_shares, dz.flat_spin_time, dz.FLAT_SHARE),
+        warns=(dz.InertiaWarning,),
+        examples=60,
+        min_success=0.5,
+    )
+
+
+@st.composite
+def deployments_args(draw: st.DrawFn) -> dict[str, Any]:
+    runs = [draw(model_run_args("deployment")) for _ in range(draw(st.integers(1, 3)))]
+    first = runs[0]
+    kwargs = {k: v for k, v in first.items() if k not in ("body", "omega0", "q0")}
+    kwargs["deployments"] = [r["body"] for r in runs]
+    kwargs["omega0"] = first["omega0"] if draw(st.booleans()) else np.stack(
+        [np.asarray(r["omega0"], float) for r in runs])
+    return kwargs
+
+
+def check_deployments(kwargs: dict[str, Any], runs: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(runs, list) and len(runs) == len(kwargs["deployments"])
+    for traj in runs:
+        check_model_run(kwargs, traj, caught)
+
+
 # -- the table -----------------------------------------------------------------------------------------
 
 def _simulate_entry(method: str) -> Entry:
@@ -891,6 +1030,59 @@ ENTRIES: dict[str, Entry] = {
         min_success=0.9,
     ),
     **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
+    "simulate[deployment]": _model_entry("deployment"),
+    "simulate[damper]": _model_entry("damper"),
+    "simulate_deployments": Entry(
+        call=dz.simulate_deployments,
+        valid=deployments_args(),
+        hostile={"deployments": st.sampled_from([[], [STOWED_HOSTILE], "x", None, 1.0]),
+                 "omega0": hostile_vector3(),
+                 "t_end": hostile_real(positive=True),
+                 "frames": hostile_int(2),
+                 "method": st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])},
+        check=check_deployments,
+        covers=(dz.simulate_deployments,),
+        warns=(dz.InertiaWarning,),
+        examples=30,
+        min_success=0.5,
+    ),
+    "Deployment": Entry(
+        call=dz.Deployment,
+        valid=deployment_args(),
+        hostile={"times": st.one_of(JUNK.filter(lambda v: v is not None), st.sampled_from(
+                     [[1.0, 1.0], [2.0, 1.0], [math.nan], [math.inf], [], 1.0, np.array(1.0),
+                      ["a"], [[1.0]], [True], np.array([1, 2], dtype=complex)])),
+                 "inertia": st.one_of(hostile_vector3(positive=True),
+                                      st.just([np.array([[1.0, 2.0, 0.0], [2.0, 1.0, 0.0],
+                                                         [0.0, 0.0, 1.0]])]),
+                                      st.just(["x"]), st.just([[1.0, 2.0]]))},
+        check=check_deployment,
+        covers=(dz.Deployment,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "Damper": Entry(
+        call=dz.Damper,
+        valid=st.fixed_dictionaries({"inertia": valid_positive(),
+                                     "damping": st.one_of(valid_positive(), st.just(0.0))}),
+        hostile={"inertia": hostile_real(positive=True), "damping": st.one_of(
+            hostile_real(positive=False), st.sampled_from([-1.0, -1e-300]))},
+        check=check_damper,
+        covers=(dz.Damper,),
+        min_success=1.0,
+    ),
+    "flat_spin_estimate": Entry(
+        call=dz.flat_spin_estimate,
+        valid=estimate_args(),
+        hostile={"body": hostile_vector3(positive=True, moments=True),
+                 "damper": st.sampled_from([0.5, "d", None]),
+                 "omega0": hostile_vector3(), "sigma0": hostile_vector3().filter(lambda v: v is not None),
+                 "share": st.one_of(hostile_real(positive=True), st.sampled_from([1.0, 2.0]))},
+        check=check_estimate,
+        covers=(dz.flat_spin_estimate,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
     "summarize": Entry(
         call=dz.summarize,
         valid=st.sampled_from(tuple(dz.METHODS)).flatmap(lambda m: run_args(m, flips=False)),
@@ -1026,6 +1218,8 @@ NOT_CALLED = {
     "MAX_PREDICTED_DRIFT": "a constant, used by the simulate checks",
     "SIGNAL_POINT": "a constant array",
     "box_edges": "takes no arguments: test_hostile calls it once",
+    "Scenario": "another name of Scene",
+    "FLAT_SHARE": "a constant, the default of flat_spin_time",
     "DzhanibekovError": "an exception class, raised by the core (test_errors.py)",
     "DivergedError": "an exception class, raised by the core (test_errors.py)",
     "TooLargeError": "an exception class, raised by the core (test_errors.py)",

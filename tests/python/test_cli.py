@@ -31,8 +31,11 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     expected.add("wing-nut.gif")  # the paper's Fig. 1
     for name in list(dz.PAPER_SCENES) + ["wing-nut", "stable-largest", "stable-smallest"]:
         expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
+    for name in dz.scenes.STORY_SCENES:  # bodies that change: a deployment, Explorer 1
+        expected |= {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures}
+        expected |= {f"{name}.json", f"{name}.gif"}
     if movie.ffmpeg_path() is not None:
-        expected |= {"example.mp4", "wing-nut.mp4"}
+        expected |= {"example.mp4", "wing-nut.mp4"} | {f"{n}.mp4" for n in dz.scenes.STORY_SCENES}
     assert {p.name for p in out.iterdir()} == expected
     for path in out.glob("*.png"):
         assert_picture(path)

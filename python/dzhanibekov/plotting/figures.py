@@ -37,6 +37,7 @@ from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
 
 from .._args import as_float, as_int
 from ..body import InertiaWarning, as_body
+from ..damper import axis_shares, flat_spin_time
 from ..geometry import box_edges
 from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
@@ -53,6 +54,8 @@ __all__ = [
     "invariants_figure",
     "polhode_figure",
     "animation",
+    "shares_figure",
+    "energy_figure",
     "FIGURE_FUNCTIONS",
 ]
 
@@ -592,12 +595,110 @@ def view_of_planes(curves: Sequence[np.ndarray]) -> tuple[float, float]:
     return float(np.degrees(elev[k])), float(np.degrees(azim[k]))
 
 
+def _model_span(ax: Axes, result: SceneResult) -> None:
+    """Shades a deployment's span (first to last knot) on a time axis."""
+    d = result.scene.deployment
+    if d is not None and len(d.times) > 1:
+        ax.axvspan(float(d.times[0]), float(d.times[-1]), color="#dddddd", lw=0,
+                   label="deployment")
+
+
+def shares_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+                  save: str | Path | None = None) -> Figure:
+    """The share ``L_k / |L|`` of the total angular momentum on each body axis, over time.
+
+    A spin about an axis shows as ±1 on it; a flip as a swing from +1 to −1; a flat spin
+    as the major axis taking the whole of ``|L|``. For a damped body the time to flat spin
+    (:func:`~dzhanibekov.flat_spin_time`) is marked.
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+    ax : Axes, optional
+    save : str or Path, optional
+
+    Returns
+    -------
+    Figure
+    """
+    result = compute(scene)
+    _need(result, "shares figure")
+    traj = result.trajectory
+    assert traj is not None
+    if ax is None:
+        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
+        ax = fig.add_subplot()
+    fig = _figure_of(ax)
+    _model_span(ax, result)
+    shares = axis_shares(traj)
+    for k, name in enumerate("xyz"):
+        ax.plot(traj.t, shares[:, k], color=COLORS["omega"][k], lw=1.1, label=f"L{name} / |L|")
+    if result.scene.damper is not None:
+        inertia = np.asarray(traj.body.inertia)
+        major = inertia >= inertia.max() * (1 - 1e-12)
+        ax.plot(traj.t, np.sqrt((shares[:, major] ** 2).sum(axis=1)), color="#111111", lw=1.0,
+                ls="--", label="on the major axes")
+        t_flat = flat_spin_time(traj)
+        if math.isfinite(t_flat):
+            ax.axvline(t_flat, color="#555555", lw=0.8, ls=":", label=f"flat, t = {t_flat:.0f}")
+    ax.set_xlabel("t")
+    ax.set_ylabel("share of |L| (body axes)")
+    ax.set_xlim(0, traj.t[-1])
+    ax.set_ylim(-1.05, 1.05)
+    ax.set_title(_title(result), fontsize=9)
+    ax.legend(loc="lower left", fontsize=8, ncols=5)
+    return _saved(fig, save)
+
+
+def energy_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
+                  save: str | Path | None = None) -> Figure:
+    """The total kinetic energy over time, relative to its start, beside the drift of the
+    total angular momentum in space (which every model keeps).
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+    ax : Axes, optional
+    save : str or Path, optional
+
+    Returns
+    -------
+    Figure
+    """
+    result = compute(scene)
+    _need(result, "energy figure")
+    traj = result.trajectory
+    assert traj is not None
+    if ax is None:
+        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
+        ax = fig.add_subplot()
+    fig = _figure_of(ax)
+    _model_span(ax, result)
+    energy = traj.energy
+    e0 = float(energy[0])
+    scale = e0 if e0 > 0 else 1.0
+    ax.plot(traj.t, energy / scale, color="#1f3b73", lw=1.3,
+            label="E(t) / E(0)" if e0 > 0 else "E(t)")
+    ax.set_xlabel("t")
+    ax.set_ylabel("total kinetic energy / E(0)" if e0 > 0 else "total kinetic energy")
+    ax.set_xlim(0, traj.t[-1])
+    l_world = traj.momentum_world
+    l0 = float(np.linalg.norm(l_world[0]))
+    drift = np.linalg.norm(l_world - l_world[0], axis=1).max() / (l0 if l0 > 0 else 1.0)
+    ax.set_title(_title(result) + f"\n|L_world(t) − L_world(0)| / |L| ≤ {drift:.1e}",
+                 fontsize=9)
+    ax.legend(loc="best", fontsize=8)
+    return _saved(fig, save)
+
+
 FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {
     "phases": phases_figure,
     "path": path_figure,
     "omega": omega_figure,
     "invariants": invariants_figure,
     "polhode": polhode_figure,
+    "shares": shares_figure,
+    "energy": energy_figure,
 }
 """The figure function of each name a scene's `draw.figures` may hold."""
 

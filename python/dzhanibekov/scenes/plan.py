@@ -115,7 +115,8 @@ def make_plan(scene: Scene) -> Plan:
     return Plan(
         scene=scene,
         keep_frames=keep_frames,
-        keep_flips=scene.flips or "omega" in d.figures,
+        keep_flips=(scene.flips or "omega" in d.figures) and scene.deployment is None
+        and scene.damper is None,
         invariants="invariants" in d.figures or "polhode" in d.figures
         or (d.momentum and keep_frames),
         meshes=("ellipsoid",) if "ellipsoid" in objects else (),

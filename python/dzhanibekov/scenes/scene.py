@@ -64,6 +64,8 @@ from .._args import as_array, as_float, as_int
 from ..accuracy import check_tolerances
 from ..body import Body
 from .bodies import BODY_KEYS, build_body, default_signal_point
+from ..damper import Damper
+from ..deployment import Deployment
 from ..shapes import Shape, box_shape
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
 from ..methods import DEFAULT_METHOD, METHODS
@@ -85,6 +87,7 @@ __all__ = [
     "MAX_SCENE_BYTES",
     "PAPER_SCENES",
     "SCENES",
+    "STORY_SCENES",
     "Draw",
     "EllipsoidStyle",
     "Scene",
@@ -92,9 +95,10 @@ __all__ = [
     "load_scene",
 ]
 
-FIGURES = ("phases", "path", "omega", "invariants", "polhode")
+FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy")
 """Figures a scene may ask for: the phases panel (Fig. 2), the signal point's path in 3-D
-(Fig. 3), ω(t) with the flips marked, the invariants' drift, and the polhode."""
+(Fig. 3), ω(t) with the flips marked, the invariants' drift, the polhode, the share of
+``|L|`` on each body axis, and the total kinetic energy (with ``|L_world|``)."""
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
@@ -206,6 +210,14 @@ class Scene:
     draw: Draw = Draw()
     ellipsoid: EllipsoidStyle = EllipsoidStyle()
     about: str = ""
+    deployment: Deployment | None = None
+    """A prescribed change of inertia (``[deployment]`` with ``times`` and ``inertia``, a
+    list of principal moments or 3 × 3 tensors); `inertia` is then the body at ``t = 0``
+    (the drawn box keeps its size)."""
+    damper: Damper | None = None
+    """A spherical viscous damper (``[damper]`` with ``inertia`` and ``damping``)."""
+    sigma0: tuple[float, float, float] | None = None
+    """The damper's initial rate (``damper.sigma``); None: co-rotating."""
     source: str = field(default="", compare=False, repr=False)
     """Where the scene came from, for messages."""
     rtol: float | None = None
@@ -235,8 +247,13 @@ class Scene:
     def run(self, **overrides: Any) -> Trajectory:
         """Simulates the scene, keeping every frame; keywords override :func:`simulate`'s."""
         kwargs = self._run_arguments()
+        if self.damper is not None:
+            kwargs.update(damper=self.damper, sigma0=self.sigma0)
         kwargs.update(overrides)
-        traj = simulate(self.body, self.omega0, **kwargs)
+        if self.deployment is not None or self.damper is not None:
+            kwargs.pop("flips", None)  # flips are located for the constant body only
+        body = self.deployment if self.deployment is not None else self.body
+        traj = simulate(body, self.omega0, **kwargs)
         assert isinstance(traj, Trajectory), "a scene is one run"
         return traj
 
@@ -330,6 +347,13 @@ class Scene:
             "ellipsoid": {"convention": self.ellipsoid.convention,
                           "mesh": list(self.ellipsoid.mesh)},
         }
+        if self.deployment is not None:
+            out["deployment"] = {"times": self.deployment.times.tolist(),
+                                 "inertia": self.deployment.tensors.tolist()}
+        if self.damper is not None:
+            out["damper"] = {"inertia": self.damper.inertia, "damping": self.damper.damping}
+            if self.sigma0 is not None:
+                out["damper"]["sigma"] = list(self.sigma0)
         return out
 
     def to_toml(self) -> str:
@@ -382,6 +406,8 @@ _TABLES: dict[str, tuple[str, ...]] = {
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
              "animation", "phases", "fps", "animation_size"),
     "ellipsoid": ("convention", "mesh"),
+    "deployment": ("times", "inertia"),
+    "damper": ("inertia", "damping", "sigma"),
 }
 _TOP = ("title", "about")
 
@@ -464,6 +490,12 @@ def _from_tables(cls: type[Scene], data: Mapping[str, Any], name: str, source: s
             kwargs[attr] = tables[table][key]
     kwargs["draw"] = _Raw(draw)
     kwargs["ellipsoid"] = _Raw(style)
+    if "deployment" in data:
+        kwargs["deployment"] = _Raw(tables["deployment"])
+    if "damper" in data:
+        kwargs["damper"] = _Raw(tables["damper"])
+        if "sigma" in tables["damper"]:
+            kwargs["sigma0"] = tables["damper"]["sigma"]
     return cls(**kwargs)
 
 
@@ -661,6 +693,8 @@ def _validate(s: Scene) -> None:
     e_m = _integer(src, "ellipsoid.mesh[1]", mesh[1], 2, _MAX_CELLS)  # eM, pole to pole
     _set(s, "ellipsoid", EllipsoidStyle(convention, (e_n, e_m)))
 
+    _validate_models(s, src)
+
     if flags["box"] and s.box is None and s.body.shape is None:
         derived = _uniform_box(inertia)
         if derived is None:
@@ -683,6 +717,41 @@ def _drawable(source: str, key: str, size: float, what: str = "") -> None:
         of = f" ({what})" if what else ""
         raise SceneError(source, key, f"gives a size{of} of {size:.3g}, more than the "
                          f"{MAX_DRAWN_SIZE:.0e} a drawing can hold; scale the scene down")
+
+
+def _validate_models(s: Scene, src: str) -> None:
+    """Checks and builds a scene's deployment and damper."""
+    if isinstance(s.deployment, _Raw):
+        table = s.deployment.table
+        for key in ("times", "inertia"):
+            if key not in table:
+                raise SceneError(src, f"deployment.{key}", "is missing")
+        try:
+            _set(s, "deployment", Deployment(table["times"], table["inertia"]))
+        except (TypeError, ValueError) as exc:
+            raise SceneError(src, "deployment", str(exc)) from None
+    elif s.deployment is not None and not isinstance(s.deployment, Deployment):
+        raise SceneError(src, "deployment", f"must be a Deployment, got {s.deployment!r}")
+    if isinstance(s.damper, _Raw):
+        table = s.damper.table
+        for key in ("inertia", "damping"):
+            if key not in table:
+                raise SceneError(src, f"damper.{key}", "is missing")
+        try:
+            _set(s, "damper", Damper(table["inertia"], table["damping"]))
+        except (TypeError, ValueError) as exc:
+            raise SceneError(src, "damper", str(exc)) from None
+    elif s.damper is not None and not isinstance(s.damper, Damper):
+        raise SceneError(src, "damper", f"must be a Damper, got {s.damper!r}")
+    if s.sigma0 is not None:
+        if s.damper is None:
+            raise SceneError(src, "damper.sigma", "needs a [damper]")
+        _set(s, "sigma0", _vector(src, "damper.sigma", s.sigma0, 3))
+    if s.deployment is not None and s.damper is not None:
+        raise SceneError(src, "damper", "cannot be combined with a [deployment]")
+    if (s.deployment is not None or s.damper is not None) and s.flips:
+        raise SceneError(src, "ask.flips", "must be false with a deployment or a damper "
+                         "(flips are located for the constant body only)")
 
 
 def _uniform_box(inertia: tuple[float, ...]) -> tuple[float, float, float] | None:
@@ -774,3 +843,7 @@ counter-examples, ``stable-largest`` and ``stable-smallest``."""
 
 PAPER_SCENES = ("example", "fig3a", "fig3b", "fig3c")
 """The scenes of the paper's figures: ``example`` (Fig. 2) and ``fig3a``–``fig3c``."""
+
+STORY_SCENES = ("deployment", "explorer-1")
+"""Bodies that change: a stowed major-axis spin deployed to an intermediate one, which
+tumbles; and Explorer 1's minor-axis spin going flat through a damper."""

@@ -1,0 +1,73 @@
+//! Criterion benches of the models beyond the constant free body, per RK4 step, beside the
+//! free body's: `cargo bench --bench models` (`-- --quick` for a short pass).
+
+use std::hint::black_box;
+use std::sync::atomic::AtomicBool;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use nalgebra::Matrix3;
+
+use dzhanibekov::dynamics::{DampedBody, Deployment};
+use dzhanibekov::run::{simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod};
+use dzhanibekov::RigidBody;
+
+fn models(c: &mut Criterion) {
+    let cancel = AtomicBool::new(false);
+    let steps = 1_000_000u64;
+    let grid = FrameGrid::try_new(steps as f64 * 1e-3, 201, 1e-3, u64::MAX).unwrap();
+    let mut group = c.benchmark_group("models_rk4");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(grid.n_steps()));
+    let moments = [1.0, 2.0, 3.0];
+    let body = RigidBody::try_new(moments).unwrap();
+    let keep = Keep {
+        frames: true,
+        flips: false,
+    };
+    group.bench_with_input(BenchmarkId::new("free", steps), &grid, |b, grid| {
+        b.iter(|| {
+            let omega0 = black_box([0.01, 0.01, 1.0]);
+            simulate(
+                &body,
+                omega0,
+                [1.0, 0.0, 0.0, 0.0],
+                grid,
+                Method::Rk4,
+                keep,
+                &cancel,
+            )
+            .unwrap()
+        })
+    });
+    let diagonal =
+        Deployment::from_moments(vec![100.0, 110.0], &[moments, [1.0, 3.0, 2.0]]).unwrap();
+    let tilted = Matrix3::new(1.0, 0.1, 0.0, 0.1, 3.0, -0.2, 0.0, -0.2, 2.0);
+    let tensor = Deployment::try_new(
+        vec![100.0, 110.0],
+        vec![Matrix3::from_diagonal(&moments.into()), tilted],
+    )
+    .unwrap();
+    for (name, d) in [
+        ("deployment_diagonal", &diagonal),
+        ("deployment_tensor", &tensor),
+    ] {
+        group.bench_with_input(BenchmarkId::new(name, steps), &grid, |b, grid| {
+            b.iter(|| {
+                let x0 = d.state_from(0.0, black_box([0.01, 0.01, 1.0]), [1.0, 0.0, 0.0, 0.0]);
+                simulate_model(d, x0, grid, ModelMethod::Rk4, &cancel).unwrap()
+            })
+        });
+    }
+    let damped = DampedBody::try_new(Matrix3::from_diagonal(&moments.into()), 0.05, 0.02).unwrap();
+    group.bench_with_input(BenchmarkId::new("damper", steps), &grid, |b, grid| {
+        b.iter(|| {
+            let w = black_box([0.01, 0.01, 1.0]);
+            let x0 = DampedBody::state_from(w, w, [1.0, 0.0, 0.0, 0.0]);
+            simulate_model(&damped, x0, grid, ModelMethod::Rk4, &cancel).unwrap()
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, models);
+criterion_main!(benches);

@@ -1,0 +1,126 @@
+"""Deployments: a body whose inertia tensor changes in a prescribed, smooth way while it turns."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._args import as_array
+from .body import Body
+
+__all__ = ["Deployment"]
+
+
+def _as_tensor(k: int, value: Any) -> np.ndarray:
+    """The 3 × 3 tensor of knot `k`: a Body (its tensor, or its principal moments), three
+    principal moments, or a 3 × 3 tensor."""
+    if isinstance(value, Body):
+        tensor = getattr(value, "tensor", None)
+        return np.array(tensor if tensor is not None else np.diag(value.inertia), dtype=float)
+    try:
+        a = np.asarray(value, dtype=object)
+    except Exception as exc:  # ragged nesting and the like
+        raise TypeError(f"`inertia[{k}]` must be a Body, three moments or a 3 × 3 tensor: "
+                        f"{exc}") from None
+    if a.shape == (3,):
+        return np.diag(as_array(f"inertia[{k}]", value, "(3,)", last=3, ndim=(1,)))
+    if a.shape == (3, 3):
+        return as_array(f"inertia[{k}]", value, "(3, 3)", last=3, ndim=(2,)).copy()
+    raise ValueError(f"`inertia[{k}]` must be a Body, three principal moments or a 3 × 3 "
+                     f"tensor, got shape {a.shape}")
+
+
+class Deployment:
+    """A body whose inertia tensor moves smoothly between knots while it turns freely.
+
+    Between knots ``t_k < t_{k+1}`` the tensor is ``I_k + s(τ) (I_{k+1} − I_k)`` with
+    ``τ = (t − t_k) / (t_{k+1} − t_k)`` and the quintic ``s(τ) = 10τ³ − 15τ⁴ + 6τ⁵`` (zero rate
+    and acceleration at every knot); before the first knot and after the last it is constant.
+    With no external torque, ``dL/dt = L × ω`` with ``ω = I(t)⁻¹ L`` in body axes: the angular
+    momentum is fixed in space and the energy changes by the internal work,
+    ``dE/dt = −½ ωᵀ İ ω``. The moving parts are assumed to carry no angular momentum of their
+    own relative to the body (symmetric deployments).
+
+    Parameters
+    ----------
+    times : array_like, shape (K,)
+        Knot times, finite and strictly increasing.
+    inertia : sequence of K items
+        The body at each knot: a :class:`Body`, its principal moments ``(Ix, Iy, Iz)``, or a
+        symmetric positive definite 3 × 3 tensor in body axes (products of inertia with a
+        minus sign off the diagonal).
+
+    Raises
+    ------
+    TypeError, ValueError
+        Knots that are not increasing, tensors that are not symmetric positive definite, or
+        as many bodies as times not given (checked again by the core).
+
+    Examples
+    --------
+    >>> d = Deployment([10.0, 20.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
+    >>> d.inertia_at(15.0).diagonal().tolist()
+    [1.0, 2.5, 2.5]
+    """
+
+    __slots__ = ("times", "tensors")
+
+    times: np.ndarray
+    """Knot times, shape (K,)."""
+    tensors: np.ndarray
+    """Knot tensors, shape (K, 3, 3)."""
+
+    def __init__(self, times: Any, inertia: Any) -> None:
+        try:
+            n = len(times)
+        except TypeError:
+            raise TypeError(f"`times` must be a sequence of knot times, got "
+                            f"{type(times).__name__}") from None
+        t = as_array("times", times, "(K,)", last=n, ndim=(1,))
+        if len(t) == 0:
+            raise ValueError("`times` must hold at least one knot time")
+        if np.any(np.diff(t) <= 0):
+            raise ValueError(f"`times` must be strictly increasing, got {t.tolist()}")
+        try:
+            if isinstance(inertia, (str, bytes)):
+                raise TypeError
+            items = list(inertia)
+        except TypeError:
+            raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
+                            f"{type(inertia).__name__}") from None
+        if len(items) != len(t):
+            raise ValueError(f"`inertia` must give one body per knot time of `times` "
+                             f"({len(t)}), got {len(items)}")
+        tensors = np.stack([_as_tensor(k, v) for k, v in enumerate(items)])
+        for k, m in enumerate(tensors):
+            if not np.allclose(m, m.T, rtol=0, atol=1e-12 * np.abs(m).max()):
+                raise ValueError(f"`inertia[{k}]` must be symmetric, got {m.tolist()}")
+            if np.linalg.eigvalsh(m).min() <= 0:
+                raise ValueError(f"`inertia[{k}]` must be positive definite, got {m.tolist()}")
+        self.times = np.ascontiguousarray(t, dtype=np.float64)
+        self.tensors = np.ascontiguousarray(tensors, dtype=np.float64)
+
+    def inertia_at(self, t: float) -> np.ndarray:
+        """The tensor ``I(t)``, shape (3, 3) (a convenience for plots: runs evaluate the
+        law in the core)."""
+        k = int(np.searchsorted(self.times, t, side="right"))
+        tensors: np.ndarray = self.tensors
+        if k == 0:
+            return np.array(tensors[0])
+        if k == len(self.times):
+            return np.array(tensors[-1])
+        tau = (t - self.times[k - 1]) / (self.times[k] - self.times[k - 1])
+        s = tau**3 * (10 - 15 * tau + 6 * tau**2)
+        return np.array(tensors[k - 1] + s * (tensors[k] - tensors[k - 1]))
+
+    def __repr__(self) -> str:
+        return f"Deployment(times={self.times.tolist()}, knots={len(self.times)})"
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Deployment) and np.array_equal(self.times, other.times)
+                and np.array_equal(self.tensors, other.tensors))
+
+    def __hash__(self) -> int:
+        return hash((self.times.tobytes(), self.tensors.tobytes()))
+

@@ -1,0 +1,237 @@
+"""Deployments and dampers against what the code cannot fake: the constant body's own run,
+conserved quantities, independent `solve_ivp` runs of the same laws written here, the energy
+balance, the major-axis rule, the energy-sink estimate."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import simpson, solve_ivp
+
+import dzhanibekov as dz
+
+STOWED, DEPLOYED = (1.0, 2.0, 3.0), (1.0, 3.0, 2.0)
+
+
+def smootherstep(tau: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The documented law, written out here: s = 10τ³ − 15τ⁴ + 6τ⁵ and ds/dτ."""
+    tau = np.clip(tau, 0.0, 1.0)
+    return 10 * tau**3 - 15 * tau**4 + 6 * tau**5, 30 * tau**2 * (1 - tau) ** 2
+
+
+def tensor_and_rate(t: float, t0: float, t1: float, a: np.ndarray, b: np.ndarray):
+    s, ds = smootherstep(np.asarray((t - t0) / (t1 - t0)))
+    return a + s * (b - a), ds / (t1 - t0) * (b - a)
+
+
+A = np.array([[2.0, -0.3, 0.1], [-0.3, 3.0, 0.2], [0.1, 0.2, 4.0]])
+B = np.array([[5.0, 0.4, -0.2], [0.4, 3.5, 0.0], [-0.2, 0.0, 2.5]])
+
+
+def test_equal_knots_are_the_constant_body():
+    moments = (52.0833, 27.0833, 41.6666)
+    d = dz.Deployment([1.0, 2.0, 5.0], [moments, dz.Body(moments), np.diag(moments)])
+    kw = dict(t_end=50.0, frames=101, dt=1e-3)
+    deployed = dz.simulate(d, (0.01, 0.01, 1.0), **kw)
+    constant = dz.simulate(moments, (0.01, 0.01, 1.0), **kw)
+    # the paper's run crosses the separatrix: round-off grown by the motion's sensitivity
+    np.testing.assert_allclose(deployed.omega, constant.omega, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(deployed.q, constant.q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(deployed.energy, constant.energy, rtol=1e-11)
+    np.testing.assert_allclose(deployed.momentum_world, constant.momentum_world, atol=1e-11)
+
+
+@pytest.mark.parametrize("method, kw", [("rk4", dict(dt=1e-4)),
+                                        ("dop853", dict(dt=None, rtol=1e-13, atol=1e-15)),
+                                        ("rk4_projected", dict(dt=1e-2))])
+def test_deployment_keeps_momentum_world(method, kw):
+    d = dz.Deployment([2.0, 6.0], [A, B])
+    traj = dz.simulate(d, (0.3, -0.7, 1.1), q0=(0.5, -0.1, 0.7, 0.2), t_end=20.0, frames=201,
+                       method=method, **kw)
+    l0 = np.linalg.norm(traj.momentum_world[0])
+    assert np.abs(traj.momentum_world - traj.momentum_world[0]).max() < 1e-12 * l0
+    assert traj.drift.momentum_world < 1e-12
+    assert traj.drift.energy > 0.01  # the energy is not kept: the deployment works
+
+
+def deployment_reference(t_eval, omega0):
+    """`dL/dt = L × I⁻¹ L` with the tensor law of this file, by `solve_ivp`."""
+    def rhs(t, l):
+        inertia, _ = tensor_and_rate(t, 2.0, 6.0, A, B)
+        return np.cross(l, np.linalg.solve(inertia, l))
+    l0 = A @ np.asarray(omega0)
+    sol = solve_ivp(rhs, (0, t_eval[-1]), l0, t_eval=t_eval, rtol=1e-12, atol=1e-14,
+                    method="DOP853")
+    return sol.y.T
+
+
+def test_energy_change_is_the_internal_work():
+    d = dz.Deployment([2.0, 6.0], [A, B])
+    omega0 = (0.3, -0.7, 1.1)
+    traj = dz.simulate(d, omega0, t_end=8.0, frames=2001, method="dop853", dt=None,
+                       rtol=1e-12, atol=1e-14)
+    # dE/dt = −½ ωᵀ İ ω: integrate it over the frames (Simpson) with İ from this file's law
+    rate = np.array([-0.5 * w @ tensor_and_rate(t, 2.0, 6.0, A, B)[1] @ w
+                     for t, w in zip(traj.t, traj.omega)])
+    work = simpson(rate, x=traj.t)
+    assert abs(work) > 0.05 * traj.energy[0]
+    assert traj.energy[-1] - traj.energy[0] == pytest.approx(work, rel=1e-7)
+    # and the independent reference of the same law gives the same momenta and energy
+    l_ref = deployment_reference(traj.t, omega0)
+    np.testing.assert_allclose(traj.invariants()["momentum_body"], l_ref, rtol=0, atol=1e-8)
+    inertia_end, _ = tensor_and_rate(8.0, 2.0, 6.0, A, B)
+    e_ref = 0.5 * l_ref[-1] @ np.linalg.solve(inertia_end, l_ref[-1])
+    assert traj.energy[-1] == pytest.approx(e_ref, rel=1e-9)
+
+
+def test_stowed_major_axis_spin_flips_once_deployed():
+    # stowed (1, 2, 3): z is the major axis; deployed (1, 3, 2): z is intermediate
+    d = dz.Deployment([100.0, 110.0], [STOWED, DEPLOYED])
+    traj = dz.simulate(d, (0.01, 0.01, 1.0), t_end=300.0, frames=3001, dt=1e-3)
+    share_z = dz.axis_shares(traj)[:, 2]
+    assert share_z[traj.t <= 100.0].min() > 0.999  # no flip before
+    assert share_z[traj.t >= 110.0].min() < -0.9  # turned over after
+    # the same spin without the deployment never flips
+    stowed = dz.simulate(STOWED, (0.01, 0.01, 1.0), t_end=300.0, frames=3001, dt=1e-3)
+    assert stowed.flip_times is not None and len(stowed.flip_times) == 0
+
+
+BODY = (10.0, 9.5, 1.0)
+DAMPER = dz.Damper(0.05, 0.02)
+
+
+def damper_reference(t_eval, inertia, j, c, omega0, sigma0):
+    """The damper's equations as written in Hughes' form: the total momentum H = Iω + jσ
+    obeys H' = H × ω, and the sphere j(σ' + ω × σ) = −c(σ − ω)."""
+    inertia = np.asarray(inertia, dtype=float)
+
+    def rhs(t, y):
+        w, s = y[:3], y[3:]
+        sigma_dot = -np.cross(w, s) - c / j * (s - w)
+        h_dot = np.cross(inertia @ w + j * s, w)
+        omega_dot = np.linalg.solve(inertia, h_dot - j * sigma_dot)
+        return np.concatenate([omega_dot, sigma_dot])
+
+    sol = solve_ivp(rhs, (0, t_eval[-1]), np.concatenate([omega0, sigma0]), t_eval=t_eval,
+                    rtol=1e-12, atol=1e-14, method="DOP853")
+    return sol.y.T
+
+
+@pytest.mark.parametrize("method", ["rk4", "dop853"])
+def test_damper_matches_an_independent_reference(method):
+    omega0, sigma0 = np.array([0.1, 0.05, 2.0]), np.array([0.0, 0.2, 1.5])
+    tol = dict(dt=None, rtol=1e-12, atol=1e-14) if method == "dop853" else dict(dt=2e-3)
+    traj = dz.simulate(dz.Body(BODY), omega0, sigma0=sigma0, t_end=200.0, frames=201,
+                       method=method, damper=DAMPER, **tol)
+    ref = damper_reference(traj.t, np.diag(BODY), 0.05, 0.02, omega0, sigma0)
+    np.testing.assert_allclose(traj.omega, ref[:, :3], rtol=0, atol=1e-8)
+    np.testing.assert_allclose(traj.sigma, ref[:, 3:], rtol=0, atol=1e-8)
+
+
+def test_damper_goes_flat_about_the_major_axis():
+    traj = dz.simulate(BODY, (0.01, 0.0, 2.0), t_end=4000.0, frames=4001, dt=2e-3,
+                       damper=DAMPER)
+    l0 = np.linalg.norm(traj.momentum_world[0])
+    assert np.abs(traj.momentum_world - traj.momentum_world[0]).max() < 1e-9 * l0
+    assert np.diff(traj.energy).max() <= 1e-13 * traj.energy[0]  # never rises
+    assert traj.energy[-1] < 0.2 * traj.energy[0]
+    shares = dz.axis_shares(traj)
+    assert abs(shares[-1, 0]) > 0.9999  # x: the major axis
+    # the sphere ends co-rotating: nothing left to dissipate
+    slip = np.linalg.norm(traj.sigma - traj.omega, axis=1)
+    assert slip[-1] < 1e-3 * slip.max()
+    # the end state's energy is the major-axis spin's at the same |H| (moment Ix + j)
+    assert traj.energy[-1] == pytest.approx(l0**2 / (2 * (BODY[0] + DAMPER.inertia)), rel=1e-6)
+
+
+def test_damped_major_axis_spin_stays():
+    traj = dz.simulate(BODY, (0.2, 0.001, 0.001), sigma0=(0.2, 0.0, 0.0), t_end=2000.0,
+                       frames=201, method="dopri5", dt=None, rtol=1e-12, atol=1e-14,
+                       damper=DAMPER)
+    assert np.abs(dz.axis_shares(traj)[:, 0]).min() > 0.9999
+    # and its nutation dies out
+    assert np.linalg.norm(traj.omega[-1, 1:]) < 0.02 * np.linalg.norm(traj.omega[0, 1:])
+
+
+def test_time_to_flat_spin_against_the_energy_sink_estimate():
+    # a symmetric top (Explorer 1: a spin about the long, minor axis); the estimate holds for
+    # a damper small against the body (j = 0.05 against moments 1 and 10)
+    body, omega0 = (1.0, 10.0, 10.0), (2.0, 0.01, 0.0)
+    traj = dz.simulate(body, omega0, t_end=3000.0, frames=3001, dt=5e-3, damper=DAMPER)
+    measured = dz.flat_spin_time(traj)
+    estimate = dz.flat_spin_estimate(body, DAMPER, omega0)
+    assert measured == pytest.approx(estimate, rel=0.15)
+    assert dz.flat_spin_estimate(body, dz.Damper(0.05, 0.0), omega0) == np.inf
+
+
+@pytest.mark.parametrize("method", ["exact", "splitting", "splitting4"])
+def test_constant_body_methods_refuse_the_models_by_name(method):
+    d = dz.Deployment([0.0, 1.0], [STOWED, DEPLOYED])
+    with pytest.raises(ValueError, match=f"method '{method}' cannot run model 'deployment'"):
+        dz.simulate(d, (0.0, 0.0, 1.0), method=method)
+    with pytest.raises(ValueError, match=f"method '{method}' cannot run model 'damper'"):
+        dz.simulate(BODY, (0.0, 0.0, 1.0), method=method, damper=DAMPER)
+
+
+@pytest.mark.parametrize("times, inertia, match", [
+    ([1.0, 1.0], [STOWED, DEPLOYED], "`times` must be strictly increasing"),
+    ([0.0, 1.0], [STOWED], "one body per knot"),
+    ([0.0], [np.array([[1.0, 2.0, 0], [2.0, 1.0, 0], [0, 0, 1.0]])], "positive definite"),
+    ([0.0], [np.array([[1.0, 0.5, 0], [0.0, 1.0, 0], [0, 0, 1.0]])], "symmetric"),
+    ([0.0], [(1.0, 2.0)], r"inertia\[0\]"),
+    ([np.nan], [STOWED], "`times` must be finite"),
+])
+def test_bad_deployments_are_refused(times, inertia, match):
+    with pytest.raises(ValueError, match=match):
+        dz.Deployment(times, inertia)
+
+
+def test_bad_dampers_are_refused():
+    with pytest.raises(ValueError, match="`inertia` must be positive"):
+        dz.Damper(0.0, 1.0)
+    with pytest.raises(ValueError, match="`damping` must be non-negative"):
+        dz.Damper(1.0, -1.0)
+    with pytest.raises(TypeError, match="`damper` must be a dz.Damper"):
+        dz.simulate(BODY, (0, 0, 1), damper=0.5)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="`sigma0`"):
+        dz.simulate(BODY, (0, 0, 1), sigma0=(0, 0, 1))
+
+
+def test_free_runs_report_momentum_world_and_energy_too():
+    traj = dz.simulate(STOWED, (0.1, 0.2, 1.0), t_end=10.0, frames=11)
+    assert traj.momentum_world.shape == (11, 3) and traj.energy.shape == (11,)
+    assert np.ptp(traj.energy) < 1e-9 * traj.energy[0]
+
+
+def test_which_deployments_tumble():
+    # stowed (1, 2, 3) about z, deployed to (1, 3, r): z is intermediate for r < 3 and tumbles,
+    # major for r > 3 and stays; each row of the batch is its single run
+    ratios = (2.0, 2.5, 3.5, 4.0)
+    deployments = [dz.Deployment([20.0, 30.0], [STOWED, (1.0, 3.0, r)]) for r in ratios]
+    runs = dz.simulate_deployments(deployments, (0.01, 0.01, 1.0), t_end=250.0, frames=251,
+                                   dt=1e-3)
+    tumbled = [bool(dz.axis_shares(t)[:, 2].min() < 0) for t in runs]
+    assert tumbled == [r < 3 for r in ratios]
+    single = dz.simulate(deployments[1], (0.01, 0.01, 1.0), t_end=250.0, frames=251, dt=1e-3)
+    np.testing.assert_array_equal(runs[1].omega, single.omega)
+    np.testing.assert_array_equal(runs[1].q, single.q)
+    with pytest.raises(TypeError, match="`deployments`"):
+        dz.simulate_deployments([STOWED], (0.0, 0.0, 1.0))
+
+
+def test_the_story_scenes_tell_their_stories():
+    deployment, explorer = dz.SCENES["deployment"], dz.SCENES["explorer-1"]
+    for scene in (deployment, explorer):
+        assert dz.Scene.from_toml(scene.to_toml(), scene.name) == scene
+    traj = deployment.run()
+    share_z = dz.axis_shares(traj)[:, 2]
+    assert deployment.deployment is not None
+    start, end = deployment.deployment.times[[0, -1]]
+    assert share_z[traj.t <= start].min() > 0.999 and share_z[traj.t >= end].min() < -0.9
+    traj = explorer.run()
+    assert explorer.damper is not None
+    measured = dz.flat_spin_time(traj)
+    estimate = dz.flat_spin_estimate(explorer.inertia, explorer.damper, explorer.omega0)
+    assert measured == pytest.approx(estimate, rel=0.15)
+    with pytest.raises(dz.SceneError, match="ask.flips"):
+        explorer.replace(flips=True)
