@@ -89,7 +89,7 @@ impl RunStatus {
             Error::Diverged { .. } => Some(RunStatus::Diverged),
             Error::TooLarge { what, .. } if what.contains("flip") => Some(RunStatus::TooManyFlips),
             Error::TooLarge { .. } => Some(RunStatus::TooManySteps),
-            Error::InvalidArgument { .. } | Error::Interrupted => None,
+            Error::InvalidArgument { .. } | Error::Unsupported { .. } | Error::Interrupted => None,
         }
     }
 }
