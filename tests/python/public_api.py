@@ -927,7 +927,7 @@ def check_estimate(kwargs: dict[str, Any], t: Any, caught: list[warnings.Warning
 
 
 def _model_entry(kind: str) -> Entry:
-    hostile = {k: v for k, v in run_hostile(dz.METHODS, flips=False).items()
+    hostile = {k: v for k, v in run_hostile(tuple(dz.METHODS), flips=False).items()
                if k in ("omega0", "q0", "t_end", "frames", "method", "max_steps")}
     if kind == "damper":
         hostile |= {"damper": st.one_of(st.just(0.5), st.just("damper"), st.just((0.1, 0.2))),
