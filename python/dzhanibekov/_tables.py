@@ -144,6 +144,8 @@ def sweep_dataset(sweep: Any) -> Any:
         "tilt": (dims, sweep.tilt, {"long_name": "largest tilt of the spin axis",
                                     "units": "rad"}),
         "dt": (dims, sweep.dt), "n_steps": (dims, sweep.n_steps), "nfev": (dims, sweep.nfev),
+        "status": (dims, sweep.status.astype(str),
+                   {"long_name": "how the run ended (ok, diverged, too many steps, ...)"}),
     }
     for name, values in zip(DRIFTS, sweep.drift):
         data[f"drift_{name}"] = (dims, values)

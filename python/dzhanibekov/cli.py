@@ -183,8 +183,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
     run.add_argument("--out", required=True, type=Path, metavar="DIR",
                      help="folder to write into (created; files of the same name replaced)")
-    run.add_argument("--method", choices=METHODS, default=None,
-                     help="override the scene's method")
+    run.add_argument("--method", default=None,
+                     help="override the scene's method: one of " + ", ".join(METHODS))
     run.add_argument("--t-end", type=float, default=None, dest="t_end", metavar="T",
                      help="override the scene's end time (phases after it are dropped)")
     run.add_argument("--frames", type=int, default=None, metavar="N",

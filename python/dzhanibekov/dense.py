@@ -22,15 +22,17 @@ MAX_POINTS = 200_000
 """The most points a drawn path or animation is given."""
 
 
-def turn_grid(t: np.ndarray, omega: np.ndarray, max_turn: float) -> np.ndarray:
+def turn_grid(t: np.ndarray, omega: np.ndarray, max_turn: float,
+              most: int = MAX_POINTS) -> np.ndarray:
     """Evenly spaced times over ``[t[0], t[-1]]`` with the body turning at most `max_turn`
     radians from one to the next (at its largest rate): each interval between the frames `t`
-    (evenly spaced) cut into the same number of parts, so the frames are among the times."""
+    (evenly spaced) cut into the same number of parts, so the frames are among the times.
+    At most `most` times (then the body turns further between them), never fewer than `t`."""
     rate = float(np.sqrt((omega * omega).sum(axis=1)).max()) if len(omega) else 0.0
     intervals = len(t) - 1
     step = float(t[-1] - t[0]) / intervals
     parts = max(1, math.ceil(rate * step / max_turn))
-    parts = max(1, min(parts, (MAX_POINTS - 1) // intervals))
+    parts = max(1, min(parts, (most - 1) // intervals))
     return np.linspace(t[0], t[-1], parts * intervals + 1)
 
 

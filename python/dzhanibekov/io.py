@@ -29,7 +29,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from . import _tables
+from . import _core, _tables
 from .body import Body, InertiaWarning
 from .results import Batch, BatchDrift, Drift, Sweep, Trajectory
 
@@ -179,6 +179,7 @@ def _sweep(ds: Any) -> Sweep:
         dt=_array(ds, "dt"),
         n_steps=_array(ds, "n_steps", np.int64),
         nfev=_array(ds, "nfev", np.int64),
+        status=_array(ds, "status", np.asarray(_core.RUN_STATUSES).dtype),
     )
 
 

@@ -24,7 +24,7 @@ from scipy.spatial.transform import Rotation
 import dzhanibekov as dz
 from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.accuracy import ADAPTIVE_METHODS, MAX_PREDICTED_DRIFT
-from dzhanibekov.scenes.scene import CONVENTIONS, FIGURES
+from dzhanibekov.scenes.scene import CONVENTIONS, FIGURES, MAX_DRAWN_SIZE
 from hostile import (
     JUNK,
     LARGEST,
@@ -575,7 +575,7 @@ NAME_RE = r"[A-Za-z0-9][A-Za-z0-9_.-]{0,11}"
 @st.composite
 def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, small: bool = True) -> dict[str, Any]:
     """The fields of a scene the package accepts (a small run, to keep tests fast)."""
-    inertia = draw(inertias())
+    inertia = draw(inertias().filter(_drawable_moments))
     omega0 = scaled(draw(directions(3)), draw(st.sampled_from([0, 0, 0, -1000, -60, 60, 300])))
     # the fastest frequency, so that a scene stays a few turns long (scenes run with the
     # default max_steps: an adaptive run of a stiff body would take minutes)
@@ -617,6 +617,15 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     if fields["draw"].box and fields["box"] is None:
         fields["box"] = (1.0, 2.0, 3.0)
     return fields
+
+
+def _drawable_moments(inertia: np.ndarray) -> bool:
+    """Moments whose inertia ellipsoid (either convention) a scene can draw: its semi-axes
+    within the documented bound of a drawing (`scenes.scene.MAX_DRAWN_SIZE`)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return all(float(np.max(dz.ellipsoid_semi_axes(inertia, c))) <= MAX_DRAWN_SIZE
+                   for c in CONVENTIONS)
 
 
 def quiet_scene(fields: dict[str, Any]) -> dz.Scene:

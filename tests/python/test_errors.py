@@ -33,14 +33,15 @@ def test_a_diverging_batch_row_raises_diverged_error_with_its_row():
     assert str(caught.value).startswith("row 4: the run diverged")
 
 
-def test_a_diverging_sweep_row_carries_its_row_across_blocks():
+def test_a_diverging_sweep_row_is_named_by_its_row_across_blocks():
+    # a sweep keeps going past a run that diverged (issue 11): the row's status says so
     omega = np.tile([0.01, 0.01, 1.0], (10, 1))
     omega[7] = [0.0, 1e3, 1.0]  # dt·Ω = 500
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", dz.StepSizeWarning)
-        with pytest.raises(dz.DivergedError) as caught:
-            dz.sweep(PAPER, omega, t_end=100.0, dt=0.5, block=3, progress=False)
-    assert caught.value.row == 7
+        s = dz.sweep(PAPER, omega, t_end=100.0, dt=0.5, block=3, progress=False)
+    assert [i for i, st in enumerate(s.status) if st != "ok"] == [7]
+    assert s.status[7] == "diverged" and np.isnan(s.period[7]) and s.flips[7] == -1
 
 
 def test_a_single_run_error_has_no_row():

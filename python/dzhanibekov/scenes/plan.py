@@ -234,15 +234,21 @@ class SceneResult:
         return momentum
 
 
+MAX_DENSE_FRAMES = 600
+"""The most frames an animation is drawn with (each is rendered and kept until the GIF
+is written): enough for the paper's example at 10° a frame."""
+
+
 def densified(result: SceneResult, max_turn: float = ANIMATION_TURN) -> SceneResult:
     """The result at evenly spaced times with the body turning at most `max_turn` radians
     from one to the next (the scene's frames among them): attitudes from the run's interpolant
     (:mod:`dzhanibekov.dense`), every point set rotated at every time in one call to the
-    core's `rotate`. For animations, whose frames must not jump."""
+    core's `rotate`. For animations, whose frames must not jump; at most
+    :data:`MAX_DENSE_FRAMES` of them (a long run's body then turns further per frame)."""
     traj = result.trajectory
     if traj is None:
         raise ValueError(f"scene {result.scene.name!r} kept no frames to interpolate")
-    times = turn_grid(traj.t, traj.omega, max_turn)
+    times = turn_grid(traj.t, traj.omega, max_turn, most=MAX_DENSE_FRAMES)
     if len(times) == len(traj.t):
         return result
     q, omega = attitudes_at(traj.t, traj.omega, traj.q, times)
