@@ -21,7 +21,9 @@ source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 exclude_patterns = ["_build", "make_figures.py"]
 myst_enable_extensions = ["dollarmath"]
 myst_heading_anchors = 3
-suppress_warnings = ["myst.xref_missing"]  # README-style in-page links resolve on GitHub
+# myst.xref_missing: README-style in-page links resolve on GitHub; ref.python: "shape" in a
+# docstring names both Body.shape and Sweep.shape
+suppress_warnings = ["myst.xref_missing", "ref.python"]
 
 autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
 autodoc_typehints = "description"

@@ -26,7 +26,8 @@ def assert_picture(path):
 
 def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     out = tmp_path / "figures"
-    assert main(["paper", "--out", str(out), "--no-progress"]) == 0
+    # small GIFs (their frame counts are what is checked here; sizes in test_bodies)
+    assert main(["paper", "--out", str(out), "--no-progress", "--gif-size", "128"]) == 0
     expected = {"fig3.png", "stable.png", "example.gif"}
     expected.add("wing-nut.gif")  # the paper's Fig. 1
     for name in list(dz.PAPER_SCENES) + ["wing-nut", "stable-largest", "stable-smallest"]:

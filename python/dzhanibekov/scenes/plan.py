@@ -234,7 +234,7 @@ class SceneResult:
         return momentum
 
 
-MAX_DENSE_FRAMES = 600
+MAX_DENSE_FRAMES = 1000
 """The most frames an animation is drawn with (each is rendered and kept until the GIF
 is written): enough for the paper's example at 10° a frame."""
 
