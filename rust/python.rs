@@ -14,16 +14,17 @@ use numpy::{
 };
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyTuple};
+use pyo3::types::PyTuple;
 
 use crate::body::RigidBody;
 use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
 use crate::dynamics::{DampedBody, Deployment, Model};
 use crate::ensemble::batch::{
-    plan_rows, simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
+    simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
 };
 use crate::ensemble::lanes::Isa;
+use crate::ensemble::plan::plan_batch as core_plan_batch;
 use crate::ensemble::sweep::{sweep as core_sweep, RunStatus, RunSummary};
 use crate::error::Error;
 use crate::exact;
@@ -35,7 +36,7 @@ use crate::ode::Stats;
 use crate::run::registry::{
     MethodInfo, DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_METHOD, DEFAULT_RTOL, METHODS,
 };
-use crate::run::step_size::plan;
+use crate::run::step_size::{plan, StepPlan};
 use crate::run::watchdog;
 use crate::run::{
     method_and_grid, model_step, simulate as core_simulate, simulate_model, simulate_models,
@@ -369,9 +370,8 @@ fn simulate<'py>(
         false => (None, None),
     };
     let d = out.drift;
-    let t: Vec<f64> = (0..grid.frames()).map(|i| grid.time(i)).collect();
     Ok(PyRunResult {
-        t: PyArray1::from_vec(py, t).unbind(),
+        t: frame_times(py, &grid),
         omega: omega.map(|a| a.into_pyarray(py).unbind()),
         q: q.map(|a| a.into_pyarray(py).unbind()),
         flip_times: PyArray1::from_vec(py, out.flip_times).unbind(),
@@ -381,6 +381,12 @@ fn simulate<'py>(
         n_rejected: out.stats.n_rejected,
         dt: out.dt,
     })
+}
+
+/// The frame times of `grid`, as an array.
+fn frame_times(py: Python<'_>, grid: &FrameGrid) -> Py<PyArray1<f64>> {
+    let t: Vec<f64> = (0..grid.frames()).map(|i| grid.time(i)).collect();
+    PyArray1::from_vec(py, t).unbind()
 }
 
 /// One run's output: the frame times, frames (if kept) and flip times as arrays, the invariants' drift
@@ -400,11 +406,35 @@ struct PyRunResult {
 }
 
 /// The step a run will take and RK4's predicted drift at it (see `step_size::plan`).
+#[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
+#[derive(Clone)]
+struct PyStepPlan {
+    /// The step asked for or chosen (an adaptive method's first step).
+    dt: f64,
+    /// The step a fixed-step method takes (the frame interval split evenly).
+    step: f64,
+    /// The rate bound `Ω`.
+    rate_bound: f64,
+    /// RK4's predicted relative drift of `|q|` over the run; 0 for methods it does not threaten.
+    predicted_drift: f64,
+}
+
+impl From<StepPlan> for PyStepPlan {
+    fn from(p: StepPlan) -> Self {
+        Self {
+            dt: p.dt,
+            step: p.step,
+            rate_bound: p.rate_bound,
+            predicted_drift: p.predicted_drift,
+        }
+    }
+}
+
+/// The step a run will take and RK4's predicted drift at it (see `step_size::plan`).
 #[pyfunction]
 #[pyo3(signature = (body, omega0, t_end, frames, dt, method, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
-fn step_plan<'py>(
-    py: Python<'py>,
+fn step_plan(
     body: &PyRigidBody,
     omega0: [f64; 3],
     t_end: f64,
@@ -413,15 +443,15 @@ fn step_plan<'py>(
     method: &str,
     rtol: f64,
     atol: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyStepPlan> {
     let method = Method::named(method, rtol, atol, None)?;
-    let p = plan(&body.inner, omega0, t_end, frames, method, dt, rtol)?;
-    let result = PyDict::new(py);
-    result.set_item("dt", p.dt)?;
-    result.set_item("step", p.step)?;
-    result.set_item("rate_bound", p.rate_bound)?;
-    result.set_item("predicted_drift", p.predicted_drift)?;
-    Ok(result)
+    Ok(plan(&body.inner, omega0, t_end, frames, method, dt, rtol)?.into())
+}
+
+/// `rtol` if the core accepts it as a relative tolerance, else its `ValueError`.
+#[pyfunction]
+fn check_rtol(rtol: f64) -> PyResult<f64> {
+    Ok(crate::ode::controller::check_rtol(rtol)?)
 }
 
 /// The method and frame grid of a model run: `dt = None` picks [`model_step`].
@@ -457,40 +487,62 @@ fn model_method_and_grid<const N: usize, S: Model<N>>(
     Ok((method, grid))
 }
 
-/// A model run's frames as a dict of arrays.
-fn model_result<'py>(
-    py: Python<'py>,
+/// A model run's frames (time-major), what the model keeps or changes at each frame, its
+/// cost and its step.
+#[pyclass(name = "ModelResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PyModelResult {
+    t: Py<PyArray1<f64>>,
+    omega: Py<PyArray2<f64>>,
+    q: Py<PyArray2<f64>>,
+    /// Total angular momentum in space `(frames, 3)`.
+    momentum_world: Py<PyArray2<f64>>,
+    /// Total angular momentum in body axes `(frames, 3)`.
+    momentum_body: Py<PyArray2<f64>>,
+    /// Total kinetic energy `(frames,)`.
+    energy: Py<PyArray1<f64>>,
+    /// A damper's absolute rates in body axes `(frames, 3)`; None for a deployment.
+    sigma: Option<Py<PyArray2<f64>>>,
+    nfev: u64,
+    n_steps: u64,
+    n_rejected: u64,
+    dt: f64,
+}
+
+/// A model run's output as a [`PyModelResult`]; `sigma`: whether its extra output is a
+/// damper's rates.
+fn model_result(
+    py: Python<'_>,
     out: ModelOutput,
-    frames: usize,
-    extra: Option<&str>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let result = PyDict::new(py);
-    let omega = Array2::from_shape_vec((frames, 3), out.omega).map_err(internal)?;
-    let q = Array2::from_shape_vec((frames, 4), out.q).map_err(internal)?;
-    let l = Array2::from_shape_vec((frames, 3), out.momentum_world).map_err(internal)?;
-    let lb = Array2::from_shape_vec((frames, 3), out.momentum_body).map_err(internal)?;
-    result.set_item("momentum_body", lb.into_pyarray(py))?;
-    result.set_item("omega", omega.into_pyarray(py))?;
-    result.set_item("q", q.into_pyarray(py))?;
-    result.set_item("momentum_world", l.into_pyarray(py))?;
-    result.set_item(
-        "energy",
-        numpy::ndarray::Array1::from_vec(out.energy).into_pyarray(py),
-    )?;
-    if let Some(name) = extra {
-        let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
-        result.set_item(name, x.into_pyarray(py))?;
-    }
-    result.set_item("nfev", out.stats.nfev)?;
-    result.set_item("n_steps", out.stats.n_steps)?;
-    result.set_item("n_rejected", out.stats.n_rejected)?;
-    result.set_item("dt", out.dt)?;
-    Ok(result)
+    grid: &FrameGrid,
+    sigma: bool,
+) -> PyResult<PyModelResult> {
+    let frames = grid.frames();
+    let rows = |v: Vec<f64>, width: usize| {
+        Array2::from_shape_vec((frames, width), v)
+            .map(|a| a.into_pyarray(py).unbind())
+            .map_err(internal)
+    };
+    Ok(PyModelResult {
+        t: frame_times(py, grid),
+        omega: rows(out.omega, 3)?,
+        q: rows(out.q, 4)?,
+        momentum_world: rows(out.momentum_world, 3)?,
+        momentum_body: rows(out.momentum_body, 3)?,
+        energy: PyArray1::from_vec(py, out.energy).unbind(),
+        sigma: match sigma {
+            true => Some(rows(out.extra, 3)?),
+            false => None,
+        },
+        nfev: out.stats.nfev,
+        n_steps: out.stats.n_steps,
+        n_rejected: out.stats.n_rejected,
+        dt: out.dt,
+    })
 }
 
 /// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployment<'py>(
     py: Python<'py>,
@@ -505,7 +557,7 @@ fn simulate_deployment<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyModelResult> {
     let times = times
         .as_slice()
         .map_err(|_| PyValueError::new_err("`times` must be C-contiguous"))?
@@ -528,13 +580,13 @@ fn simulate_deployment<'py>(
     let out = detach(py, long, |cancel| {
         simulate_model(&d, x0, &grid, method, cancel)
     })?;
-    model_result(py, out, frames, None)
+    model_result(py, out, &grid, false)
 }
 
 /// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
 /// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployments<'py>(
     py: Python<'py>,
@@ -549,7 +601,7 @@ fn simulate_deployments<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
-) -> PyResult<Vec<Bound<'py, PyDict>>> {
+) -> PyResult<Vec<PyModelResult>> {
     let rows = times.len();
     if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
         return Err(PyValueError::new_err(
@@ -589,13 +641,13 @@ fn simulate_deployments<'py>(
         simulate_models(&systems, &x0s, &grid, method, cancel)
     })?;
     out.into_iter()
-        .map(|o| model_result(py, o, frames, None))
+        .map(|o| model_result(py, o, &grid, false))
         .collect()
 }
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
 #[pyfunction]
-#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_damper<'py>(
     py: Python<'py>,
@@ -612,7 +664,7 @@ fn simulate_damper<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyModelResult> {
     let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
     if !sigma0.iter().all(|s| s.is_finite()) {
         return Err(Error::invalid("sigma0", "must be three finite rates", sigma0).into());
@@ -624,7 +676,7 @@ fn simulate_damper<'py>(
     let out = detach(py, long, |cancel| {
         simulate_model(&sys, x0, &grid, method, cancel)
     })?;
-    model_result(py, out, frames, Some("sigma"))
+    model_result(py, out, &grid, true)
 }
 
 fn internal(e: impl std::fmt::Display) -> PyErr {
@@ -688,7 +740,7 @@ fn invariants<'py>(
     body: &PyRigidBody,
     omega: PyReadonlyArray2<'py, f64>,
     q: PyReadonlyArray2<'py, f64>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyInvariants> {
     let n = omega.shape()[0];
     let omega = omega
         .as_slice()
@@ -720,13 +772,23 @@ fn invariants<'py>(
         }
         Ok((energy, l_body, l_world, q_norm))
     })?;
-    let result = PyDict::new(py);
-    result.set_item("energy", PyArray1::from_vec(py, energy))?;
     let shaped = |v: Vec<f64>| Array2::from_shape_vec((n, 3), v).map_err(internal);
-    result.set_item("momentum_body", shaped(l_body)?.into_pyarray(py))?;
-    result.set_item("momentum_world", shaped(l_world)?.into_pyarray(py))?;
-    result.set_item("q_norm", PyArray1::from_vec(py, q_norm))?;
-    Ok(result)
+    Ok(PyInvariants {
+        energy: PyArray1::from_vec(py, energy).unbind(),
+        momentum_body: shaped(l_body)?.into_pyarray(py).unbind(),
+        momentum_world: shaped(l_world)?.into_pyarray(py).unbind(),
+        q_norm: PyArray1::from_vec(py, q_norm).unbind(),
+    })
+}
+
+/// The invariants at each of N states: energy `(N,)`, angular momentum in body axes and in
+/// space `(N, 3)`, `|q|` `(N,)`.
+#[pyclass(name = "Invariants", module = "dzhanibekov._core", frozen, get_all)]
+struct PyInvariants {
+    energy: Py<PyArray1<f64>>,
+    momentum_body: Py<PyArray2<f64>>,
+    momentum_world: Py<PyArray2<f64>>,
+    q_norm: Py<PyArray1<f64>>,
 }
 
 /// A mesh as NumPy arrays: vertices `(V, 3)` and cells `(C, 4)`.
@@ -842,33 +904,68 @@ fn column<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyAr
     PyArray1::from_vec(py, v)
 }
 
-fn drift_columns<'py>(py: Python<'py>, drift: &[Drift]) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item(
-        "energy",
-        column(py, drift.iter().map(|d| d.energy).collect()),
-    )?;
-    d.set_item(
-        "momentum",
-        column(py, drift.iter().map(|d| d.momentum).collect()),
-    )?;
-    let world = drift.iter().map(|d| d.momentum_world).collect();
-    d.set_item("momentum_world", column(py, world))?;
-    d.set_item(
-        "q_norm",
-        column(py, drift.iter().map(|d| d.q_norm).collect()),
-    )?;
-    Ok(d)
+/// Per-row drifts as the columns `(energy, momentum, momentum_world, q_norm)`.
+type DriftColumns = (
+    Py<PyArray1<f64>>,
+    Py<PyArray1<f64>>,
+    Py<PyArray1<f64>>,
+    Py<PyArray1<f64>>,
+);
+
+fn drift_columns(py: Python<'_>, drift: &[Drift]) -> DriftColumns {
+    let of = |f: fn(&Drift) -> f64| column(py, drift.iter().map(f).collect()).unbind();
+    (
+        of(|d| d.energy),
+        of(|d| d.momentum),
+        of(|d| d.momentum_world),
+        of(|d| d.q_norm),
+    )
 }
 
-fn stats_columns(result: &Bound<'_, PyDict>, stats: &[Stats], dt: Vec<f64>) -> PyResult<()> {
-    let py = result.py();
-    let count = |f: fn(&Stats) -> u64| -> Vec<i64> { stats.iter().map(|s| f(s) as i64).collect() };
-    result.set_item("nfev", column(py, count(|s| s.nfev)))?;
-    result.set_item("n_steps", column(py, count(|s| s.n_steps)))?;
-    result.set_item("n_rejected", column(py, count(|s| s.n_rejected)))?;
-    result.set_item("dt", column(py, dt))?;
-    Ok(())
+/// Per-row counts `(nfev, n_steps, n_rejected)` as int64 columns.
+type StatsColumns = (Py<PyArray1<i64>>, Py<PyArray1<i64>>, Py<PyArray1<i64>>);
+
+fn stats_columns(py: Python<'_>, stats: &[Stats]) -> StatsColumns {
+    let of =
+        |f: fn(&Stats) -> u64| column(py, stats.iter().map(|s| f(s) as i64).collect()).unbind();
+    (of(|s| s.nfev), of(|s| s.n_steps), of(|s| s.n_rejected))
+}
+
+/// A batch's output: the frame times, frames `(M, frames, 3|4)` if kept, every row's flip
+/// times (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`), and per-row
+/// columns of drift, cost and step.
+#[pyclass(name = "BatchResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PyBatchResult {
+    t: Py<PyArray1<f64>>,
+    omega: Option<Py<PyArray3<f64>>>,
+    q: Option<Py<PyArray3<f64>>>,
+    flip_offsets: Py<PyArray1<i64>>,
+    flip_times: Py<PyArray1<f64>>,
+    /// `(energy, momentum, momentum_world, q_norm)`, one value per row each.
+    drift: DriftColumns,
+    nfev: Py<PyArray1<i64>>,
+    n_steps: Py<PyArray1<i64>>,
+    n_rejected: Py<PyArray1<i64>>,
+    dt: Py<PyArray1<f64>>,
+}
+
+/// A sweep's per-run columns (see `crate::ensemble::sweep::RunSummary`).
+#[pyclass(name = "SweepResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PySweepResult {
+    /// Flips counted; −1 for a run that did not finish (never mistaken for a stable one).
+    flips: Py<PyArray1<i64>>,
+    /// Indices into `RUN_STATUSES`.
+    status: Py<PyArray1<u8>>,
+    first_flip: Py<PyArray1<f64>>,
+    period: Py<PyArray1<f64>>,
+    exact_period: Py<PyArray1<f64>>,
+    tilt: Py<PyArray1<f64>>,
+    /// `(energy, momentum, momentum_world, q_norm)`, one value per run each.
+    drift: DriftColumns,
+    nfev: Py<PyArray1<i64>>,
+    n_steps: Py<PyArray1<i64>>,
+    n_rejected: Py<PyArray1<i64>>,
+    dt: Py<PyArray1<f64>>,
 }
 
 /// Many runs over one frame grid: rows of `inertia` (or one), `omega0`, `q0` (or one).
@@ -891,7 +988,7 @@ fn simulate_batch<'py>(
     atol: f64,
     threads: Option<usize>,
     isa: Option<&str>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyBatchResult> {
     let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
     let options = batch_options(threads, isa)?;
     let starts = starts(&inertia, &omega0, &q0)?;
@@ -904,19 +1001,27 @@ fn simulate_batch<'py>(
         core_simulate_batch(&starts, &grid, method, keep, &options, cancel)
     })?;
     let m = starts.len();
-    let result = PyDict::new(py);
-    if keep_frames {
-        let omega = Array3::from_shape_vec((m, frames, 3), out.omega).map_err(internal)?;
-        let q = Array3::from_shape_vec((m, frames, 4), out.q).map_err(internal)?;
-        result.set_item("omega", omega.into_pyarray(py))?;
-        result.set_item("q", q.into_pyarray(py))?;
-    }
+    let (omega, q) = match keep_frames {
+        true => (
+            Some(Array3::from_shape_vec((m, frames, 3), out.omega).map_err(internal)?),
+            Some(Array3::from_shape_vec((m, frames, 4), out.q).map_err(internal)?),
+        ),
+        false => (None, None),
+    };
     let offsets = out.flip_offsets.iter().map(|&o| o as i64).collect();
-    result.set_item("flip_offsets", column(py, offsets))?;
-    result.set_item("flip_times", column(py, out.flip_times))?;
-    result.set_item("drift", drift_columns(py, &out.drift)?)?;
-    stats_columns(&result, &out.stats, out.dt)?;
-    Ok(result)
+    let (nfev, n_steps, n_rejected) = stats_columns(py, &out.stats);
+    Ok(PyBatchResult {
+        t: frame_times(py, &grid),
+        omega: omega.map(|a| a.into_pyarray(py).unbind()),
+        q: q.map(|a| a.into_pyarray(py).unbind()),
+        flip_offsets: column(py, offsets).unbind(),
+        flip_times: column(py, out.flip_times).unbind(),
+        drift: drift_columns(py, &out.drift),
+        nfev,
+        n_steps,
+        n_rejected,
+        dt: column(py, out.dt).unbind(),
+    })
 }
 
 /// Many runs summarised, no frames kept (see `crate::ensemble::sweep`).
@@ -937,7 +1042,7 @@ fn sweep<'py>(
     atol: f64,
     threads: Option<usize>,
     isa: Option<&str>,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PySweepResult> {
     let (method, grid) = method_and_grid(method, t_end, frames, dt, max_steps, rtol, atol)?;
     let options = batch_options(threads, isa)?;
     let starts = starts(&inertia, &omega0, &q0)?;
@@ -945,8 +1050,7 @@ fn sweep<'py>(
     let runs = detach(py, long, |cancel| {
         core_sweep(&starts, &grid, method, &options, cancel)
     })?;
-    let result = PyDict::new(py);
-    let of = |f: fn(&RunSummary) -> f64| -> Vec<f64> { runs.iter().map(f).collect() };
+    let of = |f: fn(&RunSummary) -> f64| column(py, runs.iter().map(f).collect()).unbind();
     // a run that did not finish counts −1 flips: never mistaken for a stable one
     let flips: Vec<i64> = runs
         .iter()
@@ -955,26 +1059,41 @@ fn sweep<'py>(
             _ => -1,
         })
         .collect();
-    result.set_item("flips", column(py, flips))?;
-    let status: Vec<u8> = runs.iter().map(|r| r.status as u8).collect();
-    result.set_item("status", column(py, status))?;
-    result.set_item("first_flip", column(py, of(|r| r.flips.first)))?;
-    result.set_item("period", column(py, of(|r| r.flips.mean_period())))?;
-    result.set_item("exact_period", column(py, of(|r| r.exact_period)))?;
-    result.set_item("tilt", column(py, of(|r| r.tilt)))?;
     let drift: Vec<Drift> = runs.iter().map(|r| r.drift).collect();
-    result.set_item("drift", drift_columns(py, &drift)?)?;
     let stats: Vec<Stats> = runs.iter().map(|r| r.stats).collect();
-    stats_columns(&result, &stats, of(|r| r.dt))?;
-    Ok(result)
+    let (nfev, n_steps, n_rejected) = stats_columns(py, &stats);
+    Ok(PySweepResult {
+        flips: column(py, flips).unbind(),
+        status: column(py, runs.iter().map(|r| r.status as u8).collect()).unbind(),
+        first_flip: of(|r| r.flips.first),
+        period: of(|r| r.flips.mean_period()),
+        exact_period: of(|r| r.exact_period),
+        tilt: of(|r| r.tilt),
+        drift: drift_columns(py, &drift),
+        nfev,
+        n_steps,
+        n_rejected,
+        dt: of(|r| r.dt),
+    })
 }
 
-/// `step_plan` for each row of a batch: arrays of the planned step, the step taken, the rate
-/// bound and RK4's predicted drift.
+/// The step shared by a batch's runs and its worst run (see `ensemble::plan`).
+#[pyclass(name = "BatchPlan", module = "dzhanibekov._core", frozen, get_all)]
+struct PyBatchPlan {
+    /// The step every run is given; None for an adaptive method without `dt`.
+    dt: Option<f64>,
+    /// The run RK4 threatens most (the first of equals), None without runs or shared step.
+    worst_row: Option<usize>,
+    /// That run's plan.
+    worst: Option<PyStepPlan>,
+}
+
+/// The step of a batch's runs from rows of `inertia` (or one) and `omega0`, each row checked
+/// as its single run would be (see `ensemble::plan::plan_batch`).
 #[pyfunction]
 #[pyo3(signature = (inertia, omega0, t_end, frames, dt, method, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
 #[allow(clippy::too_many_arguments)]
-fn step_plan_batch<'py>(
+fn plan_batch<'py>(
     py: Python<'py>,
     inertia: PyReadonlyArray2<'py, f64>,
     omega0: PyReadonlyArray2<'py, f64>,
@@ -984,7 +1103,7 @@ fn step_plan_batch<'py>(
     method: &str,
     rtol: f64,
     atol: f64,
-) -> PyResult<Bound<'py, PyDict>> {
+) -> PyResult<PyBatchPlan> {
     let method = Method::named(method, rtol, atol, None)?;
     let identity = [1.0, 0.0, 0.0, 0.0];
     let starts = Start::rows(
@@ -993,20 +1112,16 @@ fn step_plan_batch<'py>(
         &identity,
     )?;
     ensure_room(
-        starts.len() as f64 * (std::mem::size_of::<crate::run::step_size::StepPlan>() + 32) as f64,
+        starts.len() as f64 * (std::mem::size_of::<StepPlan>() + 32) as f64,
         "the step plans",
         "plan fewer starts at a time",
     )?;
-    let plans = py.detach(|| plan_rows(&starts, t_end, frames, method, dt, rtol))?;
-    let result = PyDict::new(py);
-    let of = |f: fn(&crate::run::step_size::StepPlan) -> f64| -> Vec<f64> {
-        plans.iter().map(f).collect()
-    };
-    result.set_item("dt", column(py, of(|p| p.dt)))?;
-    result.set_item("step", column(py, of(|p| p.step)))?;
-    result.set_item("rate_bound", column(py, of(|p| p.rate_bound)))?;
-    result.set_item("predicted_drift", column(py, of(|p| p.predicted_drift)))?;
-    Ok(result)
+    let p = py.detach(|| core_plan_batch(&starts, t_end, frames, method, dt, rtol))?;
+    Ok(PyBatchPlan {
+        dt: p.dt,
+        worst_row: p.worst.map(|(row, _)| row),
+        worst: p.worst.map(|(_, plan)| plan.into()),
+    })
 }
 
 /// The SIMD instruction sets this CPU offers for the batch kernel, narrowest first.
@@ -1027,6 +1142,12 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
     m.add_class::<PyMethodInfo>()?;
     m.add_class::<PyRunResult>()?;
+    m.add_class::<PyStepPlan>()?;
+    m.add_class::<PyBatchPlan>()?;
+    m.add_class::<PyInvariants>()?;
+    m.add_class::<PyBatchResult>()?;
+    m.add_class::<PySweepResult>()?;
+    m.add_class::<PyModelResult>()?;
     m.add_function(wrap_pyfunction!(method_info, m)?)?;
     let methods: Vec<PyMethodInfo> = METHODS.iter().map(|info| PyMethodInfo { info }).collect();
     m.add("METHODS", PyTuple::new(m.py(), methods)?)?;
@@ -1047,7 +1168,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(step_plan, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
-    m.add_function(wrap_pyfunction!(step_plan_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(plan_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(check_rtol, m)?)?;
     m.add_function(wrap_pyfunction!(instruction_sets, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // a sweep's `status` codes index this tuple

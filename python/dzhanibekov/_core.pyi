@@ -6,17 +6,24 @@ import numpy as np
 import numpy.typing as npt
 
 __all__ = [
+    "BatchPlan",
+    "BatchResult",
     "DEFAULT_ATOL",
     "DEFAULT_MAX_STEPS",
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
+    "Invariants",
     "METHODS",
     "MethodInfo",
+    "ModelResult",
     "RUN_STATUSES",
     "RigidBody",
     "RunResult",
+    "StepPlan",
+    "SweepResult",
     "__version__",
     "_finalizing",
+    "check_rtol",
     "ellipj",
     "ellipk",
     "ellipsoid_mesh",
@@ -24,6 +31,7 @@ __all__ = [
     "instruction_sets",
     "invariants",
     "method_info",
+    "plan_batch",
     "rotate",
     "simulate",
     "simulate_batch",
@@ -31,7 +39,6 @@ __all__ = [
     "simulate_deployment",
     "simulate_deployments",
     "step_plan",
-    "step_plan_batch",
     "sweep",
 ]
 __version__: str
@@ -83,6 +90,111 @@ class RunResult:
     def n_rejected(self) -> int: ...
     @property
     def dt(self) -> float: ...
+
+@final
+class StepPlan:
+    @property
+    def dt(self) -> float: ...
+    @property
+    def step(self) -> float: ...
+    @property
+    def rate_bound(self) -> float: ...
+    @property
+    def predicted_drift(self) -> float: ...
+
+@final
+class BatchPlan:
+    @property
+    def dt(self) -> float | None: ...
+    @property
+    def worst_row(self) -> int | None: ...
+    @property
+    def worst(self) -> StepPlan | None: ...
+
+@final
+class Invariants:
+    @property
+    def energy(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def momentum_body(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def momentum_world(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def q_norm(self) -> npt.NDArray[np.float64]: ...
+
+@final
+class BatchResult:
+    @property
+    def t(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def q(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def flip_offsets(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def flip_times(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def drift(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    @property
+    def nfev(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_steps(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_rejected(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def dt(self) -> npt.NDArray[np.float64]: ...
+
+@final
+class SweepResult:
+    @property
+    def flips(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def status(self) -> npt.NDArray[np.uint8]: ...
+    @property
+    def first_flip(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def period(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def exact_period(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def tilt(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def drift(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+    @property
+    def nfev(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_steps(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_rejected(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def dt(self) -> npt.NDArray[np.float64]: ...
+
+@final
+class ModelResult:
+    @property
+    def t(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def q(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def momentum_world(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def momentum_body(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def energy(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def sigma(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def nfev(self) -> int: ...
+    @property
+    def n_steps(self) -> int: ...
+    @property
+    def n_rejected(self) -> int: ...
+    @property
+    def dt(self) -> float: ...
+
 RUN_STATUSES: tuple[str, ...]
 
 def _finalizing() -> None:
@@ -125,9 +237,9 @@ def simulate_deployment(
     dt: float | None,
     method: str,
     max_steps: int,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
-) -> dict[str, Any]: ...
+    rtol: float = ...,
+    atol: float = ...,
+) -> ModelResult: ...
 def simulate_deployments(
     times: list[list[float]],
     tensors: list[list[float]],
@@ -138,9 +250,9 @@ def simulate_deployments(
     dt: float | None,
     method: str,
     max_steps: int,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
-) -> list[dict[str, Any]]: ...
+    rtol: float = ...,
+    atol: float = ...,
+) -> list[ModelResult]: ...
 def simulate_damper(
     inertia: tuple[float, float, float, float, float, float, float, float, float],
     sphere: float,
@@ -153,9 +265,9 @@ def simulate_damper(
     dt: float | None,
     method: str,
     max_steps: int,
-    rtol: float = 1e-9,
-    atol: float = 1e-12,
-) -> dict[str, Any]: ...
+    rtol: float = ...,
+    atol: float = ...,
+) -> ModelResult: ...
 def step_plan(
     body: RigidBody,
     omega0: tuple[float, float, float],
@@ -165,7 +277,8 @@ def step_plan(
     method: str,
     rtol: float = ...,
     atol: float = ...,
-) -> dict[str, float]: ...
+) -> StepPlan: ...
+def check_rtol(rtol: float) -> float: ...
 @overload
 def rotate(
     q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: None = None
@@ -176,7 +289,7 @@ def rotate(
 ) -> None: ...
 def invariants(
     body: RigidBody, omega: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
-) -> dict[str, npt.NDArray[np.float64]]: ...
+) -> Invariants: ...
 def ellipsoid_mesh(
     semi_axes: tuple[float, float, float], n_around: int, n_along: int
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]: ...
@@ -200,7 +313,7 @@ def simulate_batch(
     atol: float = ...,
     threads: int | None = None,
     isa: str | None = None,
-) -> dict[str, Any]: ...
+) -> BatchResult: ...
 def sweep(
     inertia: npt.NDArray[np.float64],
     omega0: npt.NDArray[np.float64],
@@ -214,8 +327,8 @@ def sweep(
     atol: float = ...,
     threads: int | None = None,
     isa: str | None = None,
-) -> dict[str, Any]: ...
-def step_plan_batch(
+) -> SweepResult: ...
+def plan_batch(
     inertia: npt.NDArray[np.float64],
     omega0: npt.NDArray[np.float64],
     t_end: float,
@@ -224,5 +337,5 @@ def step_plan_batch(
     method: str,
     rtol: float = ...,
     atol: float = ...,
-) -> dict[str, npt.NDArray[np.float64]]: ...
+) -> BatchPlan: ...
 def instruction_sets() -> list[str]: ...

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import warnings
-from collections.abc import Mapping
 from typing import Any
 
 from . import _core
@@ -40,7 +39,6 @@ MAX_PREDICTED_DRIFT = 1e-6
 exceeds this (or `rtol`, if larger, for a step chosen with ``dt=None``). Silence it with
 :mod:`warnings` filters, or lower ``dt``."""
 
-_MIN_RTOL = 100 * 2.0**-52
 _WOBBLE_LIMIT = 2 * math.sqrt(2)
 
 
@@ -53,9 +51,7 @@ def _tolerance(name: str, value: Any, default: float) -> float:
     if value is None:
         return default
     x = as_float(name, value, positive=True)
-    if name == "rtol" and not _MIN_RTOL <= x < 1:
-        raise ValueError(f"`rtol` must be at least 100 ulps (2.2e-14) and below 1, got {x!r}")
-    return x
+    return _core.check_rtol(x) if name == "rtol" else x
 
 
 def plan_step(
@@ -75,7 +71,7 @@ def plan_step(
     dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
     plan = _core.step_plan(body, omega0, t_end, frames, dt_, method, rtol_, atol_)
     warn_step(plan, method, dt is not None, rtol_, stacklevel=stacklevel + 1)
-    return core_step(plan["dt"], dt_, method), rtol_, atol_
+    return core_step(plan.dt, dt_, method), rtol_, atol_
 
 
 def core_step(planned: float, dt: float | None, method: str) -> float | None:
@@ -104,17 +100,17 @@ def check_tolerances(
     return dt_, rtol_, atol_
 
 
-def warn_step(plan: Mapping[str, float], method: str, dt_given: bool, rtol: float, *,
+def warn_step(plan: _core.StepPlan, method: str, dt_given: bool, rtol: float, *,
               stacklevel: int, where: str = "") -> None:
     """Warns with `StepSizeWarning` when `plan` (of `_core.step_plan`) predicts that RK4
     dissipates the run; `where` names the run (a batch's worst row). `stacklevel` counts
     from this function."""
-    drift = plan["predicted_drift"]
+    drift = plan.predicted_drift
     # a step chosen for an accuracy answers to that accuracy
     tolerance = MAX_PREDICTED_DRIFT if dt_given else max(rtol, MAX_PREDICTED_DRIFT)
     # the core predicts RK4's dissipation for the methods it threatens, 0 for the others
     if drift > tolerance:
-        h_rate = plan["step"] * plan["rate_bound"]
+        h_rate = plan.step * plan.rate_bound
         if h_rate >= _WOBBLE_LIMIT:
             why = (
                 "at or beyond RK4's stability limit (dt·Ω = 2√2 ≈ 2.83 for a wobble at the "
@@ -126,7 +122,7 @@ def warn_step(plan: Mapping[str, float], method: str, dt_given: bool, rtol: floa
                 f"{'MAX_PREDICTED_DRIFT' if dt_given else 'rtol'} = {tolerance:g}"
             )
         warnings.warn(
-            f"{where}step {plan['step']:.4g} (dt·Ω = {h_rate:.3g}, Ω = {plan['rate_bound']:.4g} "
+            f"{where}step {plan.step:.4g} (dt·Ω = {h_rate:.3g}, Ω = {plan.rate_bound:.4g} "
             f"the bound of |ω|) is too large for {method!r}: {why}. Take a smaller dt, dt=None "
             "to pick the step for an accuracy, or method='splitting'.",
             StepSizeWarning,

@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -40,7 +41,7 @@ from tqdm.auto import tqdm
 from . import _core
 from ._args import as_array, as_float, as_int, check_size
 from ._swap import swapped_error
-from .accuracy import ADAPTIVE_METHODS, check_tolerances, warn_step
+from .accuracy import check_tolerances, warn_step
 from .body import TENSOR_HINT, Body, InertiaWarning, _is_square
 from .errors import DzhanibekovError
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, check_method
@@ -195,21 +196,12 @@ def plan_batch_step(
     (once, naming the worst run) when RK4 would dissipate a run. Returns ``(dt, rtol, atol)``
     for the core."""
     dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
-    if dt_ is None and method in ADAPTIVE_METHODS:
-        if len(inertia):  # checks the runs' inputs as a single run would
-            _core.step_plan_batch(inertia, omega, t_end, frames, dt_, method, rtol_, atol_)
-        return None, rtol_, atol_
-    if len(inertia) == 0:
-        return (1.0 if dt_ is None else dt_), rtol_, atol_
-    plans = _core.step_plan_batch(inertia, omega, t_end, frames, dt_, method, rtol_, atol_)
-    step = float(np.min(plans["dt"]))
-    if dt_ is None and not np.all(plans["dt"] == step):
-        plans = _core.step_plan_batch(inertia, omega, t_end, frames, step, method, rtol_, atol_)
-    worst = int(np.argmax(plans["predicted_drift"]))
-    plan = {key: float(values[worst]) for key, values in plans.items()}
-    where = f"{_index(worst, shape)}: " if len(inertia) > 1 else ""
-    warn_step(plan, method, dt is not None, rtol_, stacklevel=stacklevel + 1, where=where)
-    return step, rtol_, atol_
+    plan = _core.plan_batch(inertia, omega, t_end, frames, dt_, method, rtol_, atol_)
+    if plan.worst is not None and plan.worst_row is not None:
+        where = f"{_index(plan.worst_row, shape)}: " if len(inertia) > 1 else ""
+        warn_step(plan.worst, method, dt is not None, rtol_, stacklevel=stacklevel + 1,
+                  where=where)
+    return plan.dt, rtol_, atol_
 
 
 def checked_run(t_end: Any, frames: Any, method: Any, max_steps: Any) -> tuple[float, int, int]:
@@ -264,7 +256,7 @@ def simulate_batch(
     step, rtol_, atol_ = plan_batch_step(inertia, omega, t_end, frames, dt, method, rtol, atol,
                                          shape, stacklevel=stacklevel + 1)
 
-    def run(rows: slice) -> dict[str, Any]:
+    def run(rows: slice) -> _core.BatchResult:
         try:
             return _core.simulate_batch(inertia[rows], omega[rows], q[rows], t_end, frames, step,
                                         method, max_steps, True, bool(flips), rtol_, atol_,
@@ -273,21 +265,22 @@ def simulate_batch(
             raise row_error(exc, rows.start or 0, shape) from None
 
     out = _in_blocks(run, m, progress)
-    omega_out, q_out = user_rows(body, out["omega"], out["q"])
-    offsets, times = out["flip_offsets"], out["flip_times"]
+    if out.omega is None or out.q is None:
+        raise RuntimeError("internal error in the dzhanibekov core: frames were not kept")
+    omega_out, q_out = user_rows(body, out.omega, out.q)
     return Batch(
-        t=t_end * (np.arange(frames) / (frames - 1)),
+        t=out.t,
         omega=omega_out,
         q=q_out,
-        _flip_times=times if flips else None,
-        _flip_offsets=offsets if flips else None,
+        _flip_times=out.flip_times if flips else None,
+        _flip_offsets=out.flip_offsets if flips else None,
         inertia=inertia,
         method=method,
-        dt=out["dt"],
-        n_steps=out["n_steps"],
-        nfev=out["nfev"],
-        n_rejected=out["n_rejected"],
-        drift=BatchDrift(**out["drift"]),
+        dt=out.dt,
+        n_steps=out.n_steps,
+        nfev=out.nfev,
+        n_rejected=out.n_rejected,
+        drift=BatchDrift(*out.drift),
         body=body if isinstance(body, Body) else tuple(body) if is_body_list(body) else None,
     )
 
@@ -300,38 +293,57 @@ PROGRESS_DELAY = 1.0
 """Seconds before a progress bar shows (``progress=None``): quick calls show none."""
 
 
-def _in_blocks(run: Callable[[slice], dict[str, Any]], m: int,
-               progress: bool | None) -> dict[str, Any]:
-    """`run` over all `m` rows in one call, or, when a progress bar may show, in blocks of
-    `PROGRESS_BLOCK` rows written into the whole batch's arrays as they come."""
+def _in_blocks(run: Callable[[slice], _core.BatchResult], m: int,
+               progress: bool | None) -> _BlockResult | _core.BatchResult:
+    """`run` over all `m` rows in one call, or, when a progress bar shows (tqdm decides:
+    with ``progress=None`` only on a terminal), in blocks of `PROGRESS_BLOCK` rows written
+    into the whole batch's arrays as they come."""
     if progress is False or m <= PROGRESS_BLOCK:
         return run(slice(0, m))
     bar = tqdm(total=m, desc="batch", unit="run", leave=False,
                disable=None if progress is None else False,
                delay=PROGRESS_DELAY if progress is None else 0.0)
-    whole: dict[str, Any] = {}
-    offsets, times = [np.zeros(1, dtype=np.int64)], []
+    if bar.disable:  # no bar will show: one call, no copies
+        return run(slice(0, m))
+    parts = []
     with bar:
         for start in range(0, m, PROGRESS_BLOCK):
             rows = slice(start, min(start + PROGRESS_BLOCK, m))
-            part = run(rows)
-            for key, value in part.items():
-                if key == "drift":
-                    for name, column in value.items():
-                        whole.setdefault("drift", {}).setdefault(
-                            name, np.empty(m, dtype=column.dtype))[rows] = column
-                elif key == "flip_offsets":
-                    offsets.append(value[1:] + offsets[-1][-1])
-                elif key == "flip_times":
-                    times.append(value)
-                else:
-                    if key not in whole:
-                        whole[key] = np.empty((m,) + value.shape[1:], dtype=value.dtype)
-                    whole[key][rows] = value
+            parts.append(run(rows))
             bar.update(rows.stop - rows.start)
-    whole["flip_offsets"] = np.concatenate(offsets)
-    whole["flip_times"] = np.concatenate(times)
-    return whole
+    return _BlockResult.join(parts)
+
+
+@dataclass(frozen=True)
+class _BlockResult:
+    """The core's results of a batch's blocks joined into one, as one call returns it."""
+
+    t: np.ndarray
+    omega: np.ndarray | None
+    q: np.ndarray | None
+    flip_offsets: np.ndarray
+    flip_times: np.ndarray
+    drift: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+    nfev: np.ndarray
+    n_steps: np.ndarray
+    n_rejected: np.ndarray
+    dt: np.ndarray
+
+    @staticmethod
+    def join(parts: list[_core.BatchResult]) -> _BlockResult:
+        def joined(key: str) -> Any:
+            values = [getattr(p, key) for p in parts]
+            return None if values[0] is None else np.concatenate(values)
+
+        starts = np.cumsum([0] + [p.flip_offsets[-1] for p in parts[:-1]])
+        offsets = np.concatenate([parts[0].flip_offsets[:1]] + [
+            p.flip_offsets[1:] + s for p, s in zip(parts, starts)])
+        drift = tuple(np.concatenate(c) for c in zip(*(p.drift for p in parts)))
+        return _BlockResult(
+            t=parts[0].t, omega=joined("omega"), q=joined("q"), flip_offsets=offsets,
+            flip_times=joined("flip_times"), drift=drift,  # type: ignore[arg-type]
+            nfev=joined("nfev"), n_steps=joined("n_steps"), n_rejected=joined("n_rejected"),
+            dt=joined("dt"))
 
 
 def is_batch(body: Any, omega0: Any, q0: Any) -> bool:
@@ -568,9 +580,15 @@ def run_block(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, *, t_end: f
     inertia, omega, q = (np.require(a, np.float64, ["C", "A"]) for a in (inertia, omega, q))
     out = _core.sweep(inertia, omega, q, t_end, frames, dt, method, max_steps, rtol, atol,
                       threads)
-    drift = out.pop("drift")
-    out.update({f"drift.{k}": v for k, v in drift.items()})
-    return out
+    columns = {k: getattr(out, k) for k in _SWEEP_COLUMNS}
+    columns.update({f"drift.{k}": v for k, v in zip(BatchDrift._fields, out.drift)})
+    return columns
+
+
+_SWEEP_COLUMNS = ("flips", "status", "first_flip", "period", "exact_period", "tilt", "nfev",
+                  "n_steps", "n_rejected", "dt")
+"""The per-run columns of `_core.SweepResult` a block hands back (plain arrays: a Dask task
+sends them between machines), besides the drift's."""
 
 
 def _concatenate(parts: list[dict[str, np.ndarray]], m: int) -> dict[str, np.ndarray]:

@@ -15,15 +15,16 @@ from ._args import as_array, as_float, as_int, check_size
 from .body import Body, as_body
 from .damper import Damper
 from .deployment import Deployment
+from .methods import DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_METHOD, DEFAULT_RTOL
 from .results import Drift, Trajectory
 
 __all__ = ["simulate_model", "simulate_deployments"]
 
 
-def _drift(out: dict[str, Any]) -> Drift:
+def _drift(out: _core.ModelResult) -> Drift:
     """The drift of what the model keeps (momentum, its norm, |q|); the energy entry is its
     relative change, which a model's law makes (a deployment's work, a damper's loss)."""
-    e, l_world, l_body, q = out["energy"], out["momentum_world"], out["momentum_body"], out["q"]
+    e, l_world, l_body, q = out.energy, out.momentum_world, out.momentum_body, out.q
     l0 = float(np.linalg.norm(l_world[0])) or 1.0
     return Drift(
         energy=float(np.abs(e - e[0]).max() / (abs(e[0]) or 1.0)),
@@ -60,8 +61,8 @@ def simulate_model(
     dt = None if dt is None else as_float("dt", dt, positive=True)
     if not isinstance(method, str):
         raise TypeError(f"`method` must be a string, got {type(method).__name__}")
-    rtol_ = 1e-9 if rtol is None else as_float("rtol", rtol, positive=True)
-    atol_ = 1e-12 if atol is None else as_float("atol", atol, positive=True)
+    rtol_ = DEFAULT_RTOL if rtol is None else as_float("rtol", rtol, positive=True)
+    atol_ = DEFAULT_ATOL if atol is None else as_float("atol", atol, positive=True)
     check_size(frames * 8 * 24, f"frames={frames}", "ask for fewer frames")
     omega_t = (float(omega[0]), float(omega[1]), float(omega[2]))
     q_t = (float(q[0]), float(q[1]), float(q[2]), float(q[3]))
@@ -85,31 +86,31 @@ def simulate_model(
             tuple(inertia.ravel().tolist()), damper.inertia, damper.damping, omega_t,
             (float(s[0]), float(s[1]), float(s[2])), q_t, t_end, frames, dt, method,
             max_steps, rtol_, atol_)
-        sigma = out["sigma"]
+        sigma = out.sigma
     traj = Trajectory(
-        t=t_end * (np.arange(frames) / (frames - 1)),
-        omega=out["omega"],
-        q=out["q"],
+        t=out.t,
+        omega=out.omega,
+        q=out.q,
         flip_times=None,
         body=body,
         method=method,
-        dt=out["dt"],
-        n_steps=out["n_steps"],
-        nfev=out["nfev"],
+        dt=out.dt,
+        n_steps=out.n_steps,
+        nfev=out.nfev,
         drift=_drift(out),
-        n_rejected=out["n_rejected"],
+        n_rejected=out.n_rejected,
         model=model if isinstance(model, Deployment) else damper,
         sigma=sigma,
     )
     return _with_invariants(traj, out)
 
 
-def _with_invariants(traj: Trajectory, out: dict[str, Any]) -> Trajectory:
+def _with_invariants(traj: Trajectory, out: _core.ModelResult) -> Trajectory:
     traj._invariants.update(
-        energy=out["energy"],
-        momentum_body=out["momentum_body"],
-        momentum_world=out["momentum_world"],
-        q_norm=np.linalg.norm(out["q"], axis=1),
+        energy=out.energy,
+        momentum_body=out.momentum_body,
+        momentum_world=out.momentum_world,
+        q_norm=np.linalg.norm(out.q, axis=1),
     )
     return traj
 
@@ -121,11 +122,11 @@ def simulate_deployments(
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = 1e-3,
-    method: str = "rk4",
+    method: str = DEFAULT_METHOD,
     *,
     rtol: float | None = None,
     atol: float | None = None,
-    max_steps: int = 10**10,
+    max_steps: int = DEFAULT_MAX_STEPS,
 ) -> list[Trajectory]:
     """Runs several deployments at once on all cores: a sweep over deployment durations,
     deployed moments or starts ("which deployments tumble?").
@@ -180,19 +181,18 @@ def simulate_deployments(
     dt = None if dt is None else as_float("dt", dt, positive=True)
     if not isinstance(method, str):
         raise TypeError(f"`method` must be a string, got {type(method).__name__}")
-    rtol_ = 1e-9 if rtol is None else as_float("rtol", rtol, positive=True)
-    atol_ = 1e-12 if atol is None else as_float("atol", atol, positive=True)
+    rtol_ = DEFAULT_RTOL if rtol is None else as_float("rtol", rtol, positive=True)
+    atol_ = DEFAULT_ATOL if atol is None else as_float("atol", atol, positive=True)
     check_size(m * frames * 8 * 24, f"{m} runs of frames={frames}", "ask for fewer frames")
     outs = _core.simulate_deployments(
         [d.times.tolist() for d in items], [d.tensors.ravel().tolist() for d in items],
         [tuple(r) for r in omega.tolist()], [tuple(r) for r in q.tolist()], t_end, frames,
         dt, method, max_steps, rtol_, atol_)
-    t = t_end * (np.arange(frames) / (frames - 1))
     return [
         _with_invariants(Trajectory(
-            t=t, omega=out["omega"], q=out["q"], flip_times=None, body=_first_body(d),
-            method=method, dt=out["dt"], n_steps=out["n_steps"], nfev=out["nfev"],
-            drift=_drift(out), n_rejected=out["n_rejected"], model=d), out)
+            t=out.t, omega=out.omega, q=out.q, flip_times=None, body=_first_body(d),
+            method=method, dt=out.dt, n_steps=out.n_steps, nfev=out.nfev,
+            drift=_drift(out), n_rejected=out.n_rejected, model=d), out)
         for d, out in zip(items, outs)
     ]
 

@@ -33,6 +33,15 @@ def verdict(flips: int, t_end: float) -> str:
     return f"{flips} flip{'s' if flips > 1 else ''} in [0, {t_end:g}]"
 
 
+def invariants_of(body: _core.RigidBody, omega: np.ndarray,
+                  q: np.ndarray) -> dict[str, np.ndarray]:
+    """The invariants (see `Trajectory.invariants`) of the core's `body` at rows of `omega`
+    and `q` (its principal axes), computed in the core."""
+    out = _core.invariants(body, np.ascontiguousarray(omega), np.ascontiguousarray(q))
+    return {"energy": out.energy, "momentum_body": out.momentum_body,
+            "momentum_world": out.momentum_world, "q_norm": out.q_norm}
+
+
 class Drift(NamedTuple):
     """The largest departure of each invariant from its initial value, over the frames.
 
@@ -118,8 +127,7 @@ class Trajectory:
             check_size(len(self.t) * 8 * 8, f"the invariants at {len(self.t)} frames",
                        "compute them over fewer frames (a slice of the run)")
             omega, q = self.body.to_principal(self.omega, self.q)
-            values = dict(_core.invariants(self.body._core, np.ascontiguousarray(omega),
-                                           np.ascontiguousarray(q)))
+            values = invariants_of(self.body._core, omega, q)
             if not self.body.is_principal:  # L = T ω in the user's axes
                 values["momentum_body"] = self.body.to_user(values["momentum_body"], q)[0]
             self._invariants.update(values)

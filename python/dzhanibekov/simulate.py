@@ -137,10 +137,12 @@ def simulate(
         ``"rk4_projected"``: RK4, each step projected back onto the energy and ``|L|`` of
         the start (so ω stays on its exact polhode) with ``q`` rescaled to unit norm; the
         phase along the polhode and the attitude about ``L`` keep RK4's error. The
-        projection is one Gauss–Newton step: it leaves the square of RK4's relative drift
-        per step, ``((dt·Ω)⁵/120)²``, which is round-off for ``dt·Ω ≲ 0.5`` but not near
-        RK4's stability limit (at ``dt·Ω = 1.73`` the energy drifts by about 3e-9, and the
-        run warns); ``|q|`` and the direction of ``L_world`` stay at round-off.
+        projection is one Gauss–Newton step: it leaves the square of RK4's relative change
+        of the energy per step (at most ``((dt·Ω)⁵/120)²``), which is round-off for
+        ``dt·Ω ≲ 0.25`` but not at larger steps: at ``dt·Ω = 1.73`` E and ``|L|`` drift by
+        1e-8 to 2e-6 depending on the orbit, and the run warns (measured against ``dt·Ω``
+        in docs/work_precision.md); ``|q|`` and the direction of ``L_world`` stay at
+        round-off at any step.
         ``"splitting"``: second-order splitting of the free body into exact rotations
         about its axes (McLachlan 1993; Touma & Wisdom 1994): ``|L|``, ``|q|`` and
         ``L_world`` kept to round-off and the energy error bounded over any run length.

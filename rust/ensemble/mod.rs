@@ -2,4 +2,5 @@
 
 pub mod batch;
 pub mod lanes;
+pub mod plan;
 pub mod sweep;

@@ -25,10 +25,10 @@ const PARALLEL: f64 = 1e-8;
 ///    `L_world = M(q) I ω` back onto its initial direction (`q ← δ ⊗ q`).
 ///
 /// What this keeps: `|q|` and the direction of `L_world` to round-off at any step; `E` and
-/// `|L|` to within the square of RK4's relative drift per step, `δ ≈ (hΩ)⁵/120` (one
-/// Gauss–Newton step, not iterated), which is round-off for `hΩ ≲ 0.5` but not at steps
-/// near RK4's stability limit: at `hΩ = 1.73` the energy still drifts by about 3e-9 over a
-/// run (the run warns, `StepSizeWarning`). Within that, `ω` stays on the exact polhode (the
+/// `|L|` to within the square of RK4's relative energy change per step, `δ ≤ (hΩ)⁵/120`
+/// (one Gauss–Newton step, not iterated), which is round-off for `hΩ ≲ 0.25` but not at
+/// larger steps: at `hΩ = 1.73` the energy drifts by 1e-8 to 2e-6 depending on the orbit
+/// (the run warns, `StepSizeWarning`; measured in `docs/work_precision.md`). Within that, `ω` stays on the exact polhode (the
 /// curve the rates trace in the body) and the body's angular momentum stays fixed in space. What no projection onto the invariants can restore is what they do
 /// not determine: the position along the polhode (RK4's phase error, which moves the flip
 /// times) and the body's angle about `L`; both keep RK4's O(h⁴) error. Near a principal

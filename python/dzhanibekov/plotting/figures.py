@@ -43,7 +43,7 @@ from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
-from ..results import Trajectory
+from ..results import Trajectory, invariants_of
 
 __all__ = [
     "compute",
@@ -154,8 +154,7 @@ def _scaled_invariants(traj: Trajectory) -> tuple[dict[str, np.ndarray], float]:
     ix, iy, iz = (float(x) for x in inertia / inertia.max())
     unit_body = _core.RigidBody((ix, iy, iz))
     omega, q = traj.body.to_principal(traj.omega, traj.q)
-    return _core.invariants(unit_body, np.ascontiguousarray(omega) / big,
-                            np.ascontiguousarray(q)), big
+    return invariants_of(unit_body, np.ascontiguousarray(omega) / big, q), big
 
 
 def _relative(values: np.ndarray, reference: float) -> np.ndarray:
