@@ -19,7 +19,7 @@ use pyo3::types::PyTuple;
 use crate::body::RigidBody;
 use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
-use crate::dynamics::{DampedBody, Deployment, Model};
+use crate::dynamics::{DampedBody, Deployment};
 use crate::ensemble::batch::{
     simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
 };
@@ -39,8 +39,8 @@ use crate::run::registry::{
 use crate::run::step_size::{plan, StepPlan};
 use crate::run::watchdog;
 use crate::run::{
-    method_and_grid, model_step, simulate as core_simulate, simulate_model, simulate_models,
-    FrameGrid, Keep, Method, ModelMethod, ModelOutput,
+    method_and_grid, model_method_and_grid, simulate as core_simulate, simulate_model,
+    simulate_models, FrameGrid, Keep, Method, ModelOutput,
 };
 
 /// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
@@ -355,6 +355,7 @@ fn simulate<'py>(
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
+        tilt: false,
     };
     let body = body.inner;
     let long = watchdog::is_long(&method, &grid, 1)
@@ -452,39 +453,6 @@ fn step_plan(
 #[pyfunction]
 fn check_rtol(rtol: f64) -> PyResult<f64> {
     Ok(crate::ode::controller::check_rtol(rtol)?)
-}
-
-/// The method and frame grid of a model run: `dt = None` picks [`model_step`].
-#[allow(clippy::too_many_arguments)]
-fn model_method_and_grid<const N: usize, S: Model<N>>(
-    sys: &S,
-    x0: &[f64; N],
-    method: &str,
-    t_end: f64,
-    frames: usize,
-    dt: Option<f64>,
-    max_steps: u64,
-    rtol: f64,
-    atol: f64,
-) -> PyResult<(ModelMethod, FrameGrid)> {
-    let method = ModelMethod::for_model(Method::named(method, rtol, atol, dt)?, S::NAME)?;
-    let grid = match method {
-        ModelMethod::Dopri5(_) | ModelMethod::Dop853(_) => FrameGrid::frames_only(t_end, frames)?,
-        _ => {
-            if let Some(dt) = dt {
-                FrameGrid::try_new(t_end, frames, dt, max_steps)?
-            } else {
-                crate::ode::controller::check_rtol(rtol)?;
-                FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
-            }
-        }
-    };
-    let method = match method {
-        ModelMethod::Dopri5(a) => ModelMethod::Dopri5(a.with_max_steps(max_steps)),
-        ModelMethod::Dop853(a) => ModelMethod::Dop853(a.with_max_steps(max_steps)),
-        fixed => fixed,
-    };
-    Ok((method, grid))
 }
 
 /// A model run's frames (time-major), what the model keeps or changes at each frame, its
@@ -995,6 +963,7 @@ fn simulate_batch<'py>(
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
+        tilt: false,
     };
     let long = watchdog::is_long(&method, &grid, starts.len());
     let out = detach(py, long, |cancel| {
