@@ -4,6 +4,8 @@
                                                 # docs/work_precision.md and .png
     python benches/work_precision.py --quick    # a smoke run (under a minute); writes nothing
                                                 # unless --out is given
+    python benches/work_precision.py --projection   # only rk4_projected's drift at large
+                                                    # steps: its figure and section
 
 Every method of `dz.METHODS` runs on each case over a range of settings: the fixed-step
 methods over steps ``dt = (hΩ) / Ω`` (``Ω = √(2E / I_min)``, the bound of ``|ω|``) and with
@@ -459,6 +461,7 @@ def drift_table(runs: list[Run], case: Case) -> list[str]:
 PROJECTION_RATES = (0.125, 0.177, 0.25, 0.354, 0.5, 0.707, 1.0, 1.25, 1.5, 1.73, 2.0, 2.25,
                     2.5, 2.75)
 PROJECTION_STEPS = 2000
+PROJECTION_HEADING = "## What `rk4_projected` keeps at large steps"
 ROUND_OFF = 2.0**-52
 
 
@@ -503,15 +506,16 @@ def projection_text(rows: list[dict], case: Case) -> list[str]:
     of_bound = [r["energy"] / r["bound"] for r in large]
     floor = max(r["energy"] for r in rows if r["h_rate"] <= 0.25)
     return [
-        "## What `rk4_projected` keeps at large steps",
+        PROJECTION_HEADING,
         "",
-        "`rk4_projected` moves ω back onto the energy and `|L|` of the start after every RK4 "
+        "The drift table above is of accurate settings. At large steps `rk4_projected` "
+        "moves ω back onto the energy and `|L|` of the start after every RK4 "
         "step with one Gauss–Newton step, which leaves the square of what the step changed. "
         "So it keeps E and `|L|` to round-off only while RK4's relative energy change per "
         "step, δ, is below about 1e-8 (here up to hΩ ≈ 0.25: drift at most "
         f"{floor:.1e}); beyond, the drift is about δ², at most the documented "
         "((hΩ)⁵/120)², and it does not grow with the run (each step projects onto the "
-        "invariants of the start). `|q|` and the direction of `L_world` are kept to round-off "
+        "invariants of the start; a run ten times longer drifts as much). `|q|` and the direction of `L_world` are kept to round-off "
         f"at any step. Measured on the {case.name} body over {PROJECTION_STEPS} steps, a "
         "frame at each, with δ the largest relative energy change one `rk4` step makes from "
         "the run's states (a batch of one-step runs): at hΩ ≥ 1 the drift is "
@@ -522,11 +526,28 @@ def projection_text(rows: list[dict], case: Case) -> list[str]:
         "",
         "![rk4_projected's drift against hΩ](projection_drift.png)",
         "",
+        "(`python benches/work_precision.py --projection` remakes this section and figure "
+        "alone: no timings, so no dependence on the machine's load.)",
+        "",
         *projection_table(rows),
     ]
 
 
-def plot_projection(path: Path, rows: list[dict], case: Case, note: str) -> None:
+def update_projection_section(path: Path, rows: list[dict], case: Case) -> None:
+    """Replaces (or adds, before the ill-conditioned example) the section of
+    `projection_text` in an existing work_precision.md: its figures do not depend on the
+    machine's load, unlike the timings around it."""
+    text = path.read_text()
+    section = "\n".join(projection_text(rows, case)) + "\n\n"
+    start = text.find(PROJECTION_HEADING)
+    if start < 0:
+        start = end = text.index("## The ill-conditioned example")
+    else:
+        end = text.index("\n## ", start + len(PROJECTION_HEADING)) + 1
+    path.write_text(text[:start] + section + text[end:])
+
+
+def plot_projection(path: Path, rows: list[dict], case: Case) -> None:
     import matplotlib
     import matplotlib.ticker
 
@@ -559,8 +580,7 @@ def plot_projection(path: Path, rows: list[dict], case: Case, note: str) -> None
     ax.set_ylim(1e-17, 10)
     ax.grid(True, which="major", alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
-    ax.set_title(f"What rk4_projected keeps at large steps ({case.name} body)\n{note}",
-                 fontsize=9)
+    ax.set_title(f"What rk4_projected keeps at large steps\n{case.title}", fontsize=9)
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)
@@ -707,9 +727,6 @@ def write_markdown(path: Path, runs, cases, ill, projection, note, command, elap
         "",
         *drift_table(runs, next(c for c in cases if c.name == "generic")),
         "",
-        "These settings are accurate ones; at large steps `rk4_projected` keeps E and `|L|` "
-        "only to the square of RK4's change per step (next section).",
-        "",
         *projection_text(projection, next(c for c in cases if c.name == "generic")),
         "",
         "## The ill-conditioned example",
@@ -814,7 +831,20 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=None, help="timing repeats (default 5)")
     parser.add_argument("--drift-budget", type=float, default=None,
                         help="skip T = 10⁴ runs predicted longer than this (s, default 3)")
+    parser.add_argument("--projection", action="store_true",
+                        help="only what rk4_projected keeps at large steps (seconds): "
+                             "projection_drift.png and its section of work_precision.md")
     args = parser.parse_args()
+    if args.projection:
+        generic = next(c for c in CASES if c.name == "generic")
+        rows = projection_drift(generic)
+        print("\n".join(projection_table(rows)))
+        out = args.out if args.out is not None else ROOT / "docs"
+        update_projection_section(out / "work_precision.md", rows, generic)
+        plot_projection(out / "projection_drift.png", rows, generic)
+        print(f"wrote {out / 'projection_drift.png'} and its section of "
+              f"{out / 'work_precision.md'}")
+        return
     args.repeat = args.repeat or (3 if args.quick else 5)
     args.drift_budget = args.drift_budget or (0.2 if args.quick else 3.0)
     args.min_seconds = 0.003 if args.quick else 0.02
@@ -853,7 +883,7 @@ def main() -> None:
         write_markdown(out / "work_precision.md", runs, CASES, ill, projection, note, command,
                        elapsed)
         plot(out / "work_precision.png", runs, CASES, note)
-        plot_projection(out / "projection_drift.png", projection, generic, note)
+        plot_projection(out / "projection_drift.png", projection, generic)
         size = (out / "work_precision.png").stat().st_size / 1024
         print(f"wrote {out / 'work_precision.md'}, {out / 'work_precision.png'} "
               f"({size:.0f} KB) and {out / 'projection_drift.png'}")

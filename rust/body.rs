@@ -4,6 +4,14 @@ use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 
+/// The largest ratio of largest to smallest principal moment that [`RigidBody::try_new`]
+/// accepts.
+pub const MAX_MOMENT_RATIO: f64 = 1e150;
+
+/// The relative slack (of the moments' sum) within which a body satisfies the triangle
+/// inequality: moments computed from a mass distribution meet it only to round-off.
+pub const TRIANGLE_SLACK: f64 = 1e-12;
+
 /// Principal moments of inertia `(Ix, Iy, Iz)` about the body axes x, y, z, in the user's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RigidBody {
@@ -36,7 +44,7 @@ impl RigidBody {
         let max = inertia.iter().cloned().fold(f64::MIN, f64::max);
         let min = inertia.iter().cloned().fold(f64::MAX, f64::min);
         let ratio = max / min;
-        if !ratio.is_finite() || ratio > 1e150 {
+        if !ratio.is_finite() || ratio > MAX_MOMENT_RATIO {
             return Err(Error::invalid(
                 "inertia",
                 "must have a ratio of largest to smallest moment of at most 1e150",
@@ -107,7 +115,7 @@ impl RigidBody {
     /// distribution (to a relative tolerance of 1e-12).
     pub fn satisfies_triangle_inequality(&self) -> bool {
         let i = self.inertia_body;
-        let slack = 1e-12 * i.sum();
+        let slack = TRIANGLE_SLACK * i.sum();
         i.x <= i.y + i.z + slack && i.y <= i.x + i.z + slack && i.z <= i.x + i.y + slack
     }
 

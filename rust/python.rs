@@ -872,31 +872,35 @@ fn column<'py, T: numpy::Element>(py: Python<'py>, v: Vec<T>) -> Bound<'py, PyAr
     PyArray1::from_vec(py, v)
 }
 
-/// Per-row drifts as the columns `(energy, momentum, momentum_world, q_norm)`.
-type DriftColumns = (
-    Py<PyArray1<f64>>,
-    Py<PyArray1<f64>>,
-    Py<PyArray1<f64>>,
-    Py<PyArray1<f64>>,
-);
-
-fn drift_columns(py: Python<'_>, drift: &[Drift]) -> DriftColumns {
-    let of = |f: fn(&Drift) -> f64| column(py, drift.iter().map(f).collect()).unbind();
-    (
-        of(|d| d.energy),
-        of(|d| d.momentum),
-        of(|d| d.momentum_world),
-        of(|d| d.q_norm),
-    )
+/// What every run of a batch or sweep reports, one value per run in each column: the
+/// invariants' drift `(energy, momentum, momentum_world, q_norm)`, the cost and the step.
+#[pyclass(name = "RunColumns", module = "dzhanibekov._core", frozen, get_all)]
+struct PyRunColumns {
+    drift: [Py<PyArray1<f64>>; 4],
+    nfev: Py<PyArray1<i64>>,
+    n_steps: Py<PyArray1<i64>>,
+    n_rejected: Py<PyArray1<i64>>,
+    dt: Py<PyArray1<f64>>,
 }
 
-/// Per-row counts `(nfev, n_steps, n_rejected)` as int64 columns.
-type StatsColumns = (Py<PyArray1<i64>>, Py<PyArray1<i64>>, Py<PyArray1<i64>>);
-
-fn stats_columns(py: Python<'_>, stats: &[Stats]) -> StatsColumns {
-    let of =
-        |f: fn(&Stats) -> u64| column(py, stats.iter().map(|s| f(s) as i64).collect()).unbind();
-    (of(|s| s.nfev), of(|s| s.n_steps), of(|s| s.n_rejected))
+impl PyRunColumns {
+    fn new(py: Python<'_>, drift: &[Drift], stats: &[Stats], dt: Vec<f64>) -> Self {
+        let of = |f: fn(&Drift) -> f64| column(py, drift.iter().map(f).collect()).unbind();
+        let count =
+            |f: fn(&Stats) -> u64| column(py, stats.iter().map(|s| f(s) as i64).collect()).unbind();
+        Self {
+            drift: [
+                of(|d| d.energy),
+                of(|d| d.momentum),
+                of(|d| d.momentum_world),
+                of(|d| d.q_norm),
+            ],
+            nfev: count(|s| s.nfev),
+            n_steps: count(|s| s.n_steps),
+            n_rejected: count(|s| s.n_rejected),
+            dt: column(py, dt).unbind(),
+        }
+    }
 }
 
 /// A batch's output: the frame times, frames `(M, frames, 3|4)` if kept, every row's flip
@@ -909,12 +913,7 @@ struct PyBatchResult {
     q: Option<Py<PyArray3<f64>>>,
     flip_offsets: Py<PyArray1<i64>>,
     flip_times: Py<PyArray1<f64>>,
-    /// `(energy, momentum, momentum_world, q_norm)`, one value per row each.
-    drift: DriftColumns,
-    nfev: Py<PyArray1<i64>>,
-    n_steps: Py<PyArray1<i64>>,
-    n_rejected: Py<PyArray1<i64>>,
-    dt: Py<PyArray1<f64>>,
+    runs: Py<PyRunColumns>,
 }
 
 /// A sweep's per-run columns (see `crate::ensemble::sweep::RunSummary`).
@@ -928,12 +927,7 @@ struct PySweepResult {
     period: Py<PyArray1<f64>>,
     exact_period: Py<PyArray1<f64>>,
     tilt: Py<PyArray1<f64>>,
-    /// `(energy, momentum, momentum_world, q_norm)`, one value per run each.
-    drift: DriftColumns,
-    nfev: Py<PyArray1<i64>>,
-    n_steps: Py<PyArray1<i64>>,
-    n_rejected: Py<PyArray1<i64>>,
-    dt: Py<PyArray1<f64>>,
+    runs: Py<PyRunColumns>,
 }
 
 /// Many runs over one frame grid: rows of `inertia` (or one), `omega0`, `q0` (or one).
@@ -978,18 +972,14 @@ fn simulate_batch<'py>(
         false => (None, None),
     };
     let offsets = out.flip_offsets.iter().map(|&o| o as i64).collect();
-    let (nfev, n_steps, n_rejected) = stats_columns(py, &out.stats);
+    let runs = PyRunColumns::new(py, &out.drift, &out.stats, out.dt);
     Ok(PyBatchResult {
         t: frame_times(py, &grid),
         omega: omega.map(|a| a.into_pyarray(py).unbind()),
         q: q.map(|a| a.into_pyarray(py).unbind()),
         flip_offsets: column(py, offsets).unbind(),
         flip_times: column(py, out.flip_times).unbind(),
-        drift: drift_columns(py, &out.drift),
-        nfev,
-        n_steps,
-        n_rejected,
-        dt: column(py, out.dt).unbind(),
+        runs: Py::new(py, runs)?,
     })
 }
 
@@ -1020,29 +1010,17 @@ fn sweep<'py>(
         core_sweep(&starts, &grid, method, &options, cancel)
     })?;
     let of = |f: fn(&RunSummary) -> f64| column(py, runs.iter().map(f).collect()).unbind();
-    // a run that did not finish counts −1 flips: never mistaken for a stable one
-    let flips: Vec<i64> = runs
-        .iter()
-        .map(|r| match r.status {
-            RunStatus::Ok => r.flips.count as i64,
-            _ => -1,
-        })
-        .collect();
     let drift: Vec<Drift> = runs.iter().map(|r| r.drift).collect();
     let stats: Vec<Stats> = runs.iter().map(|r| r.stats).collect();
-    let (nfev, n_steps, n_rejected) = stats_columns(py, &stats);
+    let columns = PyRunColumns::new(py, &drift, &stats, runs.iter().map(|r| r.dt).collect());
     Ok(PySweepResult {
-        flips: column(py, flips).unbind(),
+        flips: column(py, runs.iter().map(RunSummary::flip_count).collect()).unbind(),
         status: column(py, runs.iter().map(|r| r.status as u8).collect()).unbind(),
         first_flip: of(|r| r.flips.first),
         period: of(|r| r.flips.mean_period()),
         exact_period: of(|r| r.exact_period),
         tilt: of(|r| r.tilt),
-        drift: drift_columns(py, &drift),
-        nfev,
-        n_steps,
-        n_rejected,
-        dt: of(|r| r.dt),
+        runs: Py::new(py, columns)?,
     })
 }
 
@@ -1114,6 +1092,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyStepPlan>()?;
     m.add_class::<PyBatchPlan>()?;
     m.add_class::<PyInvariants>()?;
+    m.add_class::<PyRunColumns>()?;
     m.add_class::<PyBatchResult>()?;
     m.add_class::<PySweepResult>()?;
     m.add_class::<PyModelResult>()?;
@@ -1124,6 +1103,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_RTOL", DEFAULT_RTOL)?;
     m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
     m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
+    m.add("MAX_MOMENT_RATIO", crate::body::MAX_MOMENT_RATIO)?;
+    m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;

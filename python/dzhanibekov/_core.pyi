@@ -13,14 +13,17 @@ __all__ = [
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
     "Invariants",
+    "MAX_MOMENT_RATIO",
     "METHODS",
     "MethodInfo",
     "ModelResult",
     "RUN_STATUSES",
     "RigidBody",
+    "RunColumns",
     "RunResult",
     "StepPlan",
     "SweepResult",
+    "TRIANGLE_SLACK",
     "__version__",
     "_finalizing",
     "check_rtol",
@@ -47,6 +50,8 @@ DEFAULT_METHOD: str
 DEFAULT_RTOL: float
 DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
+MAX_MOMENT_RATIO: float
+TRIANGLE_SLACK: float
 
 @final
 class MethodInfo:
@@ -123,6 +128,19 @@ class Invariants:
     def q_norm(self) -> npt.NDArray[np.float64]: ...
 
 @final
+class RunColumns:
+    @property
+    def drift(self) -> list[npt.NDArray[np.float64]]: ...
+    @property
+    def nfev(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_steps(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def n_rejected(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def dt(self) -> npt.NDArray[np.float64]: ...
+
+@final
 class BatchResult:
     @property
     def t(self) -> npt.NDArray[np.float64]: ...
@@ -135,15 +153,7 @@ class BatchResult:
     @property
     def flip_times(self) -> npt.NDArray[np.float64]: ...
     @property
-    def drift(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-    @property
-    def nfev(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def n_steps(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def n_rejected(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def dt(self) -> npt.NDArray[np.float64]: ...
+    def runs(self) -> RunColumns: ...
 
 @final
 class SweepResult:
@@ -160,15 +170,7 @@ class SweepResult:
     @property
     def tilt(self) -> npt.NDArray[np.float64]: ...
     @property
-    def drift(self) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
-    @property
-    def nfev(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def n_steps(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def n_rejected(self) -> npt.NDArray[np.int64]: ...
-    @property
-    def dt(self) -> npt.NDArray[np.float64]: ...
+    def runs(self) -> RunColumns: ...
 
 @final
 class ModelResult:

@@ -12,12 +12,10 @@ from typing import Any
 
 import numpy as np
 
+from . import _core
 from .body import Body
 
 __all__ = ["check_not_swapped", "swapped_error"]
-
-_SLACK = 1e-12
-"""Relative slack of the triangle inequality (the moments' own round-off)."""
 
 
 def _triple(value: Any) -> np.ndarray | None:
@@ -36,7 +34,7 @@ def _triple(value: Any) -> np.ndarray | None:
 def _could_be_moments(x: np.ndarray) -> bool:
     """Positive and within the triangle inequality: the moments of some real body."""
     total = float(x.sum())
-    return bool((x > 0).all() and 2 * x.max() <= total * (1 + _SLACK))
+    return bool((x > 0).all() and 2 * x.max() <= total * (1 + _core.TRIANGLE_SLACK))
 
 
 def swapped_error(body: Any, omega0: Any, function: str) -> ValueError | None:

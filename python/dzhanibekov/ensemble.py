@@ -166,15 +166,16 @@ def _check_moments(inertia: np.ndarray, shape: tuple[int, ...], *, stacklevel: i
     largest = np.maximum(np.maximum(a, b), c)
     with np.errstate(over="ignore"):
         ratio = largest / np.minimum(np.minimum(a, b), c)
-    bad = ~(ratio <= 1e150)
+    bad = ~(ratio <= _core.MAX_MOMENT_RATIO)
     if bad.any():
         i = int(np.argmax(bad))
+        most = f"{_core.MAX_MOMENT_RATIO:.0e}".replace("e+", "e")
         raise ValueError(
-            "`body` must have a ratio of largest to smallest moment of at most 1e150, got "
+            f"`body` must have a ratio of largest to smallest moment of at most {most}, got "
             f"{inertia[i].tolist()}{_at(i, shape)}"
         )
     total = a + b + c
-    slack = 1e-12 * total
+    slack = _core.TRIANGLE_SLACK * total
     unphysical = (2 * largest > total + slack).nonzero()[0]
     if len(unphysical):
         i = int(unphysical[0])
@@ -276,11 +277,11 @@ def simulate_batch(
         _flip_offsets=out.flip_offsets if flips else None,
         inertia=inertia,
         method=method,
-        dt=out.dt,
-        n_steps=out.n_steps,
-        nfev=out.nfev,
-        n_rejected=out.n_rejected,
-        drift=BatchDrift(*out.drift),
+        dt=out.runs.dt,
+        n_steps=out.runs.n_steps,
+        nfev=out.runs.nfev,
+        n_rejected=out.runs.n_rejected,
+        drift=BatchDrift(*out.runs.drift),
         body=body if isinstance(body, Body) else tuple(body) if is_body_list(body) else None,
     )
 
@@ -315,6 +316,17 @@ def _in_blocks(run: Callable[[slice], _core.BatchResult], m: int,
 
 
 @dataclass(frozen=True)
+class _RunColumns:
+    """As `_core.RunColumns`: per-run drift, cost and step."""
+
+    drift: list[np.ndarray]
+    nfev: np.ndarray
+    n_steps: np.ndarray
+    n_rejected: np.ndarray
+    dt: np.ndarray
+
+
+@dataclass(frozen=True)
 class _BlockResult:
     """The core's results of a batch's blocks joined into one, as one call returns it."""
 
@@ -323,27 +335,25 @@ class _BlockResult:
     q: np.ndarray | None
     flip_offsets: np.ndarray
     flip_times: np.ndarray
-    drift: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]
-    nfev: np.ndarray
-    n_steps: np.ndarray
-    n_rejected: np.ndarray
-    dt: np.ndarray
+    runs: _RunColumns
 
     @staticmethod
     def join(parts: list[_core.BatchResult]) -> _BlockResult:
-        def joined(key: str) -> Any:
-            values = [getattr(p, key) for p in parts]
+        def joined(values: list[Any]) -> Any:
             return None if values[0] is None else np.concatenate(values)
 
         starts = np.cumsum([0] + [p.flip_offsets[-1] for p in parts[:-1]])
         offsets = np.concatenate([parts[0].flip_offsets[:1]] + [
             p.flip_offsets[1:] + s for p, s in zip(parts, starts)])
-        drift = tuple(np.concatenate(c) for c in zip(*(p.drift for p in parts)))
+        runs = [p.runs for p in parts]
         return _BlockResult(
-            t=parts[0].t, omega=joined("omega"), q=joined("q"), flip_offsets=offsets,
-            flip_times=joined("flip_times"), drift=drift,  # type: ignore[arg-type]
-            nfev=joined("nfev"), n_steps=joined("n_steps"), n_rejected=joined("n_rejected"),
-            dt=joined("dt"))
+            t=parts[0].t, omega=joined([p.omega for p in parts]),
+            q=joined([p.q for p in parts]), flip_offsets=offsets,
+            flip_times=joined([p.flip_times for p in parts]),
+            runs=_RunColumns(
+                drift=[np.concatenate(c) for c in zip(*(r.drift for r in runs))],
+                **{k: joined([getattr(r, k) for r in runs])
+                   for k in ("nfev", "n_steps", "n_rejected", "dt")}))
 
 
 def is_batch(body: Any, omega0: Any, q0: Any) -> bool:
@@ -580,15 +590,11 @@ def run_block(inertia: np.ndarray, omega: np.ndarray, q: np.ndarray, *, t_end: f
     inertia, omega, q = (np.require(a, np.float64, ["C", "A"]) for a in (inertia, omega, q))
     out = _core.sweep(inertia, omega, q, t_end, frames, dt, method, max_steps, rtol, atol,
                       threads)
-    columns = {k: getattr(out, k) for k in _SWEEP_COLUMNS}
-    columns.update({f"drift.{k}": v for k, v in zip(BatchDrift._fields, out.drift)})
-    return columns
-
-
-_SWEEP_COLUMNS = ("flips", "status", "first_flip", "period", "exact_period", "tilt", "nfev",
-                  "n_steps", "n_rejected", "dt")
-"""The per-run columns of `_core.SweepResult` a block hands back (plain arrays: a Dask task
-sends them between machines), besides the drift's."""
+    columns = {k: getattr(out, k) for k in ("flips", "status", "first_flip", "period",
+                                            "exact_period", "tilt")}
+    columns.update({k: getattr(out.runs, k) for k in ("nfev", "n_steps", "n_rejected", "dt")})
+    columns.update({f"drift.{k}": v for k, v in zip(BatchDrift._fields, out.runs.drift)})
+    return columns  # plain arrays: a Dask task sends them between machines
 
 
 def _concatenate(parts: list[dict[str, np.ndarray]], m: int) -> dict[str, np.ndarray]:

@@ -87,6 +87,15 @@ impl RunStatus {
 }
 
 impl RunSummary {
+    /// The flips counted, or −1 for a run that did not finish: never mistaken for a stable
+    /// one.
+    pub fn flip_count(&self) -> i64 {
+        match self.status {
+            RunStatus::Ok => self.flips.count as i64,
+            _ => -1,
+        }
+    }
+
     /// The summary of a run of `start` that ended with `status` before its end.
     fn failed(start: &Start, status: RunStatus) -> Result<Self> {
         Ok(Self {
