@@ -449,6 +449,8 @@ fn model_result<'py>(
         let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
         result.set_item(name, x.into_pyarray(py))?;
     }
+    let d = out.drift;
+    result.set_item("drift", (d.energy, d.momentum, d.momentum_world, d.q_norm))?;
     result.set_item("nfev", out.stats.nfev)?;
     result.set_item("n_steps", out.stats.n_steps)?;
     result.set_item("n_rejected", out.stats.n_rejected)?;

@@ -174,3 +174,59 @@ fn constant_body_methods_refuse_the_models_by_name() {
         assert!(m.for_model("damper").is_ok());
     }
 }
+
+/// Rates of 2^±997 (1e±300) with times scaled the other way are the same motion: Euler's
+/// equations keep `(ω, t) → (sω, t/s)`, a deployment's knot times and a damper's coefficient
+/// (a moment per unit time) scaling with `t`. Unscaled, such rates underflow or overflow in
+/// the products; the run scales them by a power of two, so the frames are those of the run
+/// at rates near 1, scaled, bit for bit.
+#[test]
+fn models_at_rates_near_the_ends_of_float64_are_the_scaled_motion() {
+    let (omega0, q0) = ([0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]);
+    let keep_scaled = |out: &ModelOutput, unit: &ModelOutput, s: f64| {
+        let check = |a: &[f64], b: &[f64], p: f64| {
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(b) {
+                assert_eq!(*x, y * p, "{x} vs {y} × {p}");
+            }
+        };
+        check(&out.omega, &unit.omega, s);
+        check(&out.momentum_world, &unit.momentum_world, s);
+        check(&out.extra, &unit.extra, s);
+        check(&out.energy, &unit.energy, s * s);
+        assert_eq!(out.q, unit.q);
+        assert_eq!(out.dt, unit.dt / s);
+        assert_eq!(out.stats, unit.stats);
+    };
+    for e in [-997, 997] {
+        let s = 2f64.powi(e);
+        for method in [Method::Rk4, Method::Dop853(tight())] {
+            let times = |t: &[f64]| t.iter().map(|t| t / s).collect::<Vec<_>>();
+            let knots = vec![diag([1.0, 2.0, 3.0]), diag([1.0, 3.0, 2.0])];
+            let d = Deployment::try_new(vec![10.0, 20.0], knots.clone()).unwrap();
+            let d_s = Deployment::try_new(times(&[10.0, 20.0]), knots).unwrap();
+            let grid = FrameGrid::try_new(40.0, 9, 1e-2, u64::MAX).unwrap();
+            let grid_s = FrameGrid::try_new(40.0 / s, 9, 1e-2 / s, u64::MAX).unwrap();
+            let unit = simulate_model(
+                &d,
+                d.state_from(0.0, omega0, q0),
+                &grid,
+                method,
+                &no_cancel(),
+            );
+            let w_s = omega0.map(|w| w * s);
+            let x_s = d_s.state_from(0.0, w_s, q0);
+            let out = simulate_model(&d_s, x_s, &grid_s, method, &no_cancel());
+            keep_scaled(&out.unwrap(), &unit.unwrap(), s);
+
+            let body = diag([1.0, 2.0, 3.0]);
+            let damped = DampedBody::try_new(body, 0.1, 0.05).unwrap();
+            let damped_s = DampedBody::try_new(body, 0.1, 0.05 * s).unwrap();
+            let x0 = DampedBody::state_from([0.9, 0.1, 0.1], [0.0; 3], q0);
+            let x0_s = DampedBody::state_from([0.9 * s, 0.1 * s, 0.1 * s], [0.0; 3], q0);
+            let unit = simulate_model(&damped, x0, &grid, method, &no_cancel()).unwrap();
+            let out = simulate_model(&damped_s, x0_s, &grid_s, method, &no_cancel()).unwrap();
+            keep_scaled(&out, &unit, s);
+        }
+    }
+}

@@ -165,7 +165,7 @@ impl Observer for FrameRecorder {
 /// quaternion's is `||q| - 1|` (the run starts from a unit quaternion). Computed on a scaled
 /// copy (moments over the largest, ω over its largest initial component) so that no
 /// intermediate overflows; relative measures do not change under the scaling.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Drift {
     pub energy: f64,
     pub momentum: f64,

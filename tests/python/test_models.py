@@ -235,3 +235,28 @@ def test_the_story_scenes_tell_their_stories():
     assert measured == pytest.approx(estimate, rel=0.15)
     with pytest.raises(dz.SceneError, match="ask.flips"):
         explorer.replace(flips=True)
+
+
+@pytest.mark.parametrize("e", [-997, 997])
+@pytest.mark.parametrize("method", ["rk4", "dop853"])
+def test_rates_near_the_ends_of_float64_are_the_scaled_motion(e, method):
+    """(ω, t) → (sω, t/s) is a symmetry of both laws (a damper's coefficient, a moment per
+    unit time, scales with 1/t): at s = 2^±997 (1e±300) the run is the one at rates near 1,
+    scaled, bit for bit; unscaled, the products of such rates underflow or overflow (the
+    momentum's drift was 1.0 at 1e-300)."""
+    s = 2.0**e
+    w0 = np.array([0.01, 0.01, 1.0])
+    kw = dict(frames=9, method=method, dt=None)
+    d = dz.Deployment([10.0, 20.0], [STOWED, DEPLOYED])
+    d_s = dz.Deployment([10.0 / s, 20.0 / s], [STOWED, DEPLOYED])
+    unit = dz.simulate(d, w0, t_end=40.0, **kw)
+    scaled = dz.simulate(d_s, w0 * s, t_end=40.0 / s, **kw)
+    np.testing.assert_array_equal(scaled.omega, unit.omega * s)
+    np.testing.assert_array_equal(scaled.q, unit.q)
+    assert scaled.drift.momentum_world == unit.drift.momentum_world < 1e-8
+    w1 = np.array([0.9, 0.1, 0.1])
+    unit = dz.simulate(STOWED, w1, t_end=40.0, damper=dz.Damper(0.1, 0.05), **kw)
+    scaled = dz.simulate(STOWED, w1 * s, t_end=40.0 / s, damper=dz.Damper(0.1, 0.05 * s), **kw)
+    np.testing.assert_array_equal(scaled.omega, unit.omega * s)
+    np.testing.assert_array_equal(scaled.sigma, unit.sigma * s)
+    assert scaled.drift.momentum == unit.drift.momentum < 1e-8
