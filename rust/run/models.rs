@@ -23,7 +23,7 @@ use crate::ode::controller::check_rtol;
 use crate::ode::Stats;
 
 use super::registry::run_model_method;
-use super::{error_from_unit, to_unit, FrameGrid, Method};
+use super::{error_from_unit, method_and_grid, to_unit, FrameGrid, Method};
 
 /// A model run's frames, time-major, and its cost.
 #[derive(Debug, Clone, Default)]
@@ -205,13 +205,12 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
     Ok(out)
 }
 
-/// The method named `name` for the model `sys` from `x0` and its frame grid: `dt = None`
-/// picks [`model_step`] for a fixed-step method; an adaptive one is capped at `max_steps`
-/// attempts.
+/// The method named `name` for the model `sys` from `x0` and its frame grid, as
+/// [`method_and_grid`] makes them for the free body; `dt = None` picks [`model_step`] for a
+/// fixed-step method.
 ///
 /// # Errors
-/// An unknown name, a method that cannot run the model, bad tolerances, and the errors of
-/// [`FrameGrid::try_new`].
+/// A method that cannot run the model, and the errors of [`method_and_grid`].
 #[allow(clippy::too_many_arguments)]
 pub fn model_method_and_grid<const N: usize, S: Model<N>>(
     sys: &S,
@@ -225,16 +224,11 @@ pub fn model_method_and_grid<const N: usize, S: Model<N>>(
     atol: f64,
 ) -> Result<(Method, FrameGrid)> {
     let method = Method::named(name, rtol, atol, dt)?.for_model(S::NAME)?;
-    let grid = if method.is_adaptive() {
-        FrameGrid::frames_only(t_end, frames)?
-    } else {
-        let dt = match dt {
-            Some(dt) => dt,
-            None => model_step(sys, x0, t_end, check_rtol(rtol)?)?,
-        };
-        FrameGrid::try_new(t_end, frames, dt, max_steps)?
+    let dt = match dt {
+        None if !method.is_adaptive() => Some(model_step(sys, x0, t_end, check_rtol(rtol)?)?),
+        dt => dt,
     };
-    Ok((method.with_max_steps(max_steps), grid))
+    method_and_grid(name, t_end, frames, dt, max_steps, rtol, atol)
 }
 
 /// The fixed step for accuracy `rtol` over `[0, t_end]` from `x0`: `h` with
