@@ -449,6 +449,10 @@ fn model_result<'py>(
         let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
         result.set_item(name, x.into_pyarray(py))?;
     }
+    result.set_item(
+        "flip_times",
+        out.flip_times.map(|t| PyArray1::from_vec(py, t)),
+    )?;
     let d = out.drift;
     result.set_item("drift", (d.energy, d.momentum, d.momentum_world, d.q_norm))?;
     result.set_item("nfev", out.stats.nfev)?;
@@ -460,7 +464,7 @@ fn model_result<'py>(
 
 /// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployment<'py>(
     py: Python<'py>,
@@ -475,6 +479,7 @@ fn simulate_deployment<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let times = times
         .as_slice()
@@ -496,7 +501,7 @@ fn simulate_deployment<'py>(
         model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&d, x0, &grid, method, cancel)
+        simulate_model(&d, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, frames, None)
 }
@@ -504,7 +509,7 @@ fn simulate_deployment<'py>(
 /// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
 /// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployments<'py>(
     py: Python<'py>,
@@ -519,6 +524,7 @@ fn simulate_deployments<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let rows = times.len();
     if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
@@ -556,7 +562,7 @@ fn simulate_deployments<'py>(
         atol,
     )?;
     let out = detach(py, true, |cancel| {
-        simulate_models(&systems, &x0s, &grid, method, cancel)
+        simulate_models(&systems, &x0s, &grid, method, flips, cancel)
     })?;
     out.into_iter()
         .map(|o| model_result(py, o, frames, None))
@@ -565,7 +571,7 @@ fn simulate_deployments<'py>(
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
 #[pyfunction]
-#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_damper<'py>(
     py: Python<'py>,
@@ -582,6 +588,7 @@ fn simulate_damper<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
     if !sigma0.iter().all(|s| s.is_finite()) {
@@ -592,7 +599,7 @@ fn simulate_damper<'py>(
         model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&sys, x0, &grid, method, cancel)
+        simulate_model(&sys, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, frames, Some("sigma"))
 }

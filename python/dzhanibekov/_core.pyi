@@ -127,6 +127,7 @@ def simulate_deployment(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
 ) -> dict[str, Any]: ...
 def simulate_deployments(
     times: list[list[float]],
@@ -140,6 +141,7 @@ def simulate_deployments(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
 ) -> list[dict[str, Any]]: ...
 def simulate_damper(
     inertia: tuple[float, float, float, float, float, float, float, float, float],
@@ -155,6 +157,7 @@ def simulate_damper(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
 ) -> dict[str, Any]: ...
 def step_plan(
     body: RigidBody,

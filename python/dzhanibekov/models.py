@@ -44,6 +44,7 @@ def simulate_model(
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: Any,
+    flips: bool = True,
 ) -> Trajectory:
     """Runs a deployment (`model` a :class:`Deployment`) or a body with a damper; see
     `dzhanibekov.simulate` for the arguments."""
@@ -69,7 +70,7 @@ def simulate_model(
                              "has constant inertia)")
         out = _core.simulate_deployment(
             model.times, model.tensors.reshape(-1, 9), omega_t, q_t, t_end, frames, dt,
-            method, max_steps, rtol_, atol_)
+            method, max_steps, rtol_, atol_, bool(flips))
         body = _first_body(model)
     else:
         if not isinstance(damper, Damper):
@@ -81,13 +82,13 @@ def simulate_model(
         out = _core.simulate_damper(
             tuple(inertia.ravel().tolist()), damper.inertia, damper.damping, omega_t,
             (float(s[0]), float(s[1]), float(s[2])), q_t, t_end, frames, dt, method,
-            max_steps, rtol_, atol_)
+            max_steps, rtol_, atol_, bool(flips))
         sigma = out["sigma"]
     traj = Trajectory(
         t=t_end * (np.arange(frames) / (frames - 1)),
         omega=out["omega"],
         q=out["q"],
-        flip_times=None,
+        flip_times=out["flip_times"],
         body=body,
         method=method,
         dt=out["dt"],

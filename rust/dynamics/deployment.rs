@@ -238,6 +238,10 @@ impl Model<7> for Deployment {
         }
     }
 
+    fn principal_moments(&self, t: f64) -> Option<Vector3<f64>> {
+        self.diagonal.then(|| self.inertia_at(t).diagonal())
+    }
+
     fn in_units(&self, scale: RateScale) -> Result<Self> {
         let times: Vec<f64> = self.times.iter().map(|t| scale.time_to_unit(*t)).collect();
         if !times.iter().all(|t| t.is_finite()) {

@@ -34,6 +34,10 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync {
     /// absolute tolerance and the default step.
     fn rate_bound(&self, x0: &[f64; N]) -> f64;
 
+    /// The principal moments at `t` when the principal axes are the body axes (every
+    /// tensor of the model diagonal), where flips are located; `None` otherwise.
+    fn principal_moments(&self, t: f64) -> Option<Vector3<f64>>;
+
     /// Extra per-frame output of the model (the damper's rates), appended to `out`.
     fn extra(&self, _x: &[f64; N], _out: &mut Vec<f64>) {}
 

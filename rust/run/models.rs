@@ -18,12 +18,13 @@ use crate::dynamics::Model;
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 use crate::kinematics::rotation_matrix;
+use crate::observe::models::ModelFlips;
 use crate::observe::{Drift, Observer};
 use crate::ode::controller::check_rtol;
 use crate::ode::Stats;
 
 use super::registry::run_model_method;
-use super::{error_from_unit, method_and_grid, to_unit, FrameGrid, Method};
+use super::{error_from_unit, method_and_grid, time_from_unit, to_unit, FrameGrid, Method};
 
 /// A model run's frames, time-major, and its cost.
 #[derive(Debug, Clone, Default)]
@@ -40,6 +41,9 @@ pub struct ModelOutput {
     pub energy: Vec<f64>,
     /// `(frames, k)` the model's extra output (the damper's rates σ; empty for a deployment).
     pub extra: Vec<f64>,
+    /// The flip times ([`crate::observe::models`]), if asked for and the model's principal
+    /// axes are its body axes; `None` otherwise (not located, rather than none found).
+    pub flip_times: Option<Vec<f64>>,
     /// The largest departure over the frames of what the model keeps (`|L|`, `L_world`,
     /// `|q|`, as [`Drift`] defines them) and of the energy, which the model's law changes (a
     /// deployment's work, a damper's loss): its entry is the largest relative change.
@@ -132,6 +136,7 @@ pub fn simulate_model<const N: usize, S: Model<N>>(
     x0: [f64; N],
     grid: &FrameGrid,
     method: Method,
+    flips: bool,
     cancel: &AtomicBool,
 ) -> Result<ModelOutput> {
     if !x0.iter().all(|v| v.is_finite()) {
@@ -144,14 +149,27 @@ pub fn simulate_model<const N: usize, S: Model<N>>(
     let omega0: [f64; 3] = sys.omega_body(0.0, &x0).into();
     let scale = RateScale::of(omega0);
     if !scale.is_identity() {
-        return simulate_scaled(sys, x0, grid, method, cancel, scale);
+        return simulate_scaled(sys, x0, grid, method, flips, cancel, scale);
     }
     let mut recorder = ModelRecorder {
         sys,
         out: ModelOutput::with_frames(grid.frames()),
     };
-    let stats = run_model_method(method, sys, x0, grid, &mut recorder, cancel)?;
+    // Flip location looks at every step; without it the step loop stays bare.
+    let (stats, flip_times) = match flips && sys.principal_moments(0.0).is_some() {
+        true => {
+            let mut flips = ModelFlips::new(sys);
+            let obs = &mut (&mut recorder, &mut flips);
+            let stats = run_model_method(method, sys, x0, grid, obs, cancel)?;
+            (stats, Some(flips.into_flip_times()?))
+        }
+        false => (
+            run_model_method(method, sys, x0, grid, &mut recorder, cancel)?,
+            None,
+        ),
+    };
     let mut out = recorder.out;
+    out.flip_times = flip_times;
     out.drift = out.drift();
     out.dt = if method.is_adaptive() {
         grid.t_end() / stats.n_steps.max(1) as f64
@@ -170,6 +188,7 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
     x0: [f64; N],
     grid: &FrameGrid,
     method: Method,
+    flips: bool,
     cancel: &AtomicBool,
     scale: RateScale,
 ) -> Result<ModelOutput> {
@@ -180,7 +199,7 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
     for v in &mut x[..N - 4] {
         *v = scale.rate_to_unit(*v);
     }
-    let mut out = simulate_model(&unit, x, &unit_grid, unit_method, cancel)
+    let mut out = simulate_model(&unit, x, &unit_grid, unit_method, flips, cancel)
         .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     let rates = [
         &mut out.omega,
@@ -194,6 +213,9 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
     // an energy is a moment times a rate squared
     for e in &mut out.energy {
         *e = scale.rate_from_unit(scale.rate_from_unit(*e));
+    }
+    for t in out.flip_times.iter_mut().flatten() {
+        *t = time_from_unit(scale, *t, grid.t_end());
     }
     out.dt = scale.time_from_unit(out.dt);
     if !out.omega.iter().all(|w| w.is_finite()) {
@@ -274,6 +296,7 @@ pub fn simulate_models<const N: usize, S: Model<N>>(
     x0s: &[[f64; N]],
     grid: &FrameGrid,
     method: Method,
+    flips: bool,
     cancel: &AtomicBool,
 ) -> Result<Vec<ModelOutput>> {
     use rayon::prelude::*;
@@ -282,7 +305,7 @@ pub fn simulate_models<const N: usize, S: Model<N>>(
         .zip(x0s.par_iter())
         .enumerate()
         .map(|(row, (sys, x0))| {
-            simulate_model(sys, *x0, grid, method, cancel).map_err(|e| e.in_row(row))
+            simulate_model(sys, *x0, grid, method, flips, cancel).map_err(|e| e.in_row(row))
         })
         .collect()
 }

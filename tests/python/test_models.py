@@ -260,3 +260,39 @@ def test_rates_near_the_ends_of_float64_are_the_scaled_motion(e, method):
     np.testing.assert_array_equal(scaled.omega, unit.omega * s)
     np.testing.assert_array_equal(scaled.sigma, unit.sigma * s)
     assert scaled.drift.momentum == unit.drift.momentum < 1e-8
+
+
+def test_flips_of_a_deployment_follow_the_deployed_body_exactly():
+    """After the last knot the body is constant and the motion free: the flips located on the
+    deployment's run come every 2K(m)/λ of the deployed body at the state reached then (the
+    closed form, `dz.flip_period`), and none before the spin axis became intermediate."""
+    d = dz.Deployment([10.0, 20.0], [STOWED, DEPLOYED])
+    w0 = (0.01, 0.01, 1.0)
+    traj = dz.simulate(d, w0, t_end=200.0, frames=2001, method="dop853", rtol=1e-12, dt=None)
+    flips = traj.flip_times
+    assert flips is not None and len(flips) >= 3
+    assert flips[0] > 20.0  # the stowed spin about z, the major axis, never flipped
+    i = int(np.searchsorted(traj.t, 20.0))
+    period = dz.flip_period(DEPLOYED, traj.omega[i])
+    np.testing.assert_allclose(np.diff(flips), period, rtol=1e-6)
+    # the same deployment keeping z major (deployed to (1, 2, 4)) shows none
+    kept = dz.simulate(dz.Deployment([10.0, 20.0], [STOWED, (1.0, 2.0, 4.0)]), w0,
+                       t_end=200.0, frames=201, method="dop853", rtol=1e-12, dt=None)
+    assert kept.flip_times is not None and len(kept.flip_times) == 0
+
+
+def test_flips_of_equal_knots_are_the_closed_form_flips():
+    """A deployment whose knots are equal is the constant body: its flips are those of the
+    exact solution (Jacobi elliptic functions), to the integration's accuracy."""
+    moments = (52.0833, 27.0833, 41.6666)
+    d = dz.Deployment([1.0, 2.0], [moments, moments])
+    w0 = (0.01, 0.01, 1.0)
+    deployed = dz.simulate(d, w0, t_end=200.0, frames=201, dt=1e-3)
+    exact = dz.simulate(moments, w0, t_end=200.0, frames=201, method="exact")
+    assert len(exact.flip_times) >= 5
+    np.testing.assert_allclose(deployed.flip_times, exact.flip_times, rtol=0, atol=1e-6)
+
+
+def test_flips_are_not_located_for_tensors_off_their_axes():
+    traj = dz.simulate(dz.Deployment([1.0, 2.0], [A, B]), (0.1, 0.2, 1.0), t_end=5.0, frames=11)
+    assert traj.flip_times is None
