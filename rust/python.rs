@@ -470,6 +470,11 @@ struct PyModelResult {
     energy: Py<PyArray1<f64>>,
     /// A damper's absolute rates in body axes `(frames, 3)`; None for a deployment.
     sigma: Option<Py<PyArray2<f64>>>,
+    /// The flips located, if asked for and the model's tensors are diagonal; else None.
+    flip_times: Option<Py<PyArray1<f64>>>,
+    /// The drift `(energy, momentum, momentum_world, q_norm)` of what the model keeps (the
+    /// energy entry its largest relative change), measured in the run's own units.
+    drift: (f64, f64, f64, f64),
     nfev: u64,
     n_steps: u64,
     n_rejected: u64,
@@ -485,6 +490,7 @@ fn model_result(
     sigma: bool,
 ) -> PyResult<PyModelResult> {
     let frames = grid.frames();
+    let d = out.drift;
     let rows = |v: Vec<f64>, width: usize| {
         Array2::from_shape_vec((frames, width), v)
             .map(|a| a.into_pyarray(py).unbind())
@@ -501,6 +507,8 @@ fn model_result(
             true => Some(rows(out.extra, 3)?),
             false => None,
         },
+        flip_times: out.flip_times.map(|t| PyArray1::from_vec(py, t).unbind()),
+        drift: (d.energy, d.momentum, d.momentum_world, d.q_norm),
         nfev: out.stats.nfev,
         n_steps: out.stats.n_steps,
         n_rejected: out.stats.n_rejected,
@@ -510,7 +518,7 @@ fn model_result(
 
 /// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployment<'py>(
     py: Python<'py>,
@@ -525,6 +533,7 @@ fn simulate_deployment<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<PyModelResult> {
     let times = times
         .as_slice()
@@ -546,7 +555,7 @@ fn simulate_deployment<'py>(
         model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&d, x0, &grid, method, cancel)
+        simulate_model(&d, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, &grid, false)
 }
@@ -554,7 +563,7 @@ fn simulate_deployment<'py>(
 /// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
 /// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployments<'py>(
     py: Python<'py>,
@@ -569,6 +578,7 @@ fn simulate_deployments<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Vec<PyModelResult>> {
     let rows = times.len();
     if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
@@ -606,7 +616,7 @@ fn simulate_deployments<'py>(
         atol,
     )?;
     let out = detach(py, true, |cancel| {
-        simulate_models(&systems, &x0s, &grid, method, cancel)
+        simulate_models(&systems, &x0s, &grid, method, flips, cancel)
     })?;
     out.into_iter()
         .map(|o| model_result(py, o, &grid, false))
@@ -615,7 +625,7 @@ fn simulate_deployments<'py>(
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
 #[pyfunction]
-#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_damper<'py>(
     py: Python<'py>,
@@ -632,6 +642,7 @@ fn simulate_damper<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<PyModelResult> {
     let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
     if !sigma0.iter().all(|s| s.is_finite()) {
@@ -642,7 +653,7 @@ fn simulate_damper<'py>(
         model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&sys, x0, &grid, method, cancel)
+        simulate_model(&sys, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, &grid, true)
 }

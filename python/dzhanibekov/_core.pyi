@@ -189,6 +189,10 @@ class ModelResult:
     @property
     def sigma(self) -> npt.NDArray[np.float64] | None: ...
     @property
+    def flip_times(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def drift(self) -> tuple[float, float, float, float]: ...
+    @property
     def nfev(self) -> int: ...
     @property
     def n_steps(self) -> int: ...
@@ -241,6 +245,7 @@ def simulate_deployment(
     max_steps: int,
     rtol: float = ...,
     atol: float = ...,
+    flips: bool = False,
 ) -> ModelResult: ...
 def simulate_deployments(
     times: list[list[float]],
@@ -254,6 +259,7 @@ def simulate_deployments(
     max_steps: int,
     rtol: float = ...,
     atol: float = ...,
+    flips: bool = False,
 ) -> list[ModelResult]: ...
 def simulate_damper(
     inertia: tuple[float, float, float, float, float, float, float, float, float],
@@ -269,6 +275,7 @@ def simulate_damper(
     max_steps: int,
     rtol: float = ...,
     atol: float = ...,
+    flips: bool = False,
 ) -> ModelResult: ...
 def step_plan(
     body: RigidBody,

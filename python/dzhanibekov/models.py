@@ -22,16 +22,13 @@ __all__ = ["simulate_model", "simulate_deployments"]
 
 
 def _drift(out: _core.ModelResult) -> Drift:
-    """The drift of what the model keeps (momentum, its norm, |q|); the energy entry is its
-    relative change, which a model's law makes (a deployment's work, a damper's loss)."""
-    e, l_world, l_body, q = out.energy, out.momentum_world, out.momentum_body, out.q
-    l0 = float(np.linalg.norm(l_world[0])) or 1.0
-    return Drift(
-        energy=float(np.abs(e - e[0]).max() / (abs(e[0]) or 1.0)),
-        momentum=float(np.abs(np.linalg.norm(l_body, axis=1) - l0).max() / l0),
-        momentum_world=float(np.linalg.norm(l_world - l_world[0], axis=1).max() / l0),
-        q_norm=float(np.abs(np.linalg.norm(q, axis=1) - 1.0).max()),
-    )
+    """The core's drift of what the model keeps (momentum, its norm, |q|); the energy entry is
+    its largest relative change, which a model's law makes (a deployment's work, a damper's
+    loss). Measured in the run's own units, so rates near the ends of float64 do not
+    underflow in the norms."""
+    energy, momentum, momentum_world, q_norm = out.drift
+    return Drift(energy=energy, momentum=momentum, momentum_world=momentum_world,
+                 q_norm=q_norm)
 
 
 def simulate_model(
@@ -48,6 +45,7 @@ def simulate_model(
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: Any,
+    flips: bool = True,
 ) -> Trajectory:
     """Runs a deployment (`model` a :class:`Deployment`) or a body with a damper; see
     `dzhanibekov.simulate` for the arguments."""
@@ -73,7 +71,7 @@ def simulate_model(
                              "has constant inertia)")
         out = _core.simulate_deployment(
             model.times, model.tensors.reshape(-1, 9), omega_t, q_t, t_end, frames, dt,
-            method, max_steps, rtol_, atol_)
+            method, max_steps, rtol_, atol_, bool(flips))
         body = _first_body(model)
     else:
         if not isinstance(damper, Damper):
@@ -85,13 +83,13 @@ def simulate_model(
         out = _core.simulate_damper(
             tuple(inertia.ravel().tolist()), damper.inertia, damper.damping, omega_t,
             (float(s[0]), float(s[1]), float(s[2])), q_t, t_end, frames, dt, method,
-            max_steps, rtol_, atol_)
+            max_steps, rtol_, atol_, bool(flips))
         sigma = out.sigma
     traj = Trajectory(
         t=out.t,
         omega=out.omega,
         q=out.q,
-        flip_times=None,
+        flip_times=out.flip_times,
         body=body,
         method=method,
         dt=out.dt,
