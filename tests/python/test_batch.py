@@ -184,6 +184,25 @@ def test_adaptive_rows_with_dt_none_equal_single_runs_bit_for_bit(rng, method):
         assert swept.dt[i] == one.dt
 
 
+def test_a_large_batch_without_a_bar_is_one_call_to_the_core(rng, capsys, monkeypatch):
+    # progress=None off a terminal (pytest captures stderr): tqdm shows no bar, so the batch
+    # is not cut into blocks for one
+    from dzhanibekov import ensemble
+
+    calls = []
+    core = ensemble._core.simulate_batch
+
+    def counted(*args, **kwargs):
+        calls.append(len(args[1]))
+        return core(*args, **kwargs)
+
+    monkeypatch.setattr(ensemble._core, "simulate_batch", counted)
+    inertia, omega, q = random_rows(rng, 2 * 1024 + 37)
+    dz.simulate(inertia, omega, q, t_end=2.0, frames=3, dt=1e-2)
+    assert calls == [2 * 1024 + 37]
+    assert capsys.readouterr().err == ""
+
+
 def test_a_large_batch_shows_its_progress_and_keeps_its_bits(rng, capsys):
     inertia, omega, q = random_rows(rng, 2 * 1024 + 37)  # three blocks, the last a part
     kwargs = dict(t_end=2.0, frames=3, dt=1e-2)
