@@ -102,6 +102,7 @@ fn batches(c: &mut Criterion) {
             let keep = Keep {
                 frames: true,
                 flips,
+                tilt: false,
             };
             let name = if flips { "simulate+flips" } else { "simulate" };
             group.bench_function(BenchmarkId::new(name, threads), |b| {

@@ -23,6 +23,7 @@ fn rk4(c: &mut Criterion) {
                 Keep {
                     frames: true,
                     flips: false,
+                    tilt: false,
                 },
             ),
             (
@@ -30,6 +31,7 @@ fn rk4(c: &mut Criterion) {
                 Keep {
                     frames: true,
                     flips: true,
+                    tilt: false,
                 },
             ),
         ] {

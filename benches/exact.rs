@@ -22,6 +22,7 @@ fn exact(c: &mut Criterion) {
             let keep = Keep {
                 frames: true,
                 flips,
+                tilt: false,
             };
             let id = BenchmarkId::new(format!("{case}/{name}"), "T=1e6");
             group.bench_with_input(id, &grid, |b, grid| {
@@ -44,6 +45,7 @@ fn exact(c: &mut Criterion) {
     let keep = Keep {
         frames: true,
         flips: true,
+        tilt: false,
     };
     group.bench_with_input(
         BenchmarkId::new("rk4-baseline/fig3a", "T=100"),

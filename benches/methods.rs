@@ -35,6 +35,7 @@ fn fixed_step(c: &mut Criterion) {
             let keep = Keep {
                 frames: true,
                 flips,
+                tilt: false,
             };
             let id = format!("{name}{}", if flips { "+flips" } else { "" });
             group.bench_function(BenchmarkId::new(id, steps), |b| {
@@ -53,6 +54,7 @@ fn adaptive(c: &mut Criterion) {
     let keep = Keep {
         frames: true,
         flips: true,
+        tilt: false,
     };
     let mut group = c.benchmark_group("adaptive");
     group.sample_size(10);

@@ -8,7 +8,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use nalgebra::Matrix3;
 
 use dzhanibekov::dynamics::{DampedBody, Deployment};
-use dzhanibekov::run::{simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod};
+use dzhanibekov::run::{simulate, simulate_model, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
 
 fn models(c: &mut Criterion) {
@@ -23,6 +23,7 @@ fn models(c: &mut Criterion) {
     let keep = Keep {
         frames: true,
         flips: false,
+        tilt: false,
     };
     group.bench_with_input(BenchmarkId::new("free", steps), &grid, |b, grid| {
         b.iter(|| {
@@ -54,7 +55,7 @@ fn models(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new(name, steps), &grid, |b, grid| {
             b.iter(|| {
                 let x0 = d.state_from(0.0, black_box([0.01, 0.01, 1.0]), [1.0, 0.0, 0.0, 0.0]);
-                simulate_model(d, x0, grid, ModelMethod::Rk4, &cancel).unwrap()
+                simulate_model(d, x0, grid, Method::Rk4, &cancel).unwrap()
             })
         });
     }
@@ -63,7 +64,7 @@ fn models(c: &mut Criterion) {
         b.iter(|| {
             let w = black_box([0.01, 0.01, 1.0]);
             let x0 = DampedBody::state_from(w, w, [1.0, 0.0, 0.0, 0.0]);
-            simulate_model(&damped, x0, grid, ModelMethod::Rk4, &cancel).unwrap()
+            simulate_model(&damped, x0, grid, Method::Rk4, &cancel).unwrap()
         })
     });
     group.finish();

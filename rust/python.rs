@@ -38,8 +38,8 @@ use crate::run::registry::{
 use crate::run::step_size::plan;
 use crate::run::watchdog;
 use crate::run::{
-    method_and_grid, model_step, simulate as core_simulate, simulate_model, simulate_models,
-    FrameGrid, Keep, Method, ModelMethod, ModelOutput,
+    method_and_grid, model_method_and_grid, model_step, simulate as core_simulate, simulate_model,
+    simulate_models, FrameGrid, Keep, Method, ModelOutput,
 };
 
 /// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
@@ -354,6 +354,7 @@ fn simulate<'py>(
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
+        tilt: false,
     };
     let body = body.inner;
     let long = watchdog::is_long(&method, &grid, 1)
@@ -422,39 +423,6 @@ fn step_plan<'py>(
     result.set_item("rate_bound", p.rate_bound)?;
     result.set_item("predicted_drift", p.predicted_drift)?;
     Ok(result)
-}
-
-/// The method and frame grid of a model run: `dt = None` picks [`model_step`].
-#[allow(clippy::too_many_arguments)]
-fn model_method_and_grid<const N: usize, S: Model<N>>(
-    sys: &S,
-    x0: &[f64; N],
-    method: &str,
-    t_end: f64,
-    frames: usize,
-    dt: Option<f64>,
-    max_steps: u64,
-    rtol: f64,
-    atol: f64,
-) -> PyResult<(ModelMethod, FrameGrid)> {
-    let method = ModelMethod::for_model(Method::named(method, rtol, atol, dt)?, S::NAME)?;
-    let grid = match method {
-        ModelMethod::Dopri5(_) | ModelMethod::Dop853(_) => FrameGrid::frames_only(t_end, frames)?,
-        _ => {
-            if let Some(dt) = dt {
-                FrameGrid::try_new(t_end, frames, dt, max_steps)?
-            } else {
-                crate::ode::controller::check_rtol(rtol)?;
-                FrameGrid::try_new(t_end, frames, model_step(sys, x0, t_end, rtol), max_steps)?
-            }
-        }
-    };
-    let method = match method {
-        ModelMethod::Dopri5(a) => ModelMethod::Dopri5(a.with_max_steps(max_steps)),
-        ModelMethod::Dop853(a) => ModelMethod::Dop853(a.with_max_steps(max_steps)),
-        fixed => fixed,
-    };
-    Ok((method, grid))
 }
 
 /// A model run's frames as a dict of arrays.
@@ -652,7 +620,7 @@ impl ModelRows<'_> {
         &self,
         systems: &[S],
         x0s: &[[f64; N]],
-    ) -> PyResult<(ModelMethod, FrameGrid)> {
+    ) -> PyResult<(Method, FrameGrid)> {
         let (Some(sys), Some(x0)) = (systems.first(), x0s.first()) else {
             return Err(PyValueError::new_err("a batch needs at least one run"));
         };
@@ -1146,6 +1114,7 @@ fn simulate_batch<'py>(
     let keep = Keep {
         frames: keep_frames,
         flips: keep_flips,
+        tilt: false,
     };
     let long = watchdog::is_long(&method, &grid, starts.len());
     let out = detach(py, long, |cancel| {

@@ -113,14 +113,17 @@ fn rows_keep_what_was_asked() {
         Keep {
             frames: false,
             flips: true,
+            tilt: false,
         },
         Keep {
             frames: true,
             flips: false,
+            tilt: false,
         },
         Keep {
             frames: false,
             flips: false,
+            tilt: false,
         },
     ] {
         let batch = simulate_batch(
@@ -204,6 +207,7 @@ fn sweep_rows_are_summaries_of_single_runs() {
     let keep = Keep {
         frames: false,
         flips: true,
+        tilt: false,
     };
     for method in [Method::Rk4, Method::Splitting] {
         for threads in [1, 2] {
@@ -384,6 +388,7 @@ fn cancel_stops_every_group() {
     let keep = Keep {
         frames: false,
         flips: true,
+        tilt: false,
     };
     let err = simulate_batch(
         &starts,

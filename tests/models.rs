@@ -8,9 +8,7 @@ use nalgebra::Matrix3;
 
 use dzhanibekov::dynamics::{DampedBody, Deployment};
 use dzhanibekov::ode::controller::Adaptive;
-use dzhanibekov::run::{
-    simulate, simulate_model, FrameGrid, Keep, Method, ModelMethod, ModelOutput,
-};
+use dzhanibekov::run::{simulate, simulate_model, FrameGrid, Keep, Method, ModelOutput};
 use dzhanibekov::RigidBody;
 
 fn no_cancel() -> AtomicBool {
@@ -42,11 +40,12 @@ fn a_deployment_with_equal_knots_is_the_constant_body() {
     let grid = FrameGrid::try_new(50.0, 101, 1e-3, u64::MAX).unwrap();
     let (omega0, q0) = ([0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]);
     let x0 = d.state_from(0.0, omega0, q0);
-    let out = simulate_model(&d, x0, &grid, ModelMethod::Rk4, &no_cancel()).unwrap();
+    let out = simulate_model(&d, x0, &grid, Method::Rk4, &no_cancel()).unwrap();
     let body = RigidBody::try_new(moments).unwrap();
     let keep = Keep {
         frames: true,
         flips: false,
+        tilt: false,
     };
     let free = simulate(&body, omega0, q0, &grid, Method::Rk4, keep, &no_cancel()).unwrap();
     // Two roundings apart per step (L = Iω against ω), over 50 000 steps of a run that
@@ -74,12 +73,12 @@ fn deployments_keep_the_momentum_in_space() {
     let d = Deployment::try_new(vec![2.0, 6.0], vec![a, b]).unwrap();
     let x0 = d.state_from(0.0, [0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.2]);
     let grid = FrameGrid::try_new(20.0, 201, 1e-4, u64::MAX).unwrap();
-    let rk4 = simulate_model(&d, x0, &grid, ModelMethod::Rk4, &no_cancel()).unwrap();
+    let rk4 = simulate_model(&d, x0, &grid, Method::Rk4, &no_cancel()).unwrap();
     assert!(momentum_drift(&rk4) < 1e-12, "{:e}", momentum_drift(&rk4));
-    let dop = simulate_model(&d, x0, &grid, ModelMethod::Dop853(tight()), &no_cancel()).unwrap();
+    let dop = simulate_model(&d, x0, &grid, Method::Dop853(tight()), &no_cancel()).unwrap();
     assert!(momentum_drift(&dop) < 1e-12, "{:e}", momentum_drift(&dop));
     let proj = FrameGrid::try_new(20.0, 201, 1e-2, u64::MAX).unwrap();
-    let p = simulate_model(&d, x0, &proj, ModelMethod::Rk4Projected, &no_cancel()).unwrap();
+    let p = simulate_model(&d, x0, &proj, Method::Rk4Projected, &no_cancel()).unwrap();
     assert!(momentum_drift(&p) < 1e-13, "{:e}", momentum_drift(&p));
     // energy changed (it is not an invariant here), and the methods agree on it
     let (e0, e1) = (rk4.energy[0], *rk4.energy.last().unwrap());
@@ -105,7 +104,7 @@ fn a_major_axis_spin_tumbles_once_deployed_to_intermediate() {
         Deployment::from_moments(vec![100.0, 110.0], &[[1.0, 2.0, 3.0], [1.0, 3.0, 2.0]]).unwrap();
     let x0 = d.state_from(0.0, [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]);
     let grid = FrameGrid::try_new(300.0, 3001, 1e-3, u64::MAX).unwrap();
-    let out = simulate_model(&d, x0, &grid, ModelMethod::Rk4, &no_cancel()).unwrap();
+    let out = simulate_model(&d, x0, &grid, Method::Rk4, &no_cancel()).unwrap();
     let share = spin_share(&out, &d, &grid, 2);
     let before = share[..1000].iter().cloned().fold(f64::INFINITY, f64::min);
     let after = share[1100..].iter().cloned().fold(f64::INFINITY, f64::min);
@@ -123,7 +122,7 @@ fn a_damped_minor_axis_spin_goes_flat_about_the_major_axis() {
     let d = explorer();
     let x0 = DampedBody::state_from([0.01, 0.0, 2.0], [0.01, 0.0, 2.0], [1.0, 0.0, 0.0, 0.0]);
     let grid = FrameGrid::try_new(1500.0, 1501, 5e-3, u64::MAX).unwrap();
-    for method in [ModelMethod::Rk4, ModelMethod::Rk4Projected] {
+    for method in [Method::Rk4, Method::Rk4Projected] {
         let out = simulate_model(&d, x0, &grid, method, &no_cancel()).unwrap();
         assert!(momentum_drift(&out) < 1e-9, "{:e}", momentum_drift(&out));
         // energy never rises (beyond round-off)
@@ -149,7 +148,7 @@ fn a_damped_major_axis_spin_stays() {
     let d = explorer();
     let x0 = DampedBody::state_from([0.2, 0.001, 0.001], [0.2, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]);
     let grid = FrameGrid::try_new(2000.0, 201, 1e-2, u64::MAX).unwrap();
-    let out = simulate_model(&d, x0, &grid, ModelMethod::Dopri5(tight()), &no_cancel()).unwrap();
+    let out = simulate_model(&d, x0, &grid, Method::Dopri5(tight()), &no_cancel()).unwrap();
     for w in out.omega.chunks(3) {
         assert!(w[0] / (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt() > 0.9999);
     }
@@ -162,9 +161,7 @@ fn a_damped_major_axis_spin_stays() {
 fn constant_body_methods_refuse_the_models_by_name() {
     for method in [Method::Exact, Method::Splitting, Method::Splitting4] {
         for model in ["deployment", "damper"] {
-            let e = ModelMethod::for_model(method, model)
-                .unwrap_err()
-                .to_string();
+            let e = method.for_model(model).unwrap_err().to_string();
             assert!(
                 e.contains(&format!("'{}'", method.name())) && e.contains(model),
                 "{e}"
@@ -174,6 +171,6 @@ fn constant_body_methods_refuse_the_models_by_name() {
     }
     for method in ["rk4", "rk4_projected", "dopri5", "dop853"] {
         let m: Method = method.parse().unwrap();
-        assert!(ModelMethod::for_model(m, "damper").is_ok());
+        assert!(m.for_model("damper").is_ok());
     }
 }

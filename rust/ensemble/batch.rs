@@ -496,7 +496,7 @@ struct RowOutput {
 /// use dzhanibekov::ensemble::batch::{simulate_batch, Options, Start};
 /// use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
 /// let grid = FrameGrid::try_new(10.0, 11, 1e-2, u64::MAX).unwrap();
-/// let keep = Keep { frames: true, flips: true };
+/// let keep = Keep { frames: true, flips: true, tilt: false };
 /// let starts = [
 ///     Start::try_new([52.0833, 27.0833, 41.6666], [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0]).unwrap(),
 ///     Start::try_new([1.0, 2.0, 3.0], [0.3, -0.2, 0.1], [0.5, 0.5, 0.5, 0.5]).unwrap(),

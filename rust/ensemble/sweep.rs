@@ -4,29 +4,21 @@
 //!
 //! RK4 runs in SIMD lanes as a batch does ([`crate::ensemble::batch`]); other methods as single runs
 //! on all cores. A row's numbers equal those of the single run of its inputs bit for bit
-//! (its flips those of [`crate::run::simulate`], its tilt that of a [`TiltMonitor`] shown
+//! (its flips those of [`crate::run::simulate`], its tilt that of a [`crate::observe::tilt::TiltMonitor`] shown
 //! every step), whatever the number of threads and however the rows are cut into blocks.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
-use nalgebra::Vector3;
 use rayon::prelude::*;
 
-use crate::dynamics::{state_from, FreeRigidBody};
 use crate::ensemble::batch::{
     needs_scaling, run_group, FlipTally, Options, Start, Stop, Watch, LANES,
 };
 use crate::error::{Error, Result};
-use crate::exact::{flip_period, flip_period_of_rates, representable_period, ExactMotion};
-use crate::float::RateScale;
-use crate::kinematics::normalized;
-use crate::observe::tilt::TiltMonitor;
-use crate::observe::{Drift, DriftMonitor, FlipDetector, Observer};
+use crate::exact::{flip_period, flip_period_of_rates, representable_period};
+use crate::observe::Drift;
 use crate::ode::Stats;
-use crate::run::{
-    error_from_unit, finite_drift, run_method, time_from_unit, to_unit, FrameGrid, Method,
-    CHECK_EVERY,
-};
+use crate::run::{simulate, FrameGrid, Keep, Method};
 
 /// What one run of a sweep measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -264,83 +256,38 @@ fn exact_period(start: &Start) -> Result<f64> {
     }
 }
 
-/// One run of another method, watched as [`crate::run::simulate`] watches it (in the motion's
-/// own units for rates far from 1), plus the tilt.
+/// One run alone, by the one driver ([`crate::run::simulate`]: in the motion's own units for
+/// rates far from 1), keeping its flips and tilt.
 fn single(
     start: &Start,
     grid: &FrameGrid,
     method: Method,
     cancel: &AtomicBool,
 ) -> Result<RunSummary> {
-    if let Some(body) = crate::float::unit_body(&start.body) {
-        let unit = Start { body, ..*start };
-        let mut run = single(&unit, grid, method, cancel)?;
-        run.exact_period = exact_period(start)?;
-        return Ok(run);
-    }
-    let scale = RateScale::of(start.omega0);
-    if scale.is_identity() {
-        return single_unscaled(start, grid, method, cancel);
-    }
-    let (unit_grid, unit_method) = to_unit(grid, method, start.omega0, scale)?;
-    let unit = Start {
-        omega0: start.omega0.map(|w| scale.rate_to_unit(w)),
-        ..*start
-    };
-    let mut run = single_unscaled(&unit, &unit_grid, unit_method, cancel)
-        .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
-    run.flips.first = time_from_unit(scale, run.flips.first, grid.t_end());
-    run.flips.last = time_from_unit(scale, run.flips.last, grid.t_end());
-    run.exact_period = exact_period(start)?;
-    run.dt = scale.time_from_unit(run.dt);
-    Ok(run)
-}
-
-fn single_unscaled(
-    start: &Start,
-    grid: &FrameGrid,
-    method: Method,
-    cancel: &AtomicBool,
-) -> Result<RunSummary> {
-    let body = &start.body;
-    let omega = Vector3::from(start.omega0);
-    let q0 = normalized(start.q0)?;
-    let mut drift = DriftMonitor::new(body, &omega);
-    let mut tilt = TiltMonitor::new(body, &omega);
-    let mut flips = FlipTally::default();
     let exact_period = exact_period(start)?;
-    let (stats, dt) = if !method.info().takes_steps() {
-        let motion = ExactMotion::try_new(body, start.omega0, q0)?;
-        for i in 0..grid.frames() {
-            if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
-                return Err(Error::Interrupted);
-            }
-            let t = grid.time(i);
-            (&mut drift, &mut tilt).frame(i, t, &motion.state_at(t));
-        }
-        flips.absorb(&motion.flip_times(grid.t_end())?);
-        (Stats::default(), 0.0)
-    } else {
-        let sys = FreeRigidBody::new(*body);
-        let mut detector = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
-        let x0 = state_from(start.omega0, q0);
-        let mut obs = (&mut drift, (&mut detector, &mut tilt));
-        let stats = run_method(method, &sys, x0, grid, &mut obs, cancel)?;
-        flips.absorb(&detector.take_flip_times());
-        let dt = match method.is_adaptive() {
-            true => grid.t_end() / stats.n_steps.max(1) as f64,
-            false => grid.step_size(),
-        };
-        (stats, dt)
+    let keep = Keep {
+        frames: false,
+        flips: true,
+        tilt: true,
     };
-    let drift = finite_drift(drift.drift, grid.t_end())?;
+    let run = simulate(
+        &start.body,
+        start.omega0,
+        start.q0,
+        grid,
+        method,
+        keep,
+        cancel,
+    )?;
+    let mut flips = FlipTally::default();
+    flips.absorb(&run.flip_times);
     Ok(RunSummary {
         flips,
-        tilt: tilt.tilt(),
+        tilt: run.tilt,
         exact_period,
-        drift,
-        stats,
-        dt,
+        drift: run.drift,
+        stats: run.stats,
+        dt: run.dt,
         status: RunStatus::Ok,
     })
 }
@@ -348,8 +295,12 @@ fn single_unscaled(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::{state_from, FreeRigidBody};
     use crate::integrators::Rk4;
+    use crate::kinematics::normalized;
+    use crate::observe::tilt::TiltMonitor;
     use crate::run::integrate;
+    use nalgebra::Vector3;
 
     #[test]
     fn a_run_that_diverges_gets_its_status_and_the_others_their_numbers() {

@@ -4,6 +4,7 @@
 //! embedded Runge–Kutta formulae", J. Comput. Appl. Math. 7 (1981) 67–75).
 #![allow(clippy::excessive_precision, clippy::unreadable_literal)]
 
+use crate::ode::controller::Controller;
 use crate::ode::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
 use crate::ode::OdeSystem;
 
@@ -420,6 +421,8 @@ impl<const N: usize, S: OdeSystem<N>> EmbeddedPair<N, S> for Dop853 {
     const ERROR_ORDER: u32 = 7;
     const RHS_PER_STEP: u64 = 12;
     const RHS_PER_DENSE: u64 = 3;
+    /// Hairer's `DOP853` defaults: β = 0 (no PI term), factors in [1/3, 6].
+    const CONTROLLER: Controller = Controller::pi(7, 0.0, 1.0 / 3.0, 6.0);
     type Step = Dop853Step<N>;
     type Dense = Dop853Dense<N>;
 

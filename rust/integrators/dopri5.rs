@@ -1,3 +1,4 @@
+use crate::ode::controller::Controller;
 use crate::ode::embedded::{combine, stages, weighted, DenseOutput, EmbeddedPair, EmbeddedStep};
 use crate::ode::OdeSystem;
 
@@ -114,6 +115,8 @@ impl<const N: usize, S: OdeSystem<N>> EmbeddedPair<N, S> for Dopri5 {
     const ERROR_ORDER: u32 = 4;
     const RHS_PER_STEP: u64 = 6;
     const RHS_PER_DENSE: u64 = 0;
+    /// Hairer's `DOPRI5` defaults: β = 0.04, factors in [0.2, 10].
+    const CONTROLLER: Controller = Controller::pi(4, 0.04, 0.2, 10.0);
     type Step = Dopri5Step<N>;
     type Dense = Dopri5Dense<N>;
 

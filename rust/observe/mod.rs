@@ -9,16 +9,17 @@ use crate::body::RigidBody;
 use crate::buffer::zeroed;
 use crate::dynamics::{Invariants, State};
 
-/// Sees a run as it goes. Observers compose as tuples: `(A, B)` is an observer.
-pub trait Observer {
+/// Sees a run of an `N`-dimensional system as it goes (the free body's 7 by default).
+/// Observers compose as tuples: `(A, B)` is an observer.
+pub trait Observer<const N: usize = 7> {
     /// Whether [`Observer::step`] must be called; `false` keeps the step loop bare.
     const WANTS_STEPS: bool = false;
 
     /// Called at frame `index` (time `t`), including the first (t = 0) and the last.
-    fn frame(&mut self, _index: usize, _t: f64, _x: &State) {}
+    fn frame(&mut self, _index: usize, _t: f64, _x: &[f64; N]) {}
 
     /// Called after every step from `(t0, x0)` to `(t1, x1)`.
-    fn step(&mut self, _t0: f64, _x0: &State, _t1: f64, _x1: &State) {}
+    fn step(&mut self, _t0: f64, _x0: &[f64; N], _t1: f64, _x1: &[f64; N]) {}
 
     /// Called instead of [`Observer::step`] by methods with a continuous extension (the
     /// adaptive ones, whose steps can be long): `at(θ)` is the state at `t0 + θ (t1 − t0)`,
@@ -26,28 +27,28 @@ pub trait Observer {
     fn step_dense(
         &mut self,
         t0: f64,
-        x0: &State,
+        x0: &[f64; N],
         t1: f64,
-        x1: &State,
-        _at: &mut dyn FnMut(f64) -> State,
+        x1: &[f64; N],
+        _at: &mut dyn FnMut(f64) -> [f64; N],
     ) {
         self.step(t0, x0, t1, x1);
     }
 }
 
-impl Observer for () {}
+impl<const N: usize> Observer<N> for () {}
 
-impl<A: Observer, B: Observer> Observer for (A, B) {
+impl<const N: usize, A: Observer<N>, B: Observer<N>> Observer<N> for (A, B) {
     const WANTS_STEPS: bool = A::WANTS_STEPS || B::WANTS_STEPS;
 
     #[inline(always)]
-    fn frame(&mut self, index: usize, t: f64, x: &State) {
+    fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
         self.0.frame(index, t, x);
         self.1.frame(index, t, x);
     }
 
     #[inline(always)]
-    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+    fn step(&mut self, t0: f64, x0: &[f64; N], t1: f64, x1: &[f64; N]) {
         if A::WANTS_STEPS {
             self.0.step(t0, x0, t1, x1);
         }
@@ -59,10 +60,10 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     fn step_dense(
         &mut self,
         t0: f64,
-        x0: &State,
+        x0: &[f64; N],
         t1: f64,
-        x1: &State,
-        at: &mut dyn FnMut(f64) -> State,
+        x1: &[f64; N],
+        at: &mut dyn FnMut(f64) -> [f64; N],
     ) {
         if A::WANTS_STEPS {
             self.0.step_dense(t0, x0, t1, x1, at);
@@ -73,43 +74,43 @@ impl<A: Observer, B: Observer> Observer for (A, B) {
     }
 }
 
-impl<O: Observer> Observer for &mut O {
+impl<const N: usize, O: Observer<N>> Observer<N> for &mut O {
     const WANTS_STEPS: bool = O::WANTS_STEPS;
 
     #[inline(always)]
-    fn frame(&mut self, index: usize, t: f64, x: &State) {
+    fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
         (**self).frame(index, t, x);
     }
 
     #[inline(always)]
-    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+    fn step(&mut self, t0: f64, x0: &[f64; N], t1: f64, x1: &[f64; N]) {
         (**self).step(t0, x0, t1, x1);
     }
 
     fn step_dense(
         &mut self,
         t0: f64,
-        x0: &State,
+        x0: &[f64; N],
         t1: f64,
-        x1: &State,
-        at: &mut dyn FnMut(f64) -> State,
+        x1: &[f64; N],
+        at: &mut dyn FnMut(f64) -> [f64; N],
     ) {
         (**self).step_dense(t0, x0, t1, x1, at);
     }
 }
 
-impl<O: Observer> Observer for Option<O> {
+impl<const N: usize, O: Observer<N>> Observer<N> for Option<O> {
     const WANTS_STEPS: bool = O::WANTS_STEPS;
 
     #[inline(always)]
-    fn frame(&mut self, index: usize, t: f64, x: &State) {
+    fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
         if let Some(o) = self {
             o.frame(index, t, x);
         }
     }
 
     #[inline(always)]
-    fn step(&mut self, t0: f64, x0: &State, t1: f64, x1: &State) {
+    fn step(&mut self, t0: f64, x0: &[f64; N], t1: f64, x1: &[f64; N]) {
         if let Some(o) = self {
             o.step(t0, x0, t1, x1);
         }
@@ -118,10 +119,10 @@ impl<O: Observer> Observer for Option<O> {
     fn step_dense(
         &mut self,
         t0: f64,
-        x0: &State,
+        x0: &[f64; N],
         t1: f64,
-        x1: &State,
-        at: &mut dyn FnMut(f64) -> State,
+        x1: &[f64; N],
+        at: &mut dyn FnMut(f64) -> [f64; N],
     ) {
         if let Some(o) = self {
             o.step_dense(t0, x0, t1, x1, at);

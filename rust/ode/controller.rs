@@ -96,23 +96,23 @@ impl Adaptive {
     }
 }
 
-/// The step-size controller's constants: Hairer's defaults for each pair.
-pub(crate) struct Controller {
-    pub(crate) alpha: f64,
-    pub(crate) beta: f64,
-    pub(crate) safety: f64,
-    pub(crate) min_factor: f64,
-    pub(crate) max_factor: f64,
+/// A step-size controller's constants (Hairer, Nørsett & Wanner, *Solving ODEs I*, §II.4):
+/// the next step is `h · clamp(safety · err^(−α) · err_prev^β, min_factor, max_factor)`,
+/// Gustafsson's PI control in Hairer's form, `α = 1/(q+1) − 0.75 β` for an estimate of
+/// order `q`. Each pair declares its own ([`crate::ode::EmbeddedPair::CONTROLLER`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Controller {
+    pub alpha: f64,
+    pub beta: f64,
+    pub safety: f64,
+    pub min_factor: f64,
+    pub max_factor: f64,
 }
 
 impl Controller {
-    pub(crate) fn for_pair(error_order: u32) -> Self {
-        // DOPRI5: β = 0.04, factors in [0.2, 10]; DOP853: β = 0, factors in [1/3, 6].
-        let (beta, min_factor, max_factor) = if error_order < 6 {
-            (0.04, 0.2, 10.0)
-        } else {
-            (0.0, 1.0 / 3.0, 6.0)
-        };
+    /// Hairer's PI controller for an error estimate of order `error_order`, with his
+    /// safety factor 0.9.
+    pub const fn pi(error_order: u32, beta: f64, min_factor: f64, max_factor: f64) -> Self {
         Self {
             alpha: 1.0 / (error_order + 1) as f64 - 0.75 * beta,
             beta,

@@ -1,6 +1,7 @@
 //! Explicit Runge–Kutta pairs with an error estimate and a continuous extension ("dense
 //! output"), the building blocks of [`crate::run::adaptive`].
 
+use super::controller::Controller;
 use super::OdeSystem;
 
 /// An embedded explicit Runge–Kutta pair: a step of order [`EmbeddedPair::ORDER`] (local
@@ -17,6 +18,8 @@ pub trait EmbeddedPair<const N: usize, S: OdeSystem<N>> {
     const RHS_PER_STEP: u64;
     /// Extra right-hand-side evaluations to build the interpolant of one step.
     const RHS_PER_DENSE: u64;
+    /// The step-size controller the pair is tuned for.
+    const CONTROLLER: Controller;
 
     /// What an attempted step leaves behind.
     type Step: EmbeddedStep<N>;

@@ -3,7 +3,8 @@
 use nalgebra::{Quaternion, Vector3};
 
 use crate::body::RigidBody;
-use crate::dynamics::{q_body_to_world, FreeRigidBody, State};
+use crate::dynamics::model::MomentumProjection;
+use crate::dynamics::{q_body_to_world, FreeRigidBody, Model, State};
 use crate::kinematics::rotation_matrix;
 
 use crate::integrators::Rk4;
@@ -116,6 +117,34 @@ impl Stepper<7, FreeRigidBody> for Rk4Projected {
     fn step(&self, sys: &FreeRigidBody, t: f64, h: f64, x: &mut State) {
         Rk4.step(sys, t, h, x);
         self.project(x);
+    }
+}
+
+/// RK4 on a model beyond the free body (a deployment, a damped body), each step followed by
+/// the projection onto what that model keeps ([`MomentumProjection`]: `|L|`, `L_world`,
+/// `|q|`; never the energy, which the model's law changes).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModelRk4Projected {
+    projection: MomentumProjection,
+}
+
+impl ModelRk4Projected {
+    /// Projected RK4 keeping the invariants of `sys` at `(t0, x0)`.
+    pub fn new<const N: usize, S: Model<N>>(sys: &S, t0: f64, x0: &[f64; N]) -> Self {
+        Self {
+            projection: MomentumProjection::new(sys, t0, x0),
+        }
+    }
+}
+
+impl<const N: usize, S: Model<N>> Stepper<N, S> for ModelRk4Projected {
+    const ORDER: u32 = 4;
+    const RHS_PER_STEP: u64 = 4;
+
+    #[inline]
+    fn step(&self, sys: &S, t: f64, h: f64, x: &mut [f64; N]) {
+        Stepper::<N, S>::step(&Rk4, sys, t, h, x);
+        self.projection.project(sys, t + h, x);
     }
 }
 

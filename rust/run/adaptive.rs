@@ -15,17 +15,13 @@
 //! (Gustafsson's PI controller in Hairer's form, `α = 1/(q+1) − 0.75 β` with `q` the
 //! estimate's order; `β = 0.04` for DOPRI5 and 0 for DOP853, Hairer's defaults), never
 //! growing right after a rejection.
-
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::dynamics::rate_bound;
-use crate::dynamics::{FreeRigidBody, State};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
 use crate::ode::{DenseOutput, EmbeddedPair, EmbeddedStep, OdeSystem, Stats};
 use crate::run::grid::FrameGrid;
 
-use crate::ode::controller::Controller;
 pub use crate::ode::controller::{Adaptive, MIN_RTOL};
 
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
@@ -34,37 +30,59 @@ const CHECK_EVERY: u64 = 1 << 10;
 /// Frames (interpolated within one step) between two looks at the cancel flag.
 const FRAMES_BETWEEN_CHECKS: u64 = 1 << 16;
 
-/// Integrates `sys` from `x0` over the frames of `grid` with the pair `pair` under `settings`,
-/// showing every accepted step and every frame to `obs`. Returns the final state and the
-/// run's cost.
+/// The sizes a run's error is measured against: `rate`, a bound on the motion's rates (the
+/// first step is taken from it), and each component's unit for the absolute tolerance —
+/// `atol · size` on the first `rates` components (rates or momenta), `atol` on the rest (the
+/// quaternion).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Units<const N: usize> {
+    pub rate: f64,
+    pub weight: [f64; N],
+}
+
+impl<const N: usize> Units<N> {
+    /// `size` on the first `rates` components, 1 on the others; a `size` that is zero or not
+    /// finite counts as 1.
+    pub fn new(rate: f64, size: f64, rates: usize) -> Self {
+        let size = if size > 0.0 && size.is_finite() {
+            size
+        } else {
+            1.0
+        };
+        Self {
+            rate,
+            weight: std::array::from_fn(|k| if k < rates { size } else { 1.0 }),
+        }
+    }
+}
+
+/// Integrates `sys` (the free body, a model) from `x0` over the frames of `grid` with the
+/// pair `pair` under `settings`, its error measured in `units`, showing every accepted step
+/// and every frame to `obs`. Returns the final state and the run's cost.
 ///
 /// # Errors
 /// [`Error::Interrupted`] soon after `cancel` is set; [`Error::TooLarge`] when the run needs
 /// more than `settings.max_steps` attempts; [`Error::Diverged`] if the state stops being
 /// finite or the step shrinks below round-off.
-pub fn integrate_adaptive<P, O>(
+#[allow(clippy::too_many_arguments)]
+pub fn integrate_adaptive<const N: usize, S, P, O>(
     pair: &P,
-    sys: &FreeRigidBody,
-    x0: State,
+    sys: &S,
+    x0: [f64; N],
     grid: &FrameGrid,
     settings: &Adaptive,
+    units: &Units<N>,
     obs: &mut O,
     cancel: &AtomicBool,
-) -> Result<(State, Stats)>
+) -> Result<([f64; N], Stats)>
 where
-    P: EmbeddedPair<7, FreeRigidBody>,
-    O: Observer,
+    S: OdeSystem<N>,
+    P: EmbeddedPair<N, S>,
+    O: Observer<N>,
 {
     let t_end = grid.t_end();
-    let rate = rate_bound(sys.body(), [x0[0], x0[1], x0[2]]);
-    let omega_scale = if rate > 0.0 && rate.is_finite() {
-        rate
-    } else {
-        1.0
-    };
-    let atol: State =
-        std::array::from_fn(|k| settings.atol * if k < 3 { omega_scale } else { 1.0 });
-    let ctl = Controller::for_pair(P::ERROR_ORDER);
+    let atol: [f64; N] = std::array::from_fn(|k| settings.atol * units.weight[k]);
+    let ctl = P::CONTROLLER;
 
     obs.frame(0, 0.0, &x0);
     let (mut t, mut x) = (0.0, x0);
@@ -80,7 +98,7 @@ where
         n_steps: 0,
         n_rejected: 0,
     };
-    let mut h = settings.first_step_for(P::ERROR_ORDER, rate, t_end);
+    let mut h = settings.first_step_for(P::ERROR_ORDER, units.rate, t_end);
     let mut err_prev: f64 = 1e-4;
     let mut rejected = false;
     let mut next_frame = 1;
@@ -108,7 +126,7 @@ where
         let step = pair.attempt(sys, t, h, &x, &f);
         stats.nfev += P::RHS_PER_STEP;
         let x1 = *step.x1();
-        let scale: State =
+        let scale: [f64; N] =
             std::array::from_fn(|k| atol[k] + settings.rtol * x[k].abs().max(x1[k].abs()));
         let err = step.error_norm(h, &scale);
         if err.is_nan() || err > 1.0 {
@@ -170,7 +188,7 @@ where
     Ok((x, stats))
 }
 
-fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
+fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);
     }

@@ -2,10 +2,9 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::dynamics::{FreeRigidBody, State};
 use crate::error::{Error, Result};
 use crate::observe::Observer;
-use crate::ode::{Stats, Stepper};
+use crate::ode::{OdeSystem, Stats, Stepper};
 use crate::run::grid::FrameGrid;
 
 /// What to do about a run that diverged.
@@ -15,24 +14,25 @@ pub(crate) const DIVERGED_HINT: &str =
 /// Steps between two looks at the cancel flag and the state's finiteness (about 0.4 ms of RK4).
 pub(crate) const CHECK_EVERY: u64 = 1 << 14;
 
-/// Integrates `sys` from `x0` over `grid` with a fixed-step method, showing frames (and steps,
-/// if asked) to `obs`. Returns the final state (in the method's own variables, see
+/// Integrates `sys` (any `N`-dimensional system: the free body, a model) from `x0` over
+/// `grid` with a fixed-step method, showing frames (and steps, if asked) to `obs`. Returns the final state (in the method's own variables, see
 /// [`Stepper::to_internal`]) and the run's cost.
 ///
 /// # Errors
 /// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
 /// being finite.
-pub fn integrate<M, O>(
+pub fn integrate<const N: usize, S, M, O>(
     method: &M,
-    sys: &FreeRigidBody,
-    x0: State,
+    sys: &S,
+    x0: [f64; N],
     grid: &FrameGrid,
     obs: &mut O,
     cancel: &AtomicBool,
-) -> Result<(State, Stats)>
+) -> Result<([f64; N], Stats)>
 where
-    M: Stepper<7, FreeRigidBody>,
-    O: Observer,
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
 {
     obs.frame(0, 0.0, &x0);
     let mut x = method.to_internal(sys, &x0);
@@ -64,19 +64,20 @@ where
 /// goes in and out by value so that it lives in registers across the loop.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn advance<M, O>(
+fn advance<const N: usize, S, M, O>(
     method: &M,
-    sys: &FreeRigidBody,
+    sys: &S,
     obs: &mut O,
-    mut x: State,
+    mut x: [f64; N],
     ta: f64,
     h: f64,
     range: std::ops::Range<u64>,
     (n, tb): (u64, f64),
-) -> State
+) -> [f64; N]
 where
-    M: Stepper<7, FreeRigidBody>,
-    O: Observer,
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
 {
     for k in range {
         let t = ta + k as f64 * h;
@@ -93,7 +94,7 @@ where
 }
 
 #[inline]
-fn check(x: &State, t: f64, cancel: &AtomicBool) -> Result<()> {
+fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);
     }

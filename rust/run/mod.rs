@@ -19,6 +19,7 @@ use crate::error::{Error, Result};
 use crate::exact::ExactMotion;
 use crate::float::RateScale;
 use crate::kinematics::normalized;
+use crate::observe::tilt::TiltMonitor;
 use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
 use crate::ode::controller::Adaptive;
 use crate::ode::Stats;
@@ -29,7 +30,7 @@ pub use fixed::integrate;
 pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
 pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
-pub use models::{model_step, simulate_model, simulate_models, ModelMethod, ModelOutput};
+pub use models::{model_method_and_grid, model_step, simulate_model, simulate_models, ModelOutput};
 pub(crate) use registry::run_method;
 pub use registry::{Method, MethodInfo, METHODS};
 
@@ -73,6 +74,8 @@ pub struct Keep {
     pub frames: bool,
     /// The flip times.
     pub flips: bool,
+    /// The largest tilt of the spin axis ([`TiltMonitor`]).
+    pub tilt: bool,
 }
 
 /// A run's output: only what [`Keep`] asked for is filled.
@@ -83,6 +86,8 @@ pub struct RunOutput {
     /// `(frames, 4)` quaternions, scalar first; empty unless frames were kept.
     pub q: Vec<f64>,
     pub flip_times: Vec<f64>,
+    /// The largest tilt of the spin axis from where it started, in radians; NaN unless kept.
+    pub tilt: f64,
     pub drift: Drift,
     pub stats: Stats,
     /// The step actually taken; for an adaptive method, the mean accepted step.
@@ -106,7 +111,7 @@ pub struct RunOutput {
 /// use dzhanibekov::run::{simulate, FrameGrid, Keep, Method};
 /// let body = dzhanibekov::RigidBody::try_new([52.0833, 27.0833, 41.6666]).unwrap();
 /// let grid = FrameGrid::try_new(100.0, 201, 1e-3, u64::MAX).unwrap();
-/// let keep = Keep { frames: true, flips: true };
+/// let keep = Keep { frames: true, flips: true, tilt: false };
 /// let out = simulate(&body, [0.01, 0.01, 1.0], [1.0, 0.0, 0.0, 0.0], &grid, Method::Rk4, keep,
 ///                    &AtomicBool::new(false)).unwrap();
 /// assert_eq!(out.q.len(), 201 * 4);
@@ -138,13 +143,57 @@ pub fn simulate(
         return simulate_scaled(body, omega0, q0, grid, method, keep, cancel, scale);
     }
     let q0 = normalized(q0)?;
+    // The tilt is watched at every step; without it the step loop stays bare.
+    match keep.tilt {
+        true => {
+            let tilt = TiltMonitor::new(body, &Vector3::from(omega0));
+            simulate_unit(body, omega0, q0, grid, method, keep, tilt, cancel)
+        }
+        false => simulate_unit(body, omega0, q0, grid, method, keep, NoTilt, cancel),
+    }
+}
+
+/// What a run watches beside the drift and frames: the tilt, or nothing.
+trait TiltWatch: Observer {
+    fn tilt(&self) -> f64;
+}
+
+/// No tilt watched: a bare step loop.
+struct NoTilt;
+
+impl Observer for NoTilt {}
+
+impl TiltWatch for NoTilt {
+    fn tilt(&self) -> f64 {
+        f64::NAN
+    }
+}
+
+impl TiltWatch for TiltMonitor {
+    fn tilt(&self) -> f64 {
+        TiltMonitor::tilt(self)
+    }
+}
+
+/// [`simulate`] of a start in the motion's own units (rates and moments near 1).
+#[allow(clippy::too_many_arguments)]
+fn simulate_unit<T: TiltWatch>(
+    body: &RigidBody,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    tilt: T,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
     let sys = FreeRigidBody::new(*body);
     let omega = Vector3::from(omega0);
     let recorder = match keep.frames {
         true => Some(FrameRecorder::with_frames(grid.frames())?),
         false => None,
     };
-    let mut obs = (DriftMonitor::new(body, &omega), recorder);
+    let mut obs = (DriftMonitor::new(body, &omega), (recorder, tilt));
     if !method.info().takes_steps() {
         return simulate_exact(body, omega0, q0, grid, keep, obs, cancel);
     }
@@ -297,13 +346,13 @@ fn simulate_scaled(
 
 /// Frames evaluated from the closed form at the frame times: no steps, the same observers,
 /// flip times from the solution by the detector's definition.
-fn simulate_exact(
+fn simulate_exact<T: TiltWatch>(
     body: &RigidBody,
     omega0: [f64; 3],
     q0: [f64; 4],
     grid: &FrameGrid,
     keep: Keep,
-    mut obs: (DriftMonitor, Option<FrameRecorder>),
+    mut obs: Watched<T>,
     cancel: &AtomicBool,
 ) -> Result<RunOutput> {
     let motion = ExactMotion::try_new(body, omega0, q0)?;
@@ -334,8 +383,8 @@ fn simulate_exact(
 ///
 /// # Errors
 /// Invariants that overflowed (see [`finite_drift`]).
-fn finished(
-    (drift, frames): (DriftMonitor, Option<FrameRecorder>),
+fn finished<T: TiltWatch>(
+    (drift, (frames, tilt)): Watched<T>,
     flip_times: Vec<f64>,
     stats: Stats,
     dt: f64,
@@ -347,8 +396,12 @@ fn finished(
         omega: frames.omega,
         q: frames.q,
         flip_times,
+        tilt: tilt.tilt(),
         drift,
         stats,
         dt,
     })
 }
+
+/// The observers of every run: the drift, the frames if kept, the tilt if watched.
+type Watched<T> = (DriftMonitor, (Option<FrameRecorder>, T));

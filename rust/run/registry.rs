@@ -9,15 +9,15 @@
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 
-use crate::dynamics::{FreeRigidBody, State, DAMPER, DEPLOYMENT, FREE};
+use crate::dynamics::{rate_bound, FreeRigidBody, Model, State, DAMPER, DEPLOYMENT, FREE};
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::observe::Observer;
 use crate::ode::controller::Adaptive;
 pub use crate::ode::controller::{DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::ode::{EmbeddedPair, Stats, Stepper};
-use crate::rigid::{Rk4Projected, Splitting2, Splitting4};
-use crate::run::adaptive::integrate_adaptive;
+use crate::rigid::{ModelRk4Projected, Rk4Projected, Splitting2, Splitting4};
+use crate::run::adaptive::{integrate_adaptive, Units};
 use crate::run::fixed::integrate;
 use crate::run::grid::FrameGrid;
 
@@ -355,6 +355,9 @@ pub(crate) fn run_method<O: Observer>(
     cancel: &AtomicBool,
 ) -> Result<Stats> {
     let body = sys.body();
+    // the rates' absolute tolerance in units of the rate bound Ω (see `run::adaptive`)
+    let rate = rate_bound(body, [x0[0], x0[1], x0[2]]);
+    let units = Units::new(rate, rate, 3);
     let (_, stats) = match method {
         Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
         // `simulate` evaluates the exact solution before it gets here: nothing to step.
@@ -364,10 +367,72 @@ pub(crate) fn run_method<O: Observer>(
         }
         Method::Splitting => integrate(&Splitting2::new(body, &x0), sys, x0, grid, obs, cancel)?,
         Method::Splitting4 => integrate(&Splitting4::new(body, &x0), sys, x0, grid, obs, cancel)?,
-        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, obs, cancel)?,
-        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, obs, cancel)?,
+        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units, obs, cancel)?,
+        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units, obs, cancel)?,
     };
     Ok(stats)
+}
+
+/// Runs `method` on the model `sys` (see [`Method::for_model`]) over `grid` from `x0`, by the
+/// same drivers as the free body, showing frames (and steps, if asked) to `obs`.
+///
+/// # Errors
+/// [`Error::Unsupported`] for a method that cannot run the model; the drivers' errors.
+pub(crate) fn run_model_method<const N: usize, S: Model<N>, O: Observer<N>>(
+    method: Method,
+    sys: &S,
+    x0: [f64; N],
+    grid: &FrameGrid,
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<Stats> {
+    method.for_model(S::NAME)?;
+    // absolute tolerance: `atol` on q, `atol` times the largest rate (or momentum) elsewhere
+    let size = x0[..N - 4].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let units = Units::new(sys.rate_bound(&x0), size, N - 4);
+    let (_, stats) = match method {
+        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
+        Method::Rk4Projected => {
+            let projected = ModelRk4Projected::new(sys, 0.0, &x0);
+            integrate(&projected, sys, x0, grid, obs, cancel)?
+        }
+        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units, obs, cancel)?,
+        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units, obs, cancel)?,
+        Method::Exact | Method::Splitting | Method::Splitting4 => {
+            unreachable!("`for_model` refuses the methods built on the free body")
+        }
+    };
+    Ok(stats)
+}
+
+impl Method {
+    /// `self`, if its registry entry says it runs the model named `model`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`], naming the method, the model and the methods that run it.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::run::Method;
+    /// let e = Method::Exact.for_model("deployment").unwrap_err();
+    /// assert!(e.to_string().starts_with("method 'exact' cannot run model 'deployment'"));
+    /// assert!(Method::Rk4.for_model("damper").is_ok());
+    /// ```
+    pub fn for_model(self, model: &'static str) -> Result<Self> {
+        if self.info().models.contains(&model) {
+            return Ok(self);
+        }
+        Err(Error::Unsupported {
+            method: self.name(),
+            model,
+            supported: METHODS
+                .iter()
+                .filter(|m| m.models.contains(&model))
+                .map(|m| format!("'{}'", m.name))
+                .collect::<Vec<_>>()
+                .join(", "),
+        })
+    }
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ pub const PAPER: [f64; 3] = [52.0833, 27.0833, 41.6666];
 pub const KEEP_ALL: Keep = Keep {
     frames: true,
     flips: true,
+    tilt: false,
 };
 
 pub fn no_cancel() -> AtomicBool {
