@@ -473,8 +473,20 @@ def trusted_body(inertia: np.ndarray) -> Body:
     return principal_body(inertia)
 
 
+class _Statuses:
+    """What a sweep's runs share: a `status` per run, and which runs finished."""
+
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Which runs finished (`status` ``"ok"``)."""
+        finished: np.ndarray = self.status == "ok"
+        return finished
+
+
 @dataclass(frozen=True, eq=False)
-class Sweep:
+class Sweep(_Statuses):
     """What every run of a sweep measured, shaped as the sweep's starts.
 
     With starts of shape ``S + (3,)`` (say ``(n_u, n_v, 3)`` from :func:`grid`), each
@@ -536,12 +548,6 @@ class Sweep:
     nfev: np.ndarray
     status: np.ndarray
 
-    @property
-    def ok(self) -> np.ndarray:
-        """Which runs finished (`status` ``"ok"``)."""
-        finished: np.ndarray = self.status == "ok"
-        return finished
-
     def to_xarray(self) -> Any:
         """What every run measured as an ``xarray.Dataset`` (one dim per axis of the starts, named ``u0``… ``Iz`` with their values when from :func:`grid`; the ``io`` extra).
 
@@ -597,7 +603,7 @@ class Sweep:
 
 
 @dataclass(frozen=True, eq=False)
-class DeploymentSweep:
+class DeploymentSweep(_Statuses):
     """Which deployments tumble: what every run of a sweep over deployments measured, one
     value per run (see :func:`~dzhanibekov.sweep`).
 
@@ -654,12 +660,6 @@ class DeploymentSweep:
     n_steps: np.ndarray
     nfev: np.ndarray
     status: np.ndarray
-
-    @property
-    def ok(self) -> np.ndarray:
-        """Which runs finished (`status` ``"ok"``)."""
-        finished: np.ndarray = self.status == "ok"
-        return finished
 
     @property
     def shape(self) -> tuple[int, ...]:

@@ -177,7 +177,7 @@ def simulate(
         A batch's progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter), advanced
         per block of 1024 runs: None (default) shows it for batches of more than one block
         when stderr is a terminal and the batch takes more than a second; True always;
-        False never. A single run shows none.
+        False never. A single run shows none, nor a batch of deployments or dampers.
     damper : Damper or list of Damper, optional
         A spherical viscous nutation damper inside the body (see :class:`Damper`), or one
         per run of a batch: its three rates join the state; the trajectory gains ``sigma``
