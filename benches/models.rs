@@ -55,7 +55,7 @@ fn models(c: &mut Criterion) {
         group.bench_with_input(BenchmarkId::new(name, steps), &grid, |b, grid| {
             b.iter(|| {
                 let x0 = d.state_from(0.0, black_box([0.01, 0.01, 1.0]), [1.0, 0.0, 0.0, 0.0]);
-                simulate_model(d, x0, grid, Method::Rk4, &cancel).unwrap()
+                simulate_model(d, x0, grid, Method::Rk4, false, &cancel).unwrap()
             })
         });
     }
@@ -64,7 +64,7 @@ fn models(c: &mut Criterion) {
         b.iter(|| {
             let w = black_box([0.01, 0.01, 1.0]);
             let x0 = DampedBody::state_from(w, w, [1.0, 0.0, 0.0, 0.0]);
-            simulate_model(&damped, x0, grid, Method::Rk4, &cancel).unwrap()
+            simulate_model(&damped, x0, grid, Method::Rk4, false, &cancel).unwrap()
         })
     });
     group.finish();

@@ -449,6 +449,12 @@ fn model_result<'py>(
         let x = Array2::from_shape_vec((frames, 3), out.extra).map_err(internal)?;
         result.set_item(name, x.into_pyarray(py))?;
     }
+    result.set_item(
+        "flip_times",
+        out.flip_times.map(|t| PyArray1::from_vec(py, t)),
+    )?;
+    let d = out.drift;
+    result.set_item("drift", (d.energy, d.momentum, d.momentum_world, d.q_norm))?;
     result.set_item("nfev", out.stats.nfev)?;
     result.set_item("n_steps", out.stats.n_steps)?;
     result.set_item("n_rejected", out.stats.n_rejected)?;
@@ -458,7 +464,7 @@ fn model_result<'py>(
 
 /// A deployment's run: knots `times` (K,) and `tensors` (K, 3, 3) given as (K, 9) rows.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployment<'py>(
     py: Python<'py>,
@@ -473,6 +479,7 @@ fn simulate_deployment<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let times = times
         .as_slice()
@@ -494,7 +501,7 @@ fn simulate_deployment<'py>(
         model_method_and_grid(&d, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&d, x0, &grid, method, cancel)
+        simulate_model(&d, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, frames, None)
 }
@@ -502,7 +509,7 @@ fn simulate_deployment<'py>(
 /// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
 /// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, threads = None))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployments<'py>(
     py: Python<'py>,
@@ -517,6 +524,7 @@ fn simulate_deployments<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
     threads: Option<usize>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let (systems, x0s) = deployment_systems(times, tensors, &omega0, &q0)?;
@@ -528,6 +536,7 @@ fn simulate_deployments<'py>(
         max_steps,
         rtol,
         atol,
+        flips,
         threads,
     };
     run.simulate(py, &systems, &x0s, None)
@@ -594,6 +603,7 @@ fn deployment_step(
         max_steps,
         rtol,
         atol,
+        flips: false,
         threads: None,
     };
     let (method, grid) = run.method_and_grid(&systems, &x0s)?;
@@ -609,6 +619,7 @@ struct ModelRows<'a> {
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
     threads: Option<usize>,
 }
 
@@ -638,13 +649,22 @@ impl ModelRows<'_> {
         if self.dt.is_some() || method.is_adaptive() {
             return Ok((method, grid));
         }
-        let step = systems
-            .iter()
-            .zip(x0s)
-            .map(|(s, x)| model_step(s, x, self.t_end, self.rtol))
-            .fold(f64::INFINITY, f64::min);
-        let grid = FrameGrid::try_new(self.t_end, self.frames, step, self.max_steps)?;
-        Ok((method, grid))
+        let mut step = f64::INFINITY;
+        for (s, x) in systems.iter().zip(x0s) {
+            step = step.min(model_step(s, x, self.t_end, self.rtol)?);
+        }
+        let planned = model_method_and_grid(
+            sys,
+            x0,
+            self.method,
+            self.t_end,
+            self.frames,
+            Some(step),
+            self.max_steps,
+            self.rtol,
+            self.atol,
+        )?;
+        Ok(planned)
     }
 
     /// Runs `systems[i]` from `x0s[i]` on `threads` (all cores by default) over the grid of
@@ -663,7 +683,7 @@ impl ModelRows<'_> {
         };
         let out = detach(py, true, |cancel| {
             options.install(systems.len(), || {
-                simulate_models(systems, x0s, &grid, method, cancel)
+                simulate_models(systems, x0s, &grid, method, self.flips, cancel)
             })
         })?;
         out.into_iter()
@@ -674,7 +694,7 @@ impl ModelRows<'_> {
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
 #[pyfunction]
-#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12))]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_damper<'py>(
     py: Python<'py>,
@@ -691,6 +711,7 @@ fn simulate_damper<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let sys = DampedBody::try_new(nalgebra::Matrix3::from_row_slice(&inertia), sphere, damping)?;
     if !sigma0.iter().all(|s| s.is_finite()) {
@@ -701,7 +722,7 @@ fn simulate_damper<'py>(
         model_method_and_grid(&sys, &x0, method, t_end, frames, dt, max_steps, rtol, atol)?;
     let long = method.is_adaptive() || grid.n_steps() > watchdog::LONG_RUN_STEPS;
     let out = detach(py, long, |cancel| {
-        simulate_model(&sys, x0, &grid, method, cancel)
+        simulate_model(&sys, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, frames, Some("sigma"))
 }
@@ -775,7 +796,7 @@ fn damper_systems(rows: DamperRows<'_, '_>) -> PyResult<(Vec<DampedBody>, Vec<Da
 /// Damped bodies run side by side on all cores ([`DamperRows`]); every run shares the frame
 /// grid and step (see [`ModelRows::method_and_grid`]).
 #[pyfunction]
-#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, threads = None))]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = 1e-9, atol = 1e-12, flips = false, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_dampers<'py>(
     py: Python<'py>,
@@ -792,6 +813,7 @@ fn simulate_dampers<'py>(
     max_steps: u64,
     rtol: f64,
     atol: f64,
+    flips: bool,
     threads: Option<usize>,
 ) -> PyResult<Vec<Bound<'py, PyDict>>> {
     let (systems, x0s) = damper_systems((&inertia, &sphere, &damping, &omega0, &sigma0, &q0))?;
@@ -803,6 +825,7 @@ fn simulate_dampers<'py>(
         max_steps,
         rtol,
         atol,
+        flips,
         threads,
     };
     run.simulate(py, &systems, &x0s, Some("sigma"))
@@ -837,6 +860,7 @@ fn damper_step<'py>(
         max_steps,
         rtol,
         atol,
+        flips: false,
         threads: None,
     };
     let (method, grid) = run.method_and_grid(&systems, &x0s)?;

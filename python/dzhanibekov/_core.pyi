@@ -130,6 +130,7 @@ def simulate_deployment(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
 ) -> dict[str, Any]: ...
 def simulate_deployments(
     times: list[list[float]],
@@ -143,6 +144,7 @@ def simulate_deployments(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
     threads: int | None = None,
 ) -> list[dict[str, Any]]: ...
 def simulate_damper(
@@ -159,6 +161,7 @@ def simulate_damper(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
 ) -> dict[str, Any]: ...
 def simulate_dampers(
     inertia: npt.NDArray[np.float64],
@@ -174,6 +177,7 @@ def simulate_dampers(
     max_steps: int,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    flips: bool = False,
     threads: int | None = None,
 ) -> list[dict[str, Any]]: ...
 def deployment_step(

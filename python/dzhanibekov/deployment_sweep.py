@@ -124,7 +124,7 @@ def _run_block(rows: _Rows, run: _Run, todo: list[int],
             part = rows.take(todo)
             results = _core.simulate_deployments(
                 part.times, part.tensors, part.omega0, part.q0, run.t_end, run.frames, run.dt,
-                run.method, run.max_steps, run.rtol, run.atol, run.threads)
+                run.method, run.max_steps, run.rtol, run.atol, False, run.threads)
         except DzhanibekovError as exc:
             status = _status(exc)
             if exc.row is None or not 0 <= exc.row < len(todo):

@@ -23,16 +23,13 @@ __all__ = ["simulate_model", "simulate_deployments", "simulate_model_batch", "is
 
 
 def _drift(out: dict[str, Any]) -> Drift:
-    """The drift of what the model keeps (momentum, its norm, |q|); the energy entry is its
-    relative change, which a model's law makes (a deployment's work, a damper's loss)."""
-    e, l_world, l_body, q = out["energy"], out["momentum_world"], out["momentum_body"], out["q"]
-    l0 = float(np.linalg.norm(l_world[0])) or 1.0
-    return Drift(
-        energy=float(np.abs(e - e[0]).max() / (abs(e[0]) or 1.0)),
-        momentum=float(np.abs(np.linalg.norm(l_body, axis=1) - l0).max() / l0),
-        momentum_world=float(np.linalg.norm(l_world - l_world[0], axis=1).max() / l0),
-        q_norm=float(np.abs(np.linalg.norm(q, axis=1) - 1.0).max()),
-    )
+    """The core's drift of what the model keeps (momentum, its norm, |q|); the energy entry is
+    its largest relative change, which a model's law makes (a deployment's work, a damper's
+    loss). Measured in the run's own units, so rates near the ends of float64 do not
+    underflow in the norms."""
+    energy, momentum, momentum_world, q_norm = out["drift"]
+    return Drift(energy=energy, momentum=momentum, momentum_world=momentum_world,
+                 q_norm=q_norm)
 
 
 def simulate_model(
@@ -49,6 +46,7 @@ def simulate_model(
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: Any,
+    flips: bool = True,
 ) -> Trajectory:
     """Runs a deployment (`model` a :class:`Deployment`) or a body with a damper; see
     `dzhanibekov.simulate` for the arguments."""
@@ -74,7 +72,7 @@ def simulate_model(
                              "has constant inertia)")
         out = _core.simulate_deployment(
             model.times, model.tensors.reshape(-1, 9), omega_t, q_t, t_end, frames, dt,
-            method, max_steps, rtol_, atol_)
+            method, max_steps, rtol_, atol_, bool(flips))
         body = _first_body(model)
     else:
         if not isinstance(damper, Damper):
@@ -88,13 +86,13 @@ def simulate_model(
         out = _core.simulate_damper(
             tuple(inertia.ravel().tolist()), damper.inertia, damper.damping, omega_t,
             (float(s[0]), float(s[1]), float(s[2])), q_t, t_end, frames, dt, method,
-            max_steps, rtol_, atol_)
+            max_steps, rtol_, atol_, bool(flips))
         sigma = out["sigma"]
     traj = Trajectory(
         t=t_end * (np.arange(frames) / (frames - 1)),
         omega=out["omega"],
         q=out["q"],
-        flip_times=None,
+        flip_times=out["flip_times"],
         body=body,
         method=method,
         dt=out["dt"],
@@ -121,9 +119,14 @@ def _check_stiffness(tensors: np.ndarray, dampers: Sequence[Damper], omega: np.n
     t = tensors.reshape(-1, 3, 3)
     least = np.linalg.eigvalsh(t)[:, 0]
     rates = c * (1.0 / j + 1.0 / least)
-    # Ω = √(2T / I_min): T of body and sphere never rises, so it bounds |ω| over the run
-    energy = np.einsum("mi,mij,mj->m", omega, t, omega) + j * (sigma**2).sum(axis=1)
-    warn_stiff(step, rates, np.sqrt(energy / least), method, stacklevel=5)
+    # Ω = √(2T / I_min): T of body and sphere never rises, so it bounds |ω| over the run;
+    # taken in units of the largest rate, so that rates near the ends of float64 do not
+    # overflow or underflow in the squares
+    size = np.maximum(np.abs(omega).max(axis=1), np.abs(sigma).max(axis=1))
+    unit = np.where(size > 0, size, 1.0)[:, None]
+    w, s = omega / unit, sigma / unit
+    energy = np.einsum("mi,mij,mj->m", w, t, w) + j * (s**2).sum(axis=1)
+    warn_stiff(step, rates, unit[:, 0] * np.sqrt(energy / least), method, stacklevel=5)
 
 
 def _with_invariants(traj: Trajectory, out: dict[str, Any]) -> Trajectory:
@@ -290,6 +293,7 @@ def simulate_model_batch(
     atol: float | None = None,
     max_steps: Any,
     threads: Any = None,
+    flips: bool = True,
 ) -> Batch:
     """Many runs of deployments or damped bodies on all cores, as a :class:`Batch` whose
     rows equal their single runs bit for bit; see `dzhanibekov.simulate`."""
@@ -317,7 +321,7 @@ def simulate_model_batch(
         outs = _core.simulate_deployments(
             [d.times.tolist() for d in models], [d.tensors.ravel().tolist() for d in models],
             [tuple(r) for r in omega.tolist()], [tuple(r) for r in q.tolist()], t_end, frames,
-            dt, method, max_steps, rtol_, atol_, threads)
+            dt, method, max_steps, rtol_, atol_, bool(flips), threads)
         bodies = tuple(_first_body(d) for d in models)
         return _batch(outs, t_end, frames, method, bodies, tuple(models), None)
     dampers = [damper] if isinstance(damper, Damper) else damper
@@ -344,7 +348,7 @@ def simulate_model_batch(
     _check_stiffness(tensors, dampers, omega, sigma, q, t_end, frames, dt, method, max_steps,
                      rtol_, atol_)
     outs = _core.simulate_dampers(tensors, j, c, omega, sigma, q, t_end, frames, dt, method,
-                                  max_steps, rtol_, atol_, threads)
+                                  max_steps, rtol_, atol_, bool(flips), threads)
     return _batch(outs, t_end, frames, method, tuple(runs), tuple(dampers), "sigma")
 
 
@@ -360,12 +364,18 @@ def _batch(outs: list[dict[str, Any]], t_end: float, frames: int, method: str,
 
     drifts = [_drift(out) for out in outs]
     q = stack("q")
+    # flips are located where every run's tensors are diagonal (else None, as for one run)
+    flips = [out["flip_times"] for out in outs]
+    located = all(f is not None for f in flips)
+    counts = [len(f) if f is not None else 0 for f in flips]
     return Batch(
         t=t_end * (np.arange(frames) / (frames - 1)),
         omega=stack("omega"),
         q=q,
-        _flip_times=None,
-        _flip_offsets=None,
+        _flip_times=np.concatenate([f for f in flips if f is not None] or [np.empty(0)])
+        if located else None,
+        _flip_offsets=np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+        if located else None,
         inertia=np.array([b.inertia for b in bodies], dtype=np.float64),
         method=method,
         dt=np.array([out["dt"] for out in outs], dtype=np.float64),

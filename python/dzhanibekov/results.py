@@ -299,7 +299,8 @@ class Batch:
         The invariants' largest drift over the frames, per run.
     model : tuple or None
         A batch of deployments or damped bodies: each run's :class:`Deployment` or
-        :class:`Damper` (flips are not located, `flip_times` is None).
+        :class:`Damper`; flips are located when every run's tensors are diagonal (else
+        `flip_times` is None).
     sigma : ndarray, shape (M, frames, 3), or None
         A damper batch's sphere rates in body axes.
     momentum_world : ndarray, shape (M, frames, 3)

@@ -114,7 +114,9 @@ def simulate(
         :class:`Deployment` runs a body whose inertia changes in a prescribed way
         (``dL/dt = L × ω``, ``ω = I(t)⁻¹ L``) by the methods that run it (``"rk4"``,
         ``"rk4_projected"`` onto ``|L|``, ``L_world`` and ``|q|``, ``"dopri5"``,
-        ``"dop853"``); flips are not located, and ``energy`` shows the internal work.
+        ``"dop853"``); ``energy`` shows the internal work. Flips are located where every
+        knot is diagonal (the intermediate axis of the body as it is then coming nearest
+        ``L`` on the other side), else ``flip_times`` is None.
     omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
         axes (for a body from a tensor, those of the tensor; the run changes to principal
@@ -183,8 +185,9 @@ def simulate(
         per run of a batch: its three rates join the state; the trajectory gains ``sigma``
         (frames, 3), and ``momentum_world`` and ``energy`` count body and damper. Runs by
         ``"rk4"``, ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``),
-        ``"dopri5"`` and ``"dop853"``; the other methods refuse it by name. Flips are not
-        located.
+        ``"dopri5"`` and ``"dop853"``; the other methods refuse it by name. Flips (of the body's
+        intermediate axis relative to the total ``L``) are located for a diagonal body
+        tensor.
     sigma0 : array_like, shape (3,) or (M, 3), optional
         The damper's initial absolute rate in body axes; co-rotating (``omega0``) if None.
 
@@ -251,14 +254,18 @@ def simulate(
     q0 = quaternions_of(q0)
     if isinstance(body, Deployment) or damper is not None or is_deployment_list(body):
         threads = checked_threads(threads)
+        if not isinstance(flips, (bool, np.bool_)):
+            raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
         if is_model_batch(body, omega0, q0, damper, sigma0):
             return simulate_model_batch(body, omega0, q0, t_end, frames, dt, method,
                                         damper=damper, sigma0=sigma0, rtol=rtol, atol=atol,
-                                        max_steps=max_steps, threads=threads)
+                                        max_steps=max_steps, threads=threads,
+                                        flips=bool(flips))
         if damper is not None and not isinstance(damper, Damper):
             raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
         return simulate_model(body, omega0, q0, t_end, frames, dt, method, damper=damper,
-                              sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps)
+                              sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps,
+                              flips=bool(flips))
     if sigma0 is not None:
         raise ValueError("`sigma0` is the damper's initial rate: pass `damper` too")
     if is_batch(body, omega0, q0):

@@ -28,6 +28,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
+use crate::float::RateScale;
 use crate::ode::OdeSystem;
 
 use super::model::{quaternion_increment, Model};
@@ -195,6 +196,15 @@ impl Model<10> for DampedBody {
     }
 
     /// `√(2 T / λ_min(I))` bounds `|ω|` (T never rises) and `√(2T / j)` bounds `|σ|`.
+    fn principal_moments(&self, _t: f64) -> Option<Vector3<f64>> {
+        self.diagonal
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        // torque c (σ − ω): over 2^(2e) in the run's units, rates over 2^e, so c over 2^e
+        Self::try_new(self.inertia, self.sphere, scale.rate_to_unit(self.damping))
+    }
+
     fn rate_bound(&self, x0: &DamperState) -> f64 {
         let two_t = 2.0 * self.energy(0.0, x0);
         let lambda_min = self.inertia.symmetric_eigenvalues().min();

@@ -27,6 +27,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
+use crate::float::RateScale;
 use crate::ode::OdeSystem;
 
 use super::model::{quaternion_increment, Model};
@@ -235,6 +236,27 @@ impl Model<7> for Deployment {
         for v in &mut x[..3] {
             *v *= factor;
         }
+    }
+
+    fn principal_moments(&self, t: f64) -> Option<Vector3<f64>> {
+        self.diagonal.then(|| self.inertia_at(t).diagonal())
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let times: Vec<f64> = self.times.iter().map(|t| scale.time_to_unit(*t)).collect();
+        if !times.iter().all(|t| t.is_finite()) {
+            return Err(Error::TooLarge {
+                what: "the deployment",
+                needed: format!(
+                    "its knot times ({:.3e}) times the rates' scale ({:.3e})",
+                    self.times.last().copied().unwrap_or(0.0),
+                    scale.time_to_unit(1.0)
+                ),
+                limit: "what float64 holds".into(),
+                hint: "take knot times within t_end, or smaller rates",
+            });
+        }
+        Self::try_new(times, self.tensors.clone())
     }
 
     /// `|L| / λ_min`, with `λ_min` the smallest eigenvalue over the knots: `|ω| ≤ |L| / λ_min(I(t))`

@@ -7,6 +7,8 @@
 
 use nalgebra::{Quaternion, Vector3};
 
+use crate::error::Result;
+use crate::float::RateScale;
 use crate::kinematics::rotation_matrix;
 use crate::ode::OdeSystem;
 
@@ -32,8 +34,23 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync {
     /// absolute tolerance and the default step.
     fn rate_bound(&self, x0: &[f64; N]) -> f64;
 
+    /// The principal moments at `t` when the principal axes are the body axes (every
+    /// tensor of the model diagonal), where flips are located; `None` otherwise.
+    fn principal_moments(&self, t: f64) -> Option<Vector3<f64>>;
+
     /// Extra per-frame output of the model (the damper's rates), appended to `out`.
     fn extra(&self, _x: &[f64; N], _out: &mut Vec<f64>) {}
+
+    /// The same model with times in the units of `scale` (times multiplied by `2^e`, rates and
+    /// momenta divided by it; see [`crate::float`]), so that a run from rates far from 1 is
+    /// integrated in the motion's own units. What carries a time changes with them: a
+    /// deployment's knot times, a damper's coefficient (a moment per unit time).
+    ///
+    /// # Errors
+    /// [`crate::Error::TooLarge`] when such a time or coefficient leaves float64.
+    fn in_units(&self, scale: RateScale) -> Result<Self>
+    where
+        Self: Sized;
 }
 
 /// The attitude part of a model's state (its last four components).

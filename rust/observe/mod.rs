@@ -1,6 +1,8 @@
 //! What a run keeps: observers see the frames (and, if they ask, every step) and keep only
 //! what a caller needs — stored frames, invariant drift, flip times.
 
+pub mod models;
+mod sides;
 pub mod tilt;
 
 use nalgebra::Vector3;
@@ -8,6 +10,7 @@ use nalgebra::Vector3;
 use crate::body::RigidBody;
 use crate::buffer::zeroed;
 use crate::dynamics::{Invariants, State};
+use sides::{hermite_zero, side_of, Sides};
 
 /// Sees a run of an `N`-dimensional system as it goes (the free body's 7 by default).
 /// Observers compose as tuples: `(A, B)` is an observer.
@@ -165,7 +168,7 @@ impl Observer for FrameRecorder {
 /// quaternion's is `||q| - 1|` (the run starts from a unit quaternion). Computed on a scaled
 /// copy (moments over the largest, ω over its largest initial component) so that no
 /// intermediate overflows; relative measures do not change under the scaling.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Drift {
     pub energy: f64,
     pub momentum: f64,
@@ -243,11 +246,7 @@ pub struct FlipDetector {
     inertia_mid: f64,
     euler_mid: f64,
     threshold: f64,
-    side: i8,
-    candidate: Option<f64>,
-    pub flip_times: Vec<f64>,
-    /// Flips found but not kept: the memory for their times could not be had.
-    lost: u64,
+    sides: Sides,
 }
 
 impl FlipDetector {
@@ -264,56 +263,28 @@ impl FlipDetector {
             inertia_mid: inertia[k] / scale,
             euler_mid: euler[k],
             threshold: l0 * std::f64::consts::FRAC_1_SQRT_2,
-            side: 0,
-            candidate: None,
-            flip_times: Vec::new(),
-            lost: 0,
+            sides: Sides::default(),
         }
     }
 
     #[inline(always)]
     fn side_of(&self, rate: f64) -> i8 {
-        let l_mid = self.inertia_mid * rate;
-        if l_mid > self.threshold {
-            1
-        } else if l_mid < -self.threshold {
-            -1
-        } else {
-            0
-        }
+        side_of(self.inertia_mid * rate, self.threshold)
     }
 
-    /// The zero of the cubic Hermite interpolant of ω_mid on `[t0, t1]`, found by bisection.
-    /// Rare (twice per flip period), so kept out of the step loop.
+    /// The zero of the cubic Hermite interpolant of ω_mid on `[t0, t1]`, its slopes from
+    /// Euler's equation. Rare (twice per flip period), so kept out of the step loop.
     #[cold]
     #[inline(never)]
     fn crossing(&self, k: usize, t0: f64, x0: &State, t1: f64, x1: &State) -> f64 {
         let (a, b) = ((k + 1) % 3, (k + 2) % 3);
         let h = t1 - t0;
-        let (p0, p1) = (x0[k], x1[k]);
-        let (m0, m1) = (
-            h * self.euler_mid * x0[a] * x0[b],
-            h * self.euler_mid * x1[a] * x1[b],
-        );
-        let hermite = |s: f64| {
-            let s2 = s * s;
-            let s3 = s2 * s;
-            (2.0 * s3 - 3.0 * s2 + 1.0) * p0
-                + (s3 - 2.0 * s2 + s) * m0
-                + (-2.0 * s3 + 3.0 * s2) * p1
-                + (s3 - s2) * m1
-        };
-        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-        let positive_at_lo = p0 > 0.0;
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if (hermite(mid) > 0.0) == positive_at_lo {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
-        t0 + 0.5 * (lo + hi) * h
+        hermite_zero(
+            t0,
+            h,
+            (x0[k], h * self.euler_mid * x0[a] * x0[b]),
+            (x1[k], h * self.euler_mid * x1[a] * x1[b]),
+        )
     }
 
     /// The zero of ω_mid on `[t0, t1]` on a continuous extension `at`, by bisection.
@@ -370,21 +341,7 @@ impl FlipDetector {
     /// last one, at the crossing seen since.
     #[inline(always)]
     fn settle(&mut self, rate: f64) {
-        let side = self.side_of(rate);
-        if side != 0 {
-            if side == -self.side {
-                if let Some(tc) = self.candidate {
-                    // grown fallibly: a run of 10¹⁰ steps can find more flips than memory
-                    // holds, and that is an error at the end of the run, not an abort
-                    match self.flip_times.try_reserve(1) {
-                        Ok(()) => self.flip_times.push(tc),
-                        Err(_) => self.lost += 1,
-                    }
-                }
-            }
-            self.side = side;
-            self.candidate = None;
-        }
+        self.sides.settle(self.side_of(rate));
     }
 }
 
@@ -402,12 +359,12 @@ impl FlipDetector {
     /// The side the intermediate axis was last seen nearest `L` on (−1, 0 before any, +1),
     /// and whether a crossing awaits that axis's arrival on a side.
     pub(crate) fn progress(&self) -> (f64, bool) {
-        (f64::from(self.side), self.candidate.is_some())
+        (f64::from(self.sides.side), self.sides.candidate.is_some())
     }
 
     /// Moves the flip times found so far out of the detector (for runs that count them).
     pub(crate) fn take_flip_times(&mut self) -> Vec<f64> {
-        std::mem::take(&mut self.flip_times)
+        std::mem::take(&mut self.sides.flip_times)
     }
 
     /// The flip times, or [`Error::TooLarge`] if memory ran out for some of them.
@@ -416,20 +373,12 @@ impl FlipDetector {
     /// Flips whose times could not be stored.
     pub fn into_flip_times(mut self) -> crate::error::Result<Vec<f64>> {
         self.check_kept()?;
-        Ok(std::mem::take(&mut self.flip_times))
+        Ok(std::mem::take(&mut self.sides.flip_times))
     }
 
     /// [`Error::TooLarge`] if some flip times could not be stored.
     pub(crate) fn check_kept(&self) -> crate::error::Result<()> {
-        match self.lost {
-            0 => Ok(()),
-            lost => Err(crate::error::Error::TooLarge {
-                what: "the flip times",
-                needed: format!("{} values", self.flip_times.len() as u64 + lost),
-                limit: "the memory this process can allocate".into(),
-                hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",
-            }),
-        }
+        self.sides.check_kept()
     }
 }
 
@@ -458,7 +407,7 @@ impl Observer for FlipDetector {
         let Some(k) = self.axis else { return };
         let (r0, r1) = (component(x0, k), component(x1, k));
         if crosses(r0, r1) {
-            self.candidate = Some(self.crossing(k, t0, x0, t1, x1));
+            self.sides.candidate = Some(self.crossing(k, t0, x0, t1, x1));
         }
         self.settle(r1);
     }
@@ -482,11 +431,11 @@ impl Observer for FlipDetector {
         match (crossing, peak) {
             (Some(tc), Some((tp, rate))) if tp < tc => {
                 self.settle(rate);
-                self.candidate = Some(tc);
+                self.sides.candidate = Some(tc);
             }
             (crossing, peak) => {
                 if let Some(tc) = crossing {
-                    self.candidate = Some(tc);
+                    self.sides.candidate = Some(tc);
                 }
                 if let Some((_, rate)) = peak {
                     self.settle(rate);
@@ -499,7 +448,7 @@ impl Observer for FlipDetector {
     fn frame(&mut self, index: usize, _t: f64, x: &State) {
         if index == 0 {
             if let Some(k) = self.axis {
-                self.side = self.side_of(x[k]);
+                self.sides.side = self.side_of(x[k]);
             }
         }
     }

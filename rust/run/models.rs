@@ -16,13 +16,15 @@ use std::sync::atomic::AtomicBool;
 use crate::dynamics::model::attitude;
 use crate::dynamics::Model;
 use crate::error::{Error, Result};
+use crate::float::RateScale;
 use crate::kinematics::rotation_matrix;
-use crate::observe::Observer;
+use crate::observe::models::ModelFlips;
+use crate::observe::{Drift, Observer};
 use crate::ode::controller::check_rtol;
 use crate::ode::Stats;
 
 use super::registry::run_model_method;
-use super::{FrameGrid, Method};
+use super::{error_from_unit, method_and_grid, time_from_unit, to_unit, FrameGrid, Method};
 
 /// A model run's frames, time-major, and its cost.
 #[derive(Debug, Clone, Default)]
@@ -39,6 +41,13 @@ pub struct ModelOutput {
     pub energy: Vec<f64>,
     /// `(frames, k)` the model's extra output (the damper's rates σ; empty for a deployment).
     pub extra: Vec<f64>,
+    /// The flip times ([`crate::observe::models`]), if asked for and the model's principal
+    /// axes are its body axes; `None` otherwise (not located, rather than none found).
+    pub flip_times: Option<Vec<f64>>,
+    /// The largest departure over the frames of what the model keeps (`|L|`, `L_world`,
+    /// `|q|`, as [`Drift`] defines them) and of the energy, which the model's law changes (a
+    /// deployment's work, a damper's loss): its entry is the largest relative change.
+    pub drift: Drift,
     pub stats: Stats,
     /// The step taken; for an adaptive method, the mean accepted step.
     pub dt: f64,
@@ -53,6 +62,36 @@ impl ModelOutput {
             momentum_body: Vec::with_capacity(3 * frames),
             energy: Vec::with_capacity(frames),
             ..Self::default()
+        }
+    }
+
+    /// The drift over the recorded frames, from values near 1 (the run's own units), so that
+    /// no square under- or overflows.
+    fn drift(&self) -> Drift {
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let l_world0 = &self.momentum_world[..3];
+        let l0 = match norm(l_world0) {
+            n if n > 0.0 => n,
+            _ => 1.0,
+        };
+        let e0 = self.energy[0];
+        let largest = |it: &mut dyn Iterator<Item = f64>| it.fold(0.0, f64::max);
+        Drift {
+            energy: largest(&mut self.energy.iter().map(|e| match e0 {
+                0.0 => (e - e0).abs(),
+                _ => ((e - e0) / e0).abs(),
+            })),
+            momentum: largest(
+                &mut self
+                    .momentum_body
+                    .chunks(3)
+                    .map(|l| (norm(l) - l0).abs() / l0),
+            ),
+            momentum_world: largest(&mut self.momentum_world.chunks(3).map(|l| {
+                let d: Vec<f64> = l.iter().zip(l_world0).map(|(a, b)| a - b).collect();
+                norm(&d) / l0
+            })),
+            q_norm: largest(&mut self.q.chunks(4).map(|q| (norm(q) - 1.0).abs())),
         }
     }
 
@@ -97,6 +136,7 @@ pub fn simulate_model<const N: usize, S: Model<N>>(
     x0: [f64; N],
     grid: &FrameGrid,
     method: Method,
+    flips: bool,
     cancel: &AtomicBool,
 ) -> Result<ModelOutput> {
     if !x0.iter().all(|v| v.is_finite()) {
@@ -106,12 +146,31 @@ pub fn simulate_model<const N: usize, S: Model<N>>(
             x0.as_slice(),
         ));
     }
+    let omega0: [f64; 3] = sys.omega_body(0.0, &x0).into();
+    let scale = RateScale::of(omega0);
+    if !scale.is_identity() {
+        return simulate_scaled(sys, x0, grid, method, flips, cancel, scale);
+    }
     let mut recorder = ModelRecorder {
         sys,
         out: ModelOutput::with_frames(grid.frames()),
     };
-    let stats = run_model_method(method, sys, x0, grid, &mut recorder, cancel)?;
+    // Flip location looks at every step; without it the step loop stays bare.
+    let (stats, flip_times) = match flips && sys.principal_moments(0.0).is_some() {
+        true => {
+            let mut flips = ModelFlips::new(sys);
+            let obs = &mut (&mut recorder, &mut flips);
+            let stats = run_model_method(method, sys, x0, grid, obs, cancel)?;
+            (stats, Some(flips.into_flip_times()?))
+        }
+        false => (
+            run_model_method(method, sys, x0, grid, &mut recorder, cancel)?,
+            None,
+        ),
+    };
     let mut out = recorder.out;
+    out.flip_times = flip_times;
+    out.drift = out.drift();
     out.dt = if method.is_adaptive() {
         grid.t_end() / stats.n_steps.max(1) as f64
     } else {
@@ -121,13 +180,59 @@ pub fn simulate_model<const N: usize, S: Model<N>>(
     Ok(out)
 }
 
-/// The method named `name` for the model `sys` from `x0` and its frame grid: `dt = None`
-/// picks [`model_step`] for a fixed-step method; an adaptive one is capped at `max_steps`
-/// attempts.
+/// [`simulate_model`] in the motion's own units (see [`crate::float`]): rates and momenta over
+/// `2^e`, times (the span, the model's own times) times `2^e`, and back, so that Euler's
+/// products of rates of 1e-300 or 1e300 neither underflow nor overflow.
+fn simulate_scaled<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: [f64; N],
+    grid: &FrameGrid,
+    method: Method,
+    flips: bool,
+    cancel: &AtomicBool,
+    scale: RateScale,
+) -> Result<ModelOutput> {
+    let omega0: [f64; 3] = sys.omega_body(0.0, &x0).into();
+    let (unit_grid, unit_method) = to_unit(grid, method, omega0, scale)?;
+    let unit = sys.in_units(scale)?;
+    let mut x = x0;
+    for v in &mut x[..N - 4] {
+        *v = scale.rate_to_unit(*v);
+    }
+    let mut out = simulate_model(&unit, x, &unit_grid, unit_method, flips, cancel)
+        .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
+    let rates = [
+        &mut out.omega,
+        &mut out.momentum_world,
+        &mut out.momentum_body,
+        &mut out.extra,
+    ];
+    for v in rates.into_iter().flatten() {
+        *v = scale.rate_from_unit(*v);
+    }
+    // an energy is a moment times a rate squared
+    for e in &mut out.energy {
+        *e = scale.rate_from_unit(scale.rate_from_unit(*e));
+    }
+    for t in out.flip_times.iter_mut().flatten() {
+        *t = time_from_unit(scale, *t, grid.t_end());
+    }
+    out.dt = scale.time_from_unit(out.dt);
+    if !out.omega.iter().all(|w| w.is_finite()) {
+        return Err(Error::Diverged {
+            t: grid.t_end(),
+            hint: "the body rates `omega0` are too large for float64",
+        });
+    }
+    Ok(out)
+}
+
+/// The method named `name` for the model `sys` from `x0` and its frame grid, as
+/// [`method_and_grid`] makes them for the free body; `dt = None` picks [`model_step`] for a
+/// fixed-step method.
 ///
 /// # Errors
-/// An unknown name, a method that cannot run the model, bad tolerances, and the errors of
-/// [`FrameGrid::try_new`].
+/// A method that cannot run the model, and the errors of [`method_and_grid`].
 #[allow(clippy::too_many_arguments)]
 pub fn model_method_and_grid<const N: usize, S: Model<N>>(
     sys: &S,
@@ -141,35 +246,45 @@ pub fn model_method_and_grid<const N: usize, S: Model<N>>(
     atol: f64,
 ) -> Result<(Method, FrameGrid)> {
     let method = Method::named(name, rtol, atol, dt)?.for_model(S::NAME)?;
-    let grid = if method.is_adaptive() {
-        FrameGrid::frames_only(t_end, frames)?
-    } else {
-        let dt = match dt {
-            Some(dt) => dt,
-            None => model_step(sys, x0, t_end, check_rtol(rtol)?),
-        };
-        FrameGrid::try_new(t_end, frames, dt, max_steps)?
+    let dt = match dt {
+        None if !method.is_adaptive() => Some(model_step(sys, x0, t_end, check_rtol(rtol)?)?),
+        dt => dt,
     };
-    Ok((method.with_max_steps(max_steps), grid))
+    method_and_grid(name, t_end, frames, dt, max_steps, rtol, atol)
 }
 
 /// The fixed step for accuracy `rtol` over `[0, t_end]` from `x0`: `h` with
 /// `Ω t_end (hΩ)⁴ = rtol` and `hΩ ≤ 0.5`, `Ω` the model's rate bound — the free body's
 /// rule for RK4 ([`crate::step_size`]) with its constant taken as 1. A model's phase error
-/// is not bounded by it near a separatrix (a deployment that tumbles crosses one).
+/// is not bounded by it near a separatrix (a deployment that tumbles crosses one). The bound
+/// is taken in the motion's own units (see [`crate::float`]), where its squares stay in
+/// float64.
+///
+/// # Errors
+/// A model whose times leave float64 in those units ([`Model::in_units`]).
 pub fn model_step<const N: usize, S: Model<N>>(
     sys: &S,
     x0: &[f64; N],
     t_end: f64,
     rtol: f64,
-) -> f64 {
-    let rate = sys.rate_bound(x0);
+) -> Result<f64> {
+    let scale = RateScale::of(sys.omega_body(0.0, x0).into());
+    let rate = match scale.is_identity() {
+        true => sys.rate_bound(x0),
+        false => {
+            let x: [f64; N] = std::array::from_fn(|k| match k < N - 4 {
+                true => scale.rate_to_unit(x0[k]),
+                false => x0[k],
+            });
+            scale.rate_from_unit(sys.in_units(scale)?.rate_bound(&x))
+        }
+    };
     if !(rate > 0.0 && rate.is_finite()) {
-        return t_end;
+        return Ok(t_end);
     }
     let span = (rate * t_end).max(1.0);
     let h_omega = (rtol / span).powf(0.25).min(0.5);
-    h_omega / rate
+    Ok(h_omega / rate)
 }
 
 /// Runs `systems[i]` from `x0s[i]` on all cores (rayon), each over `grid` with `method`.
@@ -181,6 +296,7 @@ pub fn simulate_models<const N: usize, S: Model<N>>(
     x0s: &[[f64; N]],
     grid: &FrameGrid,
     method: Method,
+    flips: bool,
     cancel: &AtomicBool,
 ) -> Result<Vec<ModelOutput>> {
     use rayon::prelude::*;
@@ -189,7 +305,7 @@ pub fn simulate_models<const N: usize, S: Model<N>>(
         .zip(x0s.par_iter())
         .enumerate()
         .map(|(row, (sys, x0))| {
-            simulate_model(sys, *x0, grid, method, cancel).map_err(|e| e.in_row(row))
+            simulate_model(sys, *x0, grid, method, flips, cancel).map_err(|e| e.in_row(row))
         })
         .collect()
 }

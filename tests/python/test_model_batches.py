@@ -61,6 +61,22 @@ def test_deployment_batch_rows_are_their_single_runs(method, kw):
     assert (batch.drift.energy > 1e-3).all()
 
 
+def test_a_batch_of_diagonal_deployments_locates_each_runs_flips():
+    deployments = [dz.Deployment([10.0, 20.0], [STOWED, (1.0, 3.0, r)]) for r in (2.0, 4.0)]
+    common = dict(t_end=120.0, frames=13, dt=1e-3)
+    batch = dz.simulate(deployments, (0.01, 0.01, 1.0), **common)
+    assert batch.flip_times is not None
+    for i, d in enumerate(deployments):
+        single = dz.simulate(d, (0.01, 0.01, 1.0), **common)
+        np.testing.assert_array_equal(batch.flip_times[i], single.flip_times)
+        np.testing.assert_array_equal(batch[i].flip_times, single.flip_times)
+    assert batch.flips[0] > 0 and batch.flips[1] == 0  # z intermediate, then major
+    # a run whose tensors are not diagonal has none located, and then neither has the batch
+    tilted = dz.Deployment([1.0, 2.0], [np.diag(STOWED), TILTED.tensor])
+    mixed = dz.simulate([deployments[0], tilted], (0.01, 0.01, 1.0), **common)
+    assert mixed.flip_times is None and mixed[0].flip_times is None
+
+
 @pytest.mark.parametrize("method, kw", [("rk4", dict(dt=2e-3)), ("rk4", {}),
                                         ("dopri5", dict(rtol=1e-10, atol=1e-12))])
 def test_damper_batch_rows_are_their_single_runs(method, kw):

@@ -235,3 +235,64 @@ def test_the_story_scenes_tell_their_stories():
     assert measured == pytest.approx(estimate, rel=0.15)
     with pytest.raises(dz.SceneError, match="ask.flips"):
         explorer.replace(flips=True)
+
+
+@pytest.mark.parametrize("e", [-997, 997])
+@pytest.mark.parametrize("method", ["rk4", "dop853"])
+def test_rates_near_the_ends_of_float64_are_the_scaled_motion(e, method):
+    """(ω, t) → (sω, t/s) is a symmetry of both laws (a damper's coefficient, a moment per
+    unit time, scales with 1/t): at s = 2^±997 (1e±300) the run is the one at rates near 1,
+    scaled, bit for bit; unscaled, the products of such rates underflow or overflow (the
+    momentum's drift was 1.0 at 1e-300)."""
+    s = 2.0**e
+    w0 = np.array([0.01, 0.01, 1.0])
+    kw = dict(frames=9, method=method, dt=None)
+    d = dz.Deployment([10.0, 20.0], [STOWED, DEPLOYED])
+    d_s = dz.Deployment([10.0 / s, 20.0 / s], [STOWED, DEPLOYED])
+    unit = dz.simulate(d, w0, t_end=40.0, **kw)
+    scaled = dz.simulate(d_s, w0 * s, t_end=40.0 / s, **kw)
+    np.testing.assert_array_equal(scaled.omega, unit.omega * s)
+    np.testing.assert_array_equal(scaled.q, unit.q)
+    assert scaled.drift.momentum_world == unit.drift.momentum_world < 1e-8
+    w1 = np.array([0.9, 0.1, 0.1])
+    unit = dz.simulate(STOWED, w1, t_end=40.0, damper=dz.Damper(0.1, 0.05), **kw)
+    scaled = dz.simulate(STOWED, w1 * s, t_end=40.0 / s, damper=dz.Damper(0.1, 0.05 * s), **kw)
+    np.testing.assert_array_equal(scaled.omega, unit.omega * s)
+    np.testing.assert_array_equal(scaled.sigma, unit.sigma * s)
+    assert scaled.drift.momentum == unit.drift.momentum < 1e-8
+
+
+def test_flips_of_a_deployment_follow_the_deployed_body_exactly():
+    """After the last knot the body is constant and the motion free: the flips located on the
+    deployment's run come every 2K(m)/λ of the deployed body at the state reached then (the
+    closed form, `dz.flip_period`), and none before the spin axis became intermediate."""
+    d = dz.Deployment([10.0, 20.0], [STOWED, DEPLOYED])
+    w0 = (0.01, 0.01, 1.0)
+    traj = dz.simulate(d, w0, t_end=200.0, frames=2001, method="dop853", rtol=1e-12, dt=None)
+    flips = traj.flip_times
+    assert flips is not None and len(flips) >= 3
+    assert flips[0] > 20.0  # the stowed spin about z, the major axis, never flipped
+    i = int(np.searchsorted(traj.t, 20.0))
+    period = dz.flip_period(DEPLOYED, traj.omega[i])
+    np.testing.assert_allclose(np.diff(flips), period, rtol=1e-6)
+    # the same deployment keeping z major (deployed to (1, 2, 4)) shows none
+    kept = dz.simulate(dz.Deployment([10.0, 20.0], [STOWED, (1.0, 2.0, 4.0)]), w0,
+                       t_end=200.0, frames=201, method="dop853", rtol=1e-12, dt=None)
+    assert kept.flip_times is not None and len(kept.flip_times) == 0
+
+
+def test_flips_of_equal_knots_are_the_closed_form_flips():
+    """A deployment whose knots are equal is the constant body: its flips are those of the
+    exact solution (Jacobi elliptic functions), to the integration's accuracy."""
+    moments = (52.0833, 27.0833, 41.6666)
+    d = dz.Deployment([1.0, 2.0], [moments, moments])
+    w0 = (0.01, 0.01, 1.0)
+    deployed = dz.simulate(d, w0, t_end=200.0, frames=201, dt=1e-3)
+    exact = dz.simulate(moments, w0, t_end=200.0, frames=201, method="exact")
+    assert len(exact.flip_times) >= 5
+    np.testing.assert_allclose(deployed.flip_times, exact.flip_times, rtol=0, atol=1e-6)
+
+
+def test_flips_are_not_located_for_tensors_off_their_axes():
+    traj = dz.simulate(dz.Deployment([1.0, 2.0], [A, B]), (0.1, 0.2, 1.0), t_end=5.0, frames=11)
+    assert traj.flip_times is None
