@@ -485,6 +485,14 @@ class _Statuses:
         finished: np.ndarray = self.status == "ok"
         return finished
 
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of the starts, and of each per-run array (``(M,)`` for deployments)."""
+        return tuple(self.status.shape)
+
+    def __len__(self) -> int:
+        return int(self.status.size)
+
 
 @dataclass(frozen=True, eq=False)
 class Sweep(_Statuses):
@@ -565,13 +573,6 @@ class Sweep(_Statuses):
         """What every run measured as a ``pandas.DataFrame`` (one row per run; the ``io`` extra)."""
         return _tables.sweep_frame(self)
 
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The shape of the starts, and of each per-run array."""
-        return tuple(self.flips.shape)
-
-    def __len__(self) -> int:
-        return int(self.flips.size)
 
     @property
     def verdict(self) -> np.ndarray:
@@ -661,14 +662,6 @@ class DeploymentSweep(_Statuses):
     n_steps: np.ndarray
     nfev: np.ndarray
     status: np.ndarray
-
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """``(M,)``: one run per deployment."""
-        return tuple(self.tumbles.shape)
-
-    def __len__(self) -> int:
-        return int(self.tumbles.size)
 
     @property
     def verdict(self) -> np.ndarray:
