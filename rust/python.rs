@@ -38,8 +38,8 @@ use crate::run::registry::{
 use crate::run::step_size::plan;
 use crate::run::watchdog;
 use crate::run::{
-    method_and_grid, model_method_and_grid, model_step, simulate as core_simulate, simulate_model,
-    simulate_models, FrameGrid, Keep, Method, ModelOutput,
+    method_and_grid, model_method_and_grid, rows_method_and_grid, simulate as core_simulate,
+    simulate_model, simulate_models, FrameGrid, Keep, Method, ModelOutput,
 };
 
 /// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
@@ -624,20 +624,15 @@ struct ModelRows<'a> {
 }
 
 impl ModelRows<'_> {
-    /// The method and the one frame grid of every row: with `dt = None` a fixed-step method
-    /// takes the smallest of the steps its runs would pick alone (an adaptive one lets each
-    /// run pick its own first step, as alone).
+    /// The method and the one frame grid of every row ([`rows_method_and_grid`]).
     fn method_and_grid<const N: usize, S: Model<N>>(
         &self,
         systems: &[S],
         x0s: &[[f64; N]],
     ) -> PyResult<(Method, FrameGrid)> {
-        let (Some(sys), Some(x0)) = (systems.first(), x0s.first()) else {
-            return Err(PyValueError::new_err("a batch needs at least one run"));
-        };
-        let (method, grid) = model_method_and_grid(
-            sys,
-            x0,
+        Ok(rows_method_and_grid(
+            systems,
+            x0s,
             self.method,
             self.t_end,
             self.frames,
@@ -645,26 +640,7 @@ impl ModelRows<'_> {
             self.max_steps,
             self.rtol,
             self.atol,
-        )?;
-        if self.dt.is_some() || method.is_adaptive() {
-            return Ok((method, grid));
-        }
-        let mut step = f64::INFINITY;
-        for (s, x) in systems.iter().zip(x0s) {
-            step = step.min(model_step(s, x, self.t_end, self.rtol)?);
-        }
-        let planned = model_method_and_grid(
-            sys,
-            x0,
-            self.method,
-            self.t_end,
-            self.frames,
-            Some(step),
-            self.max_steps,
-            self.rtol,
-            self.atol,
-        )?;
-        Ok(planned)
+        )?)
     }
 
     /// Runs `systems[i]` from `x0s[i]` on `threads` (all cores by default) over the grid of
