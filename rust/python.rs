@@ -19,7 +19,7 @@ use pyo3::types::PyTuple;
 use crate::body::RigidBody;
 use crate::buffer::{ensure_room, try_with_capacity};
 use crate::dynamics::{state_from, Invariants};
-use crate::dynamics::{DampedBody, Deployment};
+use crate::dynamics::{DampedBody, DamperState, Deployment, DeploymentState, Model};
 use crate::ensemble::batch::{
     simulate_batch as core_simulate_batch, Options as BatchOptions, Start,
 };
@@ -39,8 +39,8 @@ use crate::run::registry::{
 use crate::run::step_size::{plan, StepPlan};
 use crate::run::watchdog;
 use crate::run::{
-    method_and_grid, model_method_and_grid, simulate as core_simulate, simulate_model,
-    simulate_models, FrameGrid, Keep, Method, ModelOutput,
+    method_and_grid, model_method_and_grid, rows_method_and_grid, simulate as core_simulate,
+    simulate_model, simulate_models, FrameGrid, Keep, Method, ModelOutput,
 };
 
 /// The one mapping of the core's errors to Python's: the classes of `dzhanibekov.errors`
@@ -563,7 +563,7 @@ fn simulate_deployment<'py>(
 /// Deployments run side by side on all cores: per row, knot `times` and tensors as rows of
 /// 9 (row-major), one start `omega0`/`q0` per row; every run shares the frame grid and step.
 #[pyfunction]
-#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false))]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false, threads = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_deployments<'py>(
     py: Python<'py>,
@@ -579,7 +579,31 @@ fn simulate_deployments<'py>(
     rtol: f64,
     atol: f64,
     flips: bool,
+    threads: Option<usize>,
 ) -> PyResult<Vec<PyModelResult>> {
+    let (systems, x0s) = deployment_systems(times, tensors, &omega0, &q0)?;
+    let run = ModelRows {
+        t_end,
+        frames,
+        dt,
+        method,
+        max_steps,
+        rtol,
+        atol,
+        flips,
+        threads,
+    };
+    run.simulate(py, &systems, &x0s, false)
+}
+
+/// The systems and initial states of rows of deployments (knot `times`, tensors as rows of 9,
+/// row-major) and their starts, each checked by the core (an error names its row).
+fn deployment_systems(
+    times: Vec<Vec<f64>>,
+    tensors: Vec<Vec<f64>>,
+    omega0: &[[f64; 3]],
+    q0: &[[f64; 4]],
+) -> PyResult<(Vec<Deployment>, Vec<DeploymentState>)> {
     let rows = times.len();
     if tensors.len() != rows || omega0.len() != rows || q0.len() != rows || rows == 0 {
         return Err(PyValueError::new_err(
@@ -603,24 +627,99 @@ fn simulate_deployments<'py>(
         x0s.push(d.state_from(0.0, omega0[row], q));
         systems.push(d);
     }
-    // one method and grid for all: the first run's planned step when `dt` is None
-    let (method, grid) = model_method_and_grid(
-        &systems[0],
-        &x0s[0],
-        method,
+    Ok((systems, x0s))
+}
+
+/// The fixed step that `simulate_deployments` of the same arguments takes (shared by every
+/// row); `None` for an adaptive method, whose runs choose their own.
+#[pyfunction]
+#[pyo3(signature = (times, tensors, omega0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
+#[allow(clippy::too_many_arguments)]
+fn deployment_step(
+    times: Vec<Vec<f64>>,
+    tensors: Vec<Vec<f64>>,
+    omega0: Vec<[f64; 3]>,
+    q0: Vec<[f64; 4]>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Option<f64>> {
+    let (systems, x0s) = deployment_systems(times, tensors, &omega0, &q0)?;
+    let run = ModelRows {
         t_end,
         frames,
         dt,
+        method,
         max_steps,
         rtol,
         atol,
-    )?;
-    let out = detach(py, true, |cancel| {
-        simulate_models(&systems, &x0s, &grid, method, flips, cancel)
-    })?;
-    out.into_iter()
-        .map(|o| model_result(py, o, &grid, false))
-        .collect()
+        flips: false,
+        threads: None,
+    };
+    let (method, grid) = run.method_and_grid(&systems, &x0s)?;
+    Ok((!method.is_adaptive()).then(|| grid.step_size()))
+}
+
+/// The arguments shared by every row of a batch of model runs.
+struct ModelRows<'a> {
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &'a str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+    flips: bool,
+    threads: Option<usize>,
+}
+
+impl ModelRows<'_> {
+    /// The method and the one frame grid of every row ([`rows_method_and_grid`]).
+    fn method_and_grid<const N: usize, S: Model<N>>(
+        &self,
+        systems: &[S],
+        x0s: &[[f64; N]],
+    ) -> PyResult<(Method, FrameGrid)> {
+        Ok(rows_method_and_grid(
+            systems,
+            x0s,
+            self.method,
+            self.t_end,
+            self.frames,
+            self.dt,
+            self.max_steps,
+            self.rtol,
+            self.atol,
+        )?)
+    }
+
+    /// Runs `systems[i]` from `x0s[i]` on `threads` (all cores by default) over the grid of
+    /// [`Self::method_and_grid`]; `sigma`: whether the model's extra output is a damper's rates.
+    fn simulate<const N: usize, S: Model<N>>(
+        &self,
+        py: Python<'_>,
+        systems: &[S],
+        x0s: &[[f64; N]],
+        sigma: bool,
+    ) -> PyResult<Vec<PyModelResult>> {
+        let (method, grid) = self.method_and_grid(systems, x0s)?;
+        let options = BatchOptions {
+            threads: self.threads,
+            isa: None,
+        };
+        let out = detach(py, true, |cancel| {
+            options.install(systems.len(), || {
+                simulate_models(systems, x0s, &grid, method, self.flips, cancel)
+            })
+        })?;
+        out.into_iter()
+            .map(|o| model_result(py, o, &grid, sigma))
+            .collect()
+    }
 }
 
 /// A damped body's run: body tensor (3, 3) as 9 values, the sphere's moment and damping.
@@ -656,6 +755,146 @@ fn simulate_damper<'py>(
         simulate_model(&sys, x0, &grid, method, flips, cancel)
     })?;
     model_result(py, out, &grid, true)
+}
+
+/// Rows of damped bodies and their starts: per row a body tensor as 9 values (row-major),
+/// the sphere's moment and damping, and `omega0`, `sigma0`, `q0`.
+type DamperRows<'a, 'py> = (
+    &'a PyReadonlyArray2<'py, f64>,
+    &'a PyReadonlyArray1<'py, f64>,
+    &'a PyReadonlyArray1<'py, f64>,
+    &'a PyReadonlyArray2<'py, f64>,
+    &'a PyReadonlyArray2<'py, f64>,
+    &'a PyReadonlyArray2<'py, f64>,
+);
+
+/// The systems and initial states of [`DamperRows`], each checked by the core (an error
+/// names its row).
+fn damper_systems(rows: DamperRows<'_, '_>) -> PyResult<(Vec<DampedBody>, Vec<DamperState>)> {
+    let (inertia, sphere, damping, omega0, sigma0, q0) = rows;
+    let m = omega0.shape()[0];
+    let shapes = [
+        (inertia.shape(), 9),
+        (omega0.shape(), 3),
+        (sigma0.shape(), 3),
+        (q0.shape(), 4),
+    ];
+    if shapes.iter().any(|(s, width)| *s != [m, *width]) || sphere.len() != m || damping.len() != m
+    {
+        return Err(PyValueError::new_err(
+            "`inertia` (M, 9), `sphere` (M,), `damping` (M,), `omega0` (M, 3), `sigma0` \
+             (M, 3) and `q0` (M, 4) must give the same number of runs M",
+        ));
+    }
+    let column = |name: &str, a: &PyReadonlyArray1<'_, f64>| -> PyResult<Vec<f64>> {
+        Ok(a.as_slice()
+            .map_err(|_| PyValueError::new_err(format!("`{name}` must be C-contiguous")))?
+            .to_vec())
+    };
+    let (sphere, damping) = (column("sphere", sphere)?, column("damping", damping)?);
+    let inertia = values("inertia", inertia)?;
+    let (omega0, sigma0, q0) = (
+        values("omega0", omega0)?,
+        values("sigma0", sigma0)?,
+        values("q0", q0)?,
+    );
+    let mut systems = Vec::with_capacity(m);
+    let mut x0s = Vec::with_capacity(m);
+    for row in 0..m {
+        let tensor = nalgebra::Matrix3::from_row_slice(&inertia[9 * row..9 * row + 9]);
+        let sys =
+            DampedBody::try_new(tensor, sphere[row], damping[row]).map_err(|e| e.in_row(row))?;
+        let sigma = [sigma0[3 * row], sigma0[3 * row + 1], sigma0[3 * row + 2]];
+        if !sigma.iter().all(|s| s.is_finite()) {
+            let e = Error::invalid("sigma0", "must be three finite rates", sigma);
+            return Err(e.in_row(row).into());
+        }
+        let omega = [omega0[3 * row], omega0[3 * row + 1], omega0[3 * row + 2]];
+        let q = [
+            q0[4 * row],
+            q0[4 * row + 1],
+            q0[4 * row + 2],
+            q0[4 * row + 3],
+        ];
+        let q = crate::kinematics::normalized(q).map_err(|e| e.in_row(row))?;
+        x0s.push(DampedBody::state_from(omega, sigma, q));
+        systems.push(sys);
+    }
+    Ok((systems, x0s))
+}
+
+/// Damped bodies run side by side on all cores ([`DamperRows`]); every run shares the frame
+/// grid and step (see [`ModelRows::method_and_grid`]).
+#[pyfunction]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL, flips = false, threads = None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_dampers<'py>(
+    py: Python<'py>,
+    inertia: PyReadonlyArray2<'py, f64>,
+    sphere: PyReadonlyArray1<'py, f64>,
+    damping: PyReadonlyArray1<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    sigma0: PyReadonlyArray2<'py, f64>,
+    q0: PyReadonlyArray2<'py, f64>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+    flips: bool,
+    threads: Option<usize>,
+) -> PyResult<Vec<PyModelResult>> {
+    let (systems, x0s) = damper_systems((&inertia, &sphere, &damping, &omega0, &sigma0, &q0))?;
+    let run = ModelRows {
+        t_end,
+        frames,
+        dt,
+        method,
+        max_steps,
+        rtol,
+        atol,
+        flips,
+        threads,
+    };
+    run.simulate(py, &systems, &x0s, true)
+}
+
+/// The fixed step that `simulate_dampers` of the same arguments takes (shared by every
+/// row); `None` for an adaptive method, whose runs choose their own.
+#[pyfunction]
+#[pyo3(signature = (inertia, sphere, damping, omega0, sigma0, q0, t_end, frames, dt, method, max_steps, rtol = DEFAULT_RTOL, atol = DEFAULT_ATOL))]
+#[allow(clippy::too_many_arguments)]
+fn damper_step<'py>(
+    inertia: PyReadonlyArray2<'py, f64>,
+    sphere: PyReadonlyArray1<'py, f64>,
+    damping: PyReadonlyArray1<'py, f64>,
+    omega0: PyReadonlyArray2<'py, f64>,
+    sigma0: PyReadonlyArray2<'py, f64>,
+    q0: PyReadonlyArray2<'py, f64>,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    method: &str,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> PyResult<Option<f64>> {
+    let (systems, x0s) = damper_systems((&inertia, &sphere, &damping, &omega0, &sigma0, &q0))?;
+    let run = ModelRows {
+        t_end,
+        frames,
+        dt,
+        method,
+        max_steps,
+        rtol,
+        atol,
+        flips: false,
+        threads: None,
+    };
+    let (method, grid) = run.method_and_grid(&systems, &x0s)?;
+    Ok((!method.is_adaptive()).then(|| grid.step_size()))
 }
 
 fn internal(e: impl std::fmt::Display) -> PyErr {
@@ -1120,6 +1359,9 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_deployment, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_damper, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_deployments, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_dampers, m)?)?;
+    m.add_function(wrap_pyfunction!(damper_step, m)?)?;
+    m.add_function(wrap_pyfunction!(deployment_step, m)?)?;
     m.add_function(wrap_pyfunction!(rotate, m)?)?;
     m.add_function(wrap_pyfunction!(invariants, m)?)?;
     m.add_function(wrap_pyfunction!(ellipsoid_mesh, m)?)?;

@@ -3,16 +3,23 @@ body beside the free body's, and the drift of what each keeps.
 
     python benches/python/bench_models.py              # 10⁷ steps per run
     python benches/python/bench_models.py --steps 1e6
+    python benches/python/bench_models.py --batch 256  # a damper batch against single runs
 
 Every run: moments (1, 2, 3), ω₀ = (0.01, 0.01, 1), dt = 1e-3, 201 frames, `flips=False` for
 the free body (the models locate none). The deployment goes to (1, 3, 2) over t ∈ [100, 110]
 (diagonal knots) or to a tilted tensor; the damper is j = 0.05, c = 0.02. Times are medians
 of `--repeat` runs (the machine may be shared: compare ratios).
+
+With `--batch M`: M damped bodies (moments (1, 10, 10), ω₀ = (2, ε, 0) with ε spread over
+[0.01, 0.1], the damper above) over `--steps` steps each, as one `dz.simulate` batch on all
+cores against M single runs one after the other; the rows are checked equal to the single
+runs first.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import statistics
 import time
 from typing import Any
@@ -31,7 +38,11 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--steps", type=float, default=1e7)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--batch", type=int, default=0, help="runs of a damper batch")
     args = parser.parse_args()
+    if args.batch:
+        damper_batch(args.batch, int(args.steps), args.repeat)
+        return
     steps = int(args.steps)
     t_end = steps * DT
     cases: dict[str, tuple[Any, dict[str, Any]]] = {
@@ -53,6 +64,33 @@ def main() -> None:
         baseline = baseline or ns
         print(f"{name:24s} {ns:8.2f} {ns / baseline:7.2f} {traj.drift.momentum_world:9.1e} "
               f"{traj.drift.q_norm:9.1e}")
+
+
+def damper_batch(m: int, steps: int, repeat: int) -> None:
+    """A batch of `m` damped runs against `m` single runs: median seconds, and the ratio."""
+    body, damper = (1.0, 10.0, 10.0), dz.Damper(0.05, 0.02)
+    omega0 = np.column_stack([np.full(m, 2.0), np.linspace(0.01, 0.1, m), np.zeros(m)])
+    run: dict[str, Any] = dict(t_end=steps * DT, frames=201, dt=DT, damper=damper)
+    batch = dz.simulate(body, omega0, **run)
+    for i in (0, m // 2, m - 1):
+        single = dz.simulate(body, omega0[i], **run)
+        assert np.array_equal(batch[i].omega, single.omega), i
+        assert np.array_equal(batch[i].sigma, single.sigma), i
+    timed = {"batch": lambda: dz.simulate(body, omega0, **run),
+             "singles": lambda: [dz.simulate(body, w, **run) for w in omega0]}
+    seconds = {}
+    for name, call in timed.items():
+        times = []
+        for _ in range(repeat):
+            start = time.perf_counter()
+            call()
+            times.append(time.perf_counter() - start)
+        seconds[name] = statistics.median(times)
+    per_step = {k: v / (m * steps) * 1e9 for k, v in seconds.items()}
+    print(f"{m} damped runs of {steps:.0e} RK4 steps (dt = {DT}), {os.cpu_count()} cores")
+    for name in timed:
+        print(f"{name:8s} {seconds[name]:8.3f} s  {per_step[name]:7.2f} ns per run-step")
+    print(f"singles / batch = {seconds['singles'] / seconds['batch']:.2f}")
 
 
 if __name__ == "__main__":

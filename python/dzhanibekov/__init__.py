@@ -19,10 +19,11 @@ from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
 from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
-from .damper import FLAT_SHARE, Damper, axis_shares, flat_spin_estimate, flat_spin_time
+from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper_rate,
+                     flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
 from .models import simulate_deployments
-from .ensemble import Batch, BatchDrift, Sweep, grid, sweep
+from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
 from .io import load, save
@@ -51,6 +52,8 @@ __all__ = [
     "Deployment",
     "simulate_deployments",
     "Damper",
+    "StiffDamperWarning",
+    "damper_rate",
     "FLAT_SHARE",
     "axis_shares",
     "flat_spin_time",
@@ -89,6 +92,7 @@ __all__ = [
     "BatchDrift",
     "sweep",
     "Sweep",
+    "DeploymentSweep",
     "grid",
     "save",
     "load",

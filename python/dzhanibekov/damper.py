@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
 
 from ._args import as_array, as_float
+from .accuracy import StepSizeWarning
 from .body import Body, as_body
 
-__all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate"]
+__all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate",
+           "StiffDamperWarning", "RK4_REAL_LIMIT", "STIFF_RATIO", "damper_rate"]
 
 FLAT_SHARE = 0.99
 """A spin is flat once the major axis carries this share of ``|L|``."""
@@ -58,6 +61,95 @@ class Damper:
 
     def __hash__(self) -> int:
         return hash((self.inertia, self.damping))
+
+
+RK4_REAL_LIMIT = 2.785293563405289
+"""RK4's stability limit on the negative real axis: the ``x`` where ``|R(−x)| = 1`` for
+``R(z) = 1 + z + z²/2 + z³/6 + z⁴/24``, the real root of ``x³ − 4x² + 12x − 24 = 0``."""
+
+STIFF_RATIO = 30.0
+"""An adaptive run warns when the damper's rate ``λ`` (:func:`damper_rate`) exceeds the
+body's rate bound ``Ω = √(2T / I_min)`` by this factor: its steps are then set by the
+damper's stability bound (``h λ`` at about 3.3 for dopri5, 6.4 for dop853), not by the
+motion, and its cost grows in proportion to ``λ`` (measured at the default tolerances: at
+``λ/Ω ≈ 34`` dop853 takes 4 times, dopri5 2.3 times, the steps of the undamped body)."""
+
+
+class StiffDamperWarning(StepSizeWarning):
+    """The damper relaxes far faster than the step (a *stiff* damper): RK4 with a fixed step
+    beyond its stability limit for the damper's decay diverges, and an adaptive method
+    crawls at the damper's time scale. A :class:`~dzhanibekov.StepSizeWarning`, so the same
+    filters silence both."""
+
+
+def damper_rate(body: Any, damper: Damper) -> float:
+    """The decay rate of the slip ``σ − ω`` between sphere and body: the stiffness of a
+    damped run.
+
+    Linearised, the slip obeys ``(σ − ω)' = −c (1/j + I⁻¹)(σ − ω)`` plus gyroscopic terms of
+    the order of the body rates (subtract the two equations of :class:`Damper`); in
+    principal axes its rates are ``c (1/j + 1/I_k)``, the fastest
+
+    ``λ = c (1/j + 1/I_min)``,
+
+    with ``I_min`` the least principal moment. An explicit method's step ``h`` is stable
+    for this mode while ``h λ`` stays within its stability interval on the negative real
+    axis: ``h λ ≤`` `RK4_REAL_LIMIT` (≈ 2.785) for RK4. When ``λ`` far exceeds the body's
+    rates, the slip dies out almost at once and the body turns as if the sphere were
+    rigidly attached, but an explicit method must still resolve ``1/λ``.
+
+    Parameters
+    ----------
+    body : Body or array_like, shape (3,)
+    damper : Damper
+
+    Returns
+    -------
+    float
+        ``λ``, in inverse time units.
+
+    Examples
+    --------
+    >>> damper_rate((1.0, 10.0, 10.0), Damper(0.05, 0.02))  # 0.02 (1/0.05 + 1/1)
+    0.42
+    """
+    if not isinstance(damper, Damper):
+        raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
+    least = min(as_body(body).inertia)
+    return damper.damping * (1.0 / damper.inertia + 1.0 / least)
+
+
+def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method: str, *,
+               stacklevel: int) -> None:
+    """Warns with `StiffDamperWarning` when a fixed `step` is beyond RK4's stability limit for
+    the fastest of the damper `rates` (``step · λ >`` `RK4_REAL_LIMIT`), or when an adaptive
+    run (`step` None) has a damper faster than `STIFF_RATIO` times its body's rate bound
+    (`bounds`). `stacklevel` counts from this function."""
+    worst = int(np.argmax(rates))
+    rate = float(rates[worst])
+    where = f"row {worst}: " if len(rates) > 1 else ""
+    if step is not None:
+        if not step * rate > RK4_REAL_LIMIT:
+            return
+        why = (f"beyond RK4's stability limit h·c(1/j + 1/I_min) ≤ {RK4_REAL_LIMIT:.4f} for the "
+               "decay of the slip between sphere and body: the run diverges")
+    else:
+        ratio = rate / float(bounds[worst]) if bounds[worst] > 0 else math.inf
+        if not ratio > STIFF_RATIO:
+            return
+        step = 1.0 / rate
+        why = (f"it relaxes {ratio:.3g} times faster than the body turns (more than "
+               f"STIFF_RATIO = {STIFF_RATIO:g}): {method!r} must take steps of the order of "
+               "1/λ and crawls at the damper's time scale")
+    warnings.warn(
+        f"{where}the damper is stiff for the step {step:.4g}: its slip decays at "
+        f"λ = c(1/j + 1/I_min) = {rate:.4g} (time constant {1 / rate:.4g}, step·λ = "
+        f"{step * rate:.3g}); {why}. Take dt below {RK4_REAL_LIMIT / rate:.4g} (RK4), or a "
+        "softer damper (a smaller damping c or a larger sphere j): a damper this fast is "
+        "all but rigid.",
+        StiffDamperWarning,
+        stacklevel=stacklevel,
+    )
 
 
 def _major_axes(body: Body) -> list[int]:

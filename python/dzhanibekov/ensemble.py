@@ -33,7 +33,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, overload
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -43,12 +43,16 @@ from ._args import as_array, as_float, as_int, check_size
 from ._swap import swapped_error
 from .accuracy import check_tolerances, warn_step
 from .body import TENSOR_HINT, Body, InertiaWarning, _is_square
+from .deployment import Deployment
+from .deployment_sweep import sweep_deployments
 from .errors import DzhanibekovError
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, check_method
-from .results import Batch, BatchDrift, Sweep, trusted_body
+from .models import is_deployment_list
+from .results import Batch, BatchDrift, DeploymentSweep, Sweep, trusted_body
 from .rotations import quaternions_of
 
-__all__ = ["Batch", "BatchDrift", "simulate_batch", "Sweep", "sweep", "grid", "DEFAULT_BLOCK"]
+__all__ = ["Batch", "BatchDrift", "simulate_batch", "Sweep", "DeploymentSweep", "sweep", "grid",
+           "DEFAULT_BLOCK"]
 
 
 def batch_rows(
@@ -440,6 +444,46 @@ def grid(*axes: Any) -> np.ndarray:
     return out
 
 
+@overload
+def sweep(
+    body: Deployment | list[Deployment] | tuple[Deployment, ...],
+    omega0: Any,
+    q0: Any = ...,
+    t_end: float = ...,
+    frames: int = ...,
+    dt: float | None = ...,
+    method: str = ...,
+    *,
+    rtol: float | None = ...,
+    atol: float | None = ...,
+    max_steps: int = ...,
+    block: int = ...,
+    client: Any = ...,
+    progress: bool | None = ...,
+    threads: int | None = ...,
+) -> DeploymentSweep: ...
+
+
+@overload
+def sweep(
+    body: Any,
+    omega0: Any,
+    q0: Any = ...,
+    t_end: float = ...,
+    frames: int = ...,
+    dt: float | None = ...,
+    method: str = ...,
+    *,
+    rtol: float | None = ...,
+    atol: float | None = ...,
+    max_steps: int = ...,
+    block: int = ...,
+    client: Any = ...,
+    progress: bool | None = ...,
+    threads: int | None = ...,
+) -> Sweep: ...
+
+
 def sweep(
     body: Any,
     omega0: Any,
@@ -456,7 +500,7 @@ def sweep(
     client: Any = None,
     progress: bool | None = None,
     threads: int | None = None,
-) -> Sweep:
+) -> Sweep | DeploymentSweep:
     """Runs a free rotation from every start and keeps a few numbers per run, no frames.
 
     Each run is the one :func:`~dzhanibekov.summarize` makes of the same inputs, step for
@@ -465,10 +509,16 @@ def sweep(
     several runs at once in SIMD lanes), or, with `client`, as one task on a Dask cluster.
     No result depends on the blocks, the threads or the cluster.
 
+    A sweep over deployments (`body` a :class:`Deployment` or a list of them) asks which
+    deployments tumble and returns a :class:`DeploymentSweep`: each run integrates its
+    deployment over ``[0, t_end]`` (which must reach every last knot) and the closed form
+    decides the free motion after it (see Notes).
+
     Parameters
     ----------
-    body : Body or array_like, shape (3,) or S + (3,)
-        The body, or principal moments: one body for all runs, or one per start.
+    body : Body, Deployment, list of Deployment, or array_like, shape (3,) or S + (3,)
+        The body, or principal moments: one body for all runs, or one per start. Or a
+        deployment, or one per run (then the starts have at most one batch axis, M).
     omega0 : array_like, shape (3,) or S + (3,)
         Initial body rates ``(u0, v0, w0)``: one per start (say from :func:`grid`).
     q0 : array_like, shape (4,) or S + (4,)
@@ -492,8 +542,10 @@ def sweep(
 
     Returns
     -------
-    Sweep
-        Per-run arrays of shape S, the starts' leading axes broadcast together.
+    Sweep or DeploymentSweep
+        Per-run arrays of shape S, the starts' leading axes broadcast together; for
+        deployments, per-run arrays of shape (M,): whether each tumbles, its flip period
+        after the deployment and the energy the deployment changed.
 
     Raises
     ------
@@ -515,6 +567,17 @@ def sweep(
     InertiaWarning
         Once, for moments that break the triangle inequality.
 
+    Notes
+    -----
+    After its last knot a deployed body is constant, so the motion from the state reached
+    there is a free rotation: it tumbles iff the flip period of the deployed body (in its
+    principal axes) at that state is finite (:func:`~dzhanibekov.flip_period`). The verdict
+    is exact for the integrated state, whatever the length of the motion watched. The runs
+    are those of :func:`~dzhanibekov.simulate` of each deployment over ``[0, t_end]`` (bit
+    for bit, with the same `dt`: with ``dt=None`` a fixed-step method takes the smallest of
+    the steps its runs would pick alone); a block of runs keeps their frames until it is
+    summarised, so ask for few `frames`.
+
     Examples
     --------
     >>> import dzhanibekov as dz
@@ -523,7 +586,22 @@ def sweep(
     ((2,), array([2, 5]))
     >>> bool(abs(s.period[1] - s.exact_period[1]) < 1e-6 * s.exact_period[1])
     True
+
+    Stowed (1, 2, 3) spinning about z, deployed over t ∈ [10, 20] to (1, 3, r): z becomes
+    the intermediate axis for r < 3, the major one for r > 3.
+
+    >>> deployments = [dz.Deployment([10.0, 20.0], [(1, 2, 3), (1, 3, r)]) for r in (2, 4)]
+    >>> s = dz.sweep(deployments, (0.01, 0.01, 1.0), t_end=20.0, frames=2, dt=1e-3)
+    >>> s.tumbles, s.verdict[1]
+    (array([ True, False]), 'does not tumble')
     """
+    if isinstance(body, Deployment) or is_deployment_list(body):
+        if client is not None:
+            raise ValueError("`client` is for sweeps of the free body; a sweep of deployments "
+                             "runs on this machine's cores")
+        return sweep_deployments(body, omega0, q0, t_end, frames, dt, method, rtol=rtol,
+                                 atol=atol, max_steps=max_steps, block=block, threads=threads,
+                                 progress=progress)
     swapped = swapped_error(body, omega0, "sweep")
     t_end, frames, max_steps = checked_run(t_end, frames, method, max_steps)
     threads = checked_threads(threads)

@@ -23,7 +23,8 @@ from ._args import check_size
 from .body import Body, principal_body
 from .rotations import to_rotation
 
-__all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "verdict"]
+__all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "DeploymentSweep",
+           "verdict"]
 
 
 def verdict(flips: int, t_end: float) -> str:
@@ -304,6 +305,16 @@ class Batch:
         Steps, right-hand-side evaluations and rejected steps of each run.
     drift : BatchDrift
         The invariants' largest drift over the frames, per run.
+    model : tuple or None
+        A batch of deployments or damped bodies: each run's :class:`Deployment` or
+        :class:`Damper`; flips are located when every run's tensors are diagonal (else
+        `flip_times` is None).
+    sigma : ndarray, shape (M, frames, 3), or None
+        A damper batch's sphere rates in body axes.
+    momentum_world : ndarray, shape (M, frames, 3)
+        Each run's total angular momentum in space (see :attr:`Trajectory.momentum_world`).
+    energy : ndarray, shape (M, frames)
+        Each run's total kinetic energy (see :attr:`Trajectory.energy`).
     """
 
     t: np.ndarray
@@ -322,7 +333,14 @@ class Batch:
     drift: BatchDrift
     body: Body | tuple[Body, ...] | None = field(default=None, repr=False)
     """The body shared by every run, or one per run, when given as Bodies (their axes are
-    the ones `omega` and `q` are in); None for moments."""
+    the ones `omega` and `q` are in); None for moments. For a batch of deployments, each
+    run's body at ``t = 0`` (its principal moments)."""
+    model: tuple[Any, ...] | None = field(default=None, repr=False)
+    """Each run's model beyond the constant body (its Deployment or Damper), or None."""
+    sigma: np.ndarray | None = field(default=None, repr=False)
+    """A damper batch's sphere rates in body axes, shape (M, frames, 3); None otherwise."""
+    _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    """A model batch's invariants at every frame, each with a leading run axis."""
 
     def to_xarray(self) -> Any:
         """Every run's frames as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``; the ``io`` extra).
@@ -385,7 +403,29 @@ class Batch:
             nfev=int(self.nfev[i]),
             drift=Drift(*(float(d[i]) for d in self.drift)),
             n_rejected=int(self.n_rejected[i]),
+            model=None if self.model is None else self.model[i],
+            sigma=None if self.sigma is None else self.sigma[i],
+            _invariants={k: v[i] for k, v in self._invariants.items()},
         )
+
+    @property
+    def momentum_world(self) -> np.ndarray:
+        """Each run's total angular momentum in space at every frame, shape (M, frames, 3)."""
+        return self._invariant("momentum_world")
+
+    @property
+    def energy(self) -> np.ndarray:
+        """Each run's total kinetic energy at every frame, shape (M, frames)."""
+        return self._invariant("energy")
+
+    def _invariant(self, name: str) -> np.ndarray:
+        """An invariant of every run: a model batch's own, or each run's, computed once."""
+        if name not in self._invariants:
+            runs = [self[i].invariants() for i in range(len(self))]
+            for key in ("energy", "momentum_body", "momentum_world", "q_norm"):
+                self._invariants[key] = np.stack([r[key] for r in runs]) if runs else \
+                    np.empty((0, len(self.t)) + ((3,) if key.startswith("momentum") else ()))
+        return self._invariants[name]
 
     def _run_flip_times(self, i: int) -> np.ndarray | None:
         if self._flip_times is None or self._flip_offsets is None:
@@ -406,7 +446,10 @@ class Batch:
                        n_rejected=self.n_rejected[take],
                        drift=BatchDrift(*(d[take] for d in self.drift)),
                        body=self.body if not isinstance(self.body, tuple) else
-                       tuple(self.body[i] for i in rows))
+                       tuple(self.body[i] for i in rows),
+                       model=None if self.model is None else tuple(self.model[i] for i in rows),
+                       sigma=None if self.sigma is None else self.sigma[take],
+                       _invariants={k: v[take] for k, v in self._invariants.items()})
 
     @property
     def t_end(self) -> float:
@@ -439,8 +482,28 @@ def trusted_body(inertia: np.ndarray) -> Body:
     return principal_body(inertia)
 
 
+class _Statuses:
+    """What a sweep's runs share: a `status` per run, and which runs finished."""
+
+    status: np.ndarray
+
+    @property
+    def ok(self) -> np.ndarray:
+        """Which runs finished (`status` ``"ok"``)."""
+        finished: np.ndarray = self.status == "ok"
+        return finished
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The shape of the starts, and of each per-run array (``(M,)`` for deployments)."""
+        return tuple(self.status.shape)
+
+    def __len__(self) -> int:
+        return int(self.status.size)
+
+
 @dataclass(frozen=True, eq=False)
-class Sweep:
+class Sweep(_Statuses):
     """What every run of a sweep measured, shaped as the sweep's starts.
 
     With starts of shape ``S + (3,)`` (say ``(n_u, n_v, 3)`` from :func:`grid`), each
@@ -502,12 +565,6 @@ class Sweep:
     nfev: np.ndarray
     status: np.ndarray
 
-    @property
-    def ok(self) -> np.ndarray:
-        """Which runs finished (`status` ``"ok"``)."""
-        finished: np.ndarray = self.status == "ok"
-        return finished
-
     def to_xarray(self) -> Any:
         """What every run measured as an ``xarray.Dataset`` (one dim per axis of the starts, named ``u0``… ``Iz`` with their values when from :func:`grid`; the ``io`` extra).
 
@@ -524,13 +581,6 @@ class Sweep:
         """What every run measured as a ``pandas.DataFrame`` (one row per run; the ``io`` extra)."""
         return _tables.sweep_frame(self)
 
-    @property
-    def shape(self) -> tuple[int, ...]:
-        """The shape of the starts, and of each per-run array."""
-        return tuple(self.flips.shape)
-
-    def __len__(self) -> int:
-        return int(self.flips.size)
 
     @property
     def verdict(self) -> np.ndarray:
@@ -558,5 +608,93 @@ class Sweep:
         return (
             f"Sweep(shape={self.shape}, t_end={self.t_end:g}, method={self.method!r}, "
             f"flipped={int(np.count_nonzero(self.flips > 0))}"
+            + (f", not finished={int(np.count_nonzero(~self.ok))})" if not self.ok.all() else ")")
+        )
+
+
+@dataclass(frozen=True, eq=False)
+class DeploymentSweep(_Statuses):
+    """Which deployments tumble: what every run of a sweep over deployments measured, one
+    value per run (see :func:`~dzhanibekov.sweep`).
+
+    Each run integrates its deployment over ``[0, t_end]``, past its last knot; after that
+    knot the body is constant, so the rest of the motion is the free rotation of the
+    deployed body from the state at ``t_end``, whose tumbling the closed form decides: it
+    tumbles iff its flip period (:func:`~dzhanibekov.flip_period`) is finite.
+
+    Attributes
+    ----------
+    deployments : tuple of Deployment, length M
+    omega0 : ndarray, shape (M, 3)
+        Each run's initial body rates, in the deployment's own axes.
+    q0 : ndarray, shape (M, 4)
+        Each run's initial attitude.
+    inertia : ndarray, shape (M, 3)
+        The deployed body's principal moments, ascending (of the last knot's tensor).
+    omega_deployed : ndarray, shape (M, 3)
+        The body rates at ``t_end`` in those principal axes (NaN for a run that did not
+        finish).
+    flip_period : ndarray, shape (M,)
+        The deployed motion's time between flips, ``2K(m)/λ``; ``inf`` where it does not
+        tumble, NaN for a run that did not finish.
+    tumbles : ndarray of bool, shape (M,)
+        Whether the deployed body flips (its period is finite).
+    energy_change : ndarray, shape (M,)
+        The relative change of the kinetic energy, ``(E(t_end) − E(0)) / E(0)``: the work
+        of the internal forces of the deployment (0 for a body at rest).
+    drift : BatchDrift
+        Each run's largest drift of what the deployment keeps, over the frames (its energy
+        entry is the relative change the deployment makes).
+    t_end : float
+    method : str
+    dt : ndarray, shape (M,)
+        The step each run took (its mean accepted step for an adaptive method).
+    n_steps, nfev : ndarray of int64, shape (M,)
+    status : ndarray of str, shape (M,)
+        How each run ended: ``"ok"``, ``"diverged"`` or ``"too many steps"`` (as in
+        :class:`Sweep`); the sweep goes on past such runs.
+    """
+
+    deployments: tuple[Any, ...]
+    omega0: np.ndarray
+    q0: np.ndarray
+    inertia: np.ndarray
+    omega_deployed: np.ndarray
+    flip_period: np.ndarray
+    tumbles: np.ndarray
+    energy_change: np.ndarray
+    drift: BatchDrift
+    t_end: float
+    method: str
+    dt: np.ndarray
+    n_steps: np.ndarray
+    nfev: np.ndarray
+    status: np.ndarray
+
+    @property
+    def verdict(self) -> np.ndarray:
+        """Each run's verdict in words, shape (M,)."""
+        words = [
+            f"did not finish ({status})" if status != "ok" else
+            f"tumbles: a flip every {period:.4g}" if tumbles else "does not tumble"
+            for period, tumbles, status in zip(self.flip_period, self.tumbles, self.status)
+        ]
+        return np.array(words, dtype=object)
+
+    def __getitem__(self, key: Any) -> DeploymentSweep:
+        """The runs at `key` (NumPy indexing of the run axis) as a sweep."""
+        rows = np.arange(len(self))[key]
+        if np.ndim(rows) == 0:
+            rows = np.array([rows])
+        per_run = {name: getattr(self, name)[rows] for name in
+                   ("omega0", "q0", "inertia", "omega_deployed", "flip_period", "tumbles",
+                    "energy_change", "dt", "n_steps", "nfev", "status")}
+        return replace(self, deployments=tuple(self.deployments[int(i)] for i in rows),
+                       drift=BatchDrift(*(d[rows] for d in self.drift)), **per_run)
+
+    def __repr__(self) -> str:
+        return (
+            f"DeploymentSweep(runs={len(self)}, t_end={self.t_end:g}, method={self.method!r}, "
+            f"tumbling={int(np.count_nonzero(self.tumbles))}"
             + (f", not finished={int(np.count_nonzero(~self.ok))})" if not self.ok.all() else ")")
         )

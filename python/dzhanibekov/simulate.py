@@ -15,7 +15,7 @@ from .ensemble import Batch, checked_threads, is_batch, simulate_batch
 from .body import Body, as_body
 from .damper import Damper
 from .deployment import Deployment
-from .models import simulate_model
+from .models import is_deployment_list, is_model_batch, simulate_model, simulate_model_batch
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
 from .results import Drift, Trajectory
 from .rotations import quaternions_of
@@ -63,7 +63,7 @@ def simulate(
     max_steps: int = ...,
     threads: int | None = ...,
     progress: bool | None = ...,
-    damper: Damper | None = ...,
+    damper: Damper | Sequence[Damper] | None = ...,
     sigma0: Any = ...,
 ) -> Trajectory | Batch: ...
 
@@ -83,7 +83,7 @@ def simulate(
     max_steps: int = DEFAULT_MAX_STEPS,
     threads: int | None = None,
     progress: bool | None = None,
-    damper: Damper | None = None,
+    damper: Damper | Sequence[Damper] | None = None,
     sigma0: Any = None,
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
@@ -99,11 +99,15 @@ def simulate(
     (M, frames, 4), flip times and drift per run). RK4 runs several at once in SIMD lanes;
     every run equals its single run bit for bit (``batch[i]``), whatever the number of
     threads. For one number per run (flips, tilt, drift) and no frames, use
-    :func:`~dzhanibekov.sweep`.
+    :func:`~dzhanibekov.sweep`. Deployments and damped bodies take the same batch axis (a
+    list of deployments, of bodies or of dampers counts as one too): their runs go side by
+    side on all cores, each row equal to its single run bit for bit, with
+    ``momentum_world`` (M, frames, 3), ``energy`` (M, frames) and a damper's ``sigma``
+    (M, frames, 3).
 
     Parameters
     ----------
-    body : Body, list of Body, Deployment, or array_like, shape (3,) or (M, 3)
+    body : Body, list of Body, Deployment, list of Deployment, or array_like, shape (3,) or (M, 3)
         The body (any :class:`Body`: from a tensor, a solid, parts, a mesh), or its
         principal moments ``(Ix, Iy, Iz)``; one row (or one Body of a list) per run of a
         batch. A 3×3 array is refused (use :meth:`Body.from_tensor`). A
@@ -177,15 +181,16 @@ def simulate(
         A batch's progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter), advanced
         per block of 1024 runs: None (default) shows it for batches of more than one block
         when stderr is a terminal and the batch takes more than a second; True always;
-        False never. A single run shows none.
-    damper : Damper, optional
-        A spherical viscous nutation damper inside the body (see :class:`Damper`): its three
-        rates join the state; the trajectory gains ``sigma`` (frames, 3), and
-        ``momentum_world`` and ``energy`` count body and damper. Runs by ``"rk4"``,
-        ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``), ``"dopri5"`` and
-        ``"dop853"``; the other methods refuse it by name. Flips (of the body's intermediate
-        axis relative to the total ``L``) are located for a diagonal body tensor.
-    sigma0 : array_like, shape (3,), optional
+        False never. A single run shows none, nor a batch of deployments or dampers.
+    damper : Damper or list of Damper, optional
+        A spherical viscous nutation damper inside the body (see :class:`Damper`), or one
+        per run of a batch: its three rates join the state; the trajectory gains ``sigma``
+        (frames, 3), and ``momentum_world`` and ``energy`` count body and damper. Runs by
+        ``"rk4"``, ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``),
+        ``"dopri5"`` and ``"dop853"``; the other methods refuse it by name. Flips (of the body's
+        intermediate axis relative to the total ``L``) are located for a diagonal body
+        tensor.
+    sigma0 : array_like, shape (3,) or (M, 3), optional
         The damper's initial absolute rate in body axes; co-rotating (``omega0``) if None.
 
     Returns
@@ -202,6 +207,11 @@ def simulate(
         For ``"rk4"`` and ``"rk4_projected"``, when RK4's predicted drift of ``|q|`` over
         the run exceeds `MAX_PREDICTED_DRIFT` (see `dzhanibekov.accuracy`), and beyond its
         stability limit ``dt·Ω ≥ 4√2``, where the run diverges.
+    StiffDamperWarning
+        A damper whose slip decays too fast for the step (:func:`damper_rate`): a fixed
+        step with ``dt·λ`` beyond RK4's limit 2.785 on the real axis, where the run
+        diverges; an adaptive run with ``λ`` above `STIFF_RATIO` times the body's rates,
+        which crawls at the damper's time scale. Naming the worst run of a batch.
 
     Raises
     ------
@@ -234,12 +244,27 @@ def simulate(
     >>> batch = simulate((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0.0, 1.0, 0.01)])
     >>> batch.omega.shape, batch.flips
     ((2, 201, 3), array([2, 0]))
+
+    A batch of damped bodies, one spin per row:
+
+    >>> from dzhanibekov import Damper
+    >>> damped = simulate((1.0, 10.0, 10.0), [(2.0, 0.01, 0.0), (0.0, 0.2, 0.01)],
+    ...                   t_end=50.0, frames=11, dt=0.01, damper=Damper(0.05, 0.02))
+    >>> damped.energy.shape, damped.sigma.shape
+    ((2, 11), (2, 11, 3))
     """
     q0 = quaternions_of(q0)
-    if isinstance(body, Deployment) or damper is not None:
-        checked_threads(threads)
+    if isinstance(body, Deployment) or damper is not None or is_deployment_list(body):
+        threads = checked_threads(threads)
         if not isinstance(flips, (bool, np.bool_)):
             raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
+        if is_model_batch(body, omega0, q0, damper, sigma0):
+            return simulate_model_batch(body, omega0, q0, t_end, frames, dt, method,
+                                        damper=damper, sigma0=sigma0, rtol=rtol, atol=atol,
+                                        max_steps=max_steps, threads=threads,
+                                        flips=bool(flips))
+        if damper is not None and not isinstance(damper, Damper):
+            raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
         return simulate_model(body, omega0, q0, t_end, frames, dt, method, damper=damper,
                               sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps,
                               flips=bool(flips))

@@ -30,7 +30,10 @@ pub use fixed::integrate;
 pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
 pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
-pub use models::{model_method_and_grid, model_step, simulate_model, simulate_models, ModelOutput};
+pub use models::{
+    model_method_and_grid, model_step, rows_method_and_grid, simulate_model, simulate_models,
+    ModelOutput,
+};
 pub(crate) use registry::run_method;
 pub use registry::{Method, MethodInfo, METHODS};
 

@@ -253,6 +253,40 @@ pub fn model_method_and_grid<const N: usize, S: Model<N>>(
     method_and_grid(name, t_end, frames, dt, max_steps, rtol, atol)
 }
 
+/// The method named `name` and the one frame grid of a batch of model runs, as
+/// [`model_method_and_grid`] makes them for one: with `dt = None` a fixed-step method takes
+/// the smallest of the steps its runs would pick alone; an adaptive one lets each run pick
+/// its own first step, as alone.
+///
+/// # Errors
+/// No runs, and the errors of [`model_method_and_grid`] and [`model_step`].
+#[allow(clippy::too_many_arguments)]
+pub fn rows_method_and_grid<const N: usize, S: Model<N>>(
+    systems: &[S],
+    x0s: &[[f64; N]],
+    name: &str,
+    t_end: f64,
+    frames: usize,
+    dt: Option<f64>,
+    max_steps: u64,
+    rtol: f64,
+    atol: f64,
+) -> Result<(Method, FrameGrid)> {
+    let (Some(sys), Some(x0)) = (systems.first(), x0s.first()) else {
+        return Err(Error::invalid("omega0", "must give at least one run", 0));
+    };
+    let plan = |dt| model_method_and_grid(sys, x0, name, t_end, frames, dt, max_steps, rtol, atol);
+    let (method, grid) = plan(dt)?;
+    if dt.is_some() || method.is_adaptive() {
+        return Ok((method, grid));
+    }
+    let mut step = f64::INFINITY;
+    for (s, x) in systems.iter().zip(x0s) {
+        step = step.min(model_step(s, x, t_end, rtol)?);
+    }
+    plan(Some(step))
+}
+
 /// The fixed step for accuracy `rtol` over `[0, t_end]` from `x0`: `h` with
 /// `Ω t_end (hΩ)⁴ = rtol` and `hΩ ≤ 0.5`, `Ω` the model's rate bound — the free body's
 /// rule for RK4 ([`crate::step_size`]) with its constant taken as 1. A model's phase error

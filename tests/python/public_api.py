@@ -934,6 +934,13 @@ def estimate_args(draw: st.DrawFn) -> dict[str, Any]:
             **({"share": draw(st.floats(0.01, 0.999))} if draw(st.booleans()) else {})}
 
 
+def check_damper_rate(kwargs: dict[str, Any], rate: Any, caught: list[warnings.WarningMessage]) -> None:
+    # c (1/j + 1/I_min): at least c / j, at most c (1/j + 1/I) for every moment I
+    d = kwargs["damper"]
+    assert isinstance(rate, float) and rate >= 0
+    assert rate >= d.damping / d.inertia * (1 - 1e-15) or math.isinf(rate)
+
+
 def check_estimate(kwargs: dict[str, Any], t: Any, caught: list[warnings.WarningMessage]) -> None:
     assert isinstance(t, float) and (t >= 0 or math.isnan(t)), t
 
@@ -1093,6 +1100,17 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.Damper,),
         min_success=1.0,
     ),
+    "damper_rate": Entry(
+        call=dz.damper_rate,
+        valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
+            {"body": bodies(i), "damper": st.builds(dz.Damper, valid_positive(), positive_floats())})),
+        hostile={"body": hostile_vector3(positive=True, moments=True),
+                 "damper": st.sampled_from([0.5, "d", None, (0.1, 0.2)])},
+        check=check_damper_rate,
+        covers=(dz.damper_rate,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
     "flat_spin_estimate": Entry(
         call=dz.flat_spin_estimate,
         valid=estimate_args(),
@@ -1242,6 +1260,8 @@ NOT_CALLED = {
     "box_edges": "takes no arguments: test_hostile calls it once",
     "Scenario": "another name of Scene",
     "FLAT_SHARE": "a constant, the default of flat_spin_time",
+    "StiffDamperWarning": "a warning class, raised by simulate of a stiff damper "
+                          "(test_model_batches.py)",
     "DzhanibekovError": "an exception class, raised by the core (test_errors.py)",
     "DivergedError": "an exception class, raised by the core (test_errors.py)",
     "TooLargeError": "an exception class, raised by the core (test_errors.py)",

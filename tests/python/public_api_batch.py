@@ -27,7 +27,17 @@ from hostile import (
     valid_int,
 )
 from public_api import ENTRIES as SINGLE_ENTRIES
-from public_api import Entry, check_run, quiet_body, run_args, run_hostile
+from public_api import (
+    Entry,
+    _rate_rows,
+    check_model_run,
+    check_run,
+    deployments_args,
+    model_run_args,
+    quiet_body,
+    run_args,
+    run_hostile,
+)
 
 # -- batches ------------------------------------------------------------------------------------
 
@@ -320,8 +330,111 @@ def check_gap(kwargs: dict[str, Any], gap: Any, caught: list[warnings.WarningMes
     assert abs(F(float(gap)) - exact) <= F(1e-13) * size + F(1e-300), (float(gap), float(exact))
 
 
+# -- batches and sweeps of bodies that change -----------------------------------------------------
+
+
+@st.composite
+def model_batch_args(draw: st.DrawFn) -> dict[str, Any]:
+    """A batch of 1 to 3 deployments (a list) or damped bodies (moments or bodies, dampers
+    shared or one per run), rates (M, 3) or shared: each run one `model_run_args` draws."""
+    kind = draw(st.sampled_from(["deployment", "damper"]))
+    runs = [draw(model_run_args(kind)) for _ in range(draw(st.integers(1, 3)))]
+    kwargs = {k: v for k, v in runs[0].items() if k not in ("body", "omega0", "q0", "damper",
+                                                             "sigma0")}
+    kwargs["omega0"] = np.stack([np.asarray(r["omega0"], float).reshape(3) for r in runs])
+    kwargs["body"] = [r["body"] for r in runs] if kind == "deployment" else \
+        [quiet_body(np.asarray(r["body"].inertia if isinstance(r["body"], dz.Body)
+                               else r["body"], float).reshape(3)) for r in runs]
+    if kind == "damper":
+        kwargs["damper"] = [r["damper"] for r in runs] if draw(st.booleans()) \
+            else runs[0]["damper"]
+        kwargs["body"] = kwargs["body"] if draw(st.booleans()) else kwargs["body"][0]
+    return kwargs
+
+
+def check_model_batch(kwargs: dict[str, Any], batch: Any,
+                      caught: list[warnings.WarningMessage]) -> None:
+    """Each row passes the single run's checks and, the step given, is its single run."""
+    assert isinstance(batch, dz.Batch) and len(batch) == len(kwargs["omega0"])
+    if any(issubclass(w.category, dz.StiffDamperWarning) for w in caught):
+        return  # the step beyond RK4's limit for a row's damper, as warned: no physics
+    bodies = kwargs["body"] if isinstance(kwargs["body"], list) else [kwargs["body"]] * len(batch)
+    dampers = kwargs.get("damper")
+    for i in range(len(batch)):
+        one = dict(kwargs, body=bodies[i], omega0=kwargs["omega0"][i])
+        if dampers is not None:
+            one["damper"] = dampers[i] if isinstance(dampers, list) else dampers
+        check_model_run(one, batch[i], caught)
+        if i == len(batch) - 1 and kwargs.get("dt") is not None:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                single = dz.simulate(**one)
+            np.testing.assert_array_equal(batch[i].omega, single.omega)
+            np.testing.assert_array_equal(batch[i].energy, single.energy)
+
+
+def model_batch_hostile() -> dict[str, st.SearchStrategy[Any]]:
+    return {"omega0": st.one_of(JUNK, st.just(np.zeros((2, 3, 3))), st.just([[1.0, np.nan, 0.0]]),
+                                st.just(np.zeros((2, 3, 3)))),
+            "q0": st.one_of(JUNK.filter(lambda v: v is not None), st.just(np.zeros((1, 4))),
+                            st.just([[1.0, 0.0, 0.0]])),
+            "t_end": hostile_real(positive=True),
+            "frames": hostile_int(2),
+            "method": st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])}
+
+
+@st.composite
+def deployment_sweep_args(draw: st.DrawFn) -> dict[str, Any]:
+    """`deployments_args` as a sweep: `t_end` at or past every last knot, few frames."""
+    kwargs = draw(deployments_args())
+    kwargs["body"] = kwargs.pop("deployments")
+    last = max(float(d.times[-1]) for d in kwargs["body"])
+    kwargs["t_end"] = last * draw(st.sampled_from([1.0, 1.5]))
+    kwargs["frames"] = draw(valid_int(2, 5))
+    return kwargs
+
+
+def check_deployment_sweep(kwargs: dict[str, Any], s: Any,
+                           caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(s, dz.DeploymentSweep) and len(s) == len(kwargs["body"])
+    assert set(s.status) <= set(dz._core.RUN_STATUSES) and (s.ok == (s.status == "ok")).all()
+    ok = s.ok
+    assert (s.tumbles == np.isfinite(s.flip_period)).all()
+    assert (s.flip_period[ok] > 0).all() and np.isnan(s.flip_period[~ok]).all()
+    assert np.isfinite(s.energy_change[ok]).all() and (s.energy_change[ok] > -1).all()
+    assert (np.diff(s.inertia, axis=1) >= 0).all() and (s.inertia > 0).all()
+    assert len(s.verdict) == len(s)
+
+
 ENTRIES: dict[str, Entry] = {
     **SINGLE_ENTRIES,
+    "simulate[model batch]": Entry(
+        call=dz.simulate,
+        valid=model_batch_args(),
+        hostile=model_batch_hostile(),
+        check=check_model_batch,
+        covers=(dz.Batch,),
+        # the drawn step is fitted to the first run: it may be beyond RK4's limit for the
+        # damper of another, and then the batch warns
+        warns=(dz.InertiaWarning, dz.StiffDamperWarning),
+        examples=30,
+        min_success=0.5,
+    ),
+    "sweep[deployment]": Entry(
+        call=dz.sweep,
+        valid=deployment_sweep_args(),
+        hostile={"body": st.sampled_from([[], "x", None, 1.0]),
+                 "omega0": st.one_of(JUNK, st.just(np.zeros((2, 3, 3))),
+                                     st.just([[1.0, np.nan, 0.0]])),
+                 "t_end": hostile_real(positive=True),
+                 "frames": hostile_int(2),
+                 "method": st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])},
+        check=check_deployment_sweep,
+        covers=(dz.DeploymentSweep,),
+        warns=(dz.InertiaWarning,),
+        examples=30,
+        min_success=0.5,
+    ),
     "simulate[batch]": Entry(
         call=dz.simulate,
         valid=batch_args(),

@@ -352,6 +352,22 @@ def fig3_figure(scenes: Sequence[Drawable], *, save: str | Path | None = None) -
     return _saved(fig, save)
 
 
+def _time_axes(scene: Drawable, ax: Axes | None, what: str, *,
+               span: bool) -> tuple[SceneResult, Trajectory, Figure, Axes]:
+    """The set-up of a figure against time: the scene's result and trajectory (checked to
+    be there for `what`), and the axes to draw in (a new figure's if `ax` is None), with a
+    deployment's span shaded if `span`."""
+    result = compute(scene)
+    _need(result, what)
+    traj = result.trajectory
+    assert traj is not None
+    if ax is None:
+        ax = Figure(figsize=(7.0, 3.4), layout="constrained").add_subplot()
+    if span:
+        _model_span(ax, result)
+    return result, traj, _figure_of(ax), ax
+
+
 def omega_figure(scene: Drawable, *, ax: Axes | None = None,
                  save: str | Path | None = None) -> Figure:
     """The body angular velocity ``u, v, w`` against time, each flip marked by a vertical line.
@@ -369,14 +385,7 @@ def omega_figure(scene: Drawable, *, ax: Axes | None = None,
         One line per component (labels ``u``, ``v``, ``w``) and one vertical line per flip
         (the first labelled ``flip``).
     """
-    result = compute(scene)
-    _need(result, "ω(t) figure")
-    traj = result.trajectory
-    assert traj is not None
-    if ax is None:
-        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
-        ax = fig.add_subplot()
-    fig = _figure_of(ax)
+    result, traj, fig, ax = _time_axes(scene, ax, "ω(t) figure", span=False)
     for k, name in enumerate("uvw"):
         ax.plot(traj.t, traj.omega[:, k], color=COLORS["omega"][k], lw=1.1, label=name)
     for k, t in enumerate(traj.flip_times if traj.flip_times is not None else ()):
@@ -620,15 +629,7 @@ def shares_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     -------
     Figure
     """
-    result = compute(scene)
-    _need(result, "shares figure")
-    traj = result.trajectory
-    assert traj is not None
-    if ax is None:
-        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
-        ax = fig.add_subplot()
-    fig = _figure_of(ax)
-    _model_span(ax, result)
+    result, traj, fig, ax = _time_axes(scene, ax, "shares figure", span=True)
     shares = axis_shares(traj)
     for k, name in enumerate("xyz"):
         ax.plot(traj.t, shares[:, k], color=COLORS["omega"][k], lw=1.1, label=f"L{name} / |L|")
@@ -664,15 +665,7 @@ def energy_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     -------
     Figure
     """
-    result = compute(scene)
-    _need(result, "energy figure")
-    traj = result.trajectory
-    assert traj is not None
-    if ax is None:
-        fig = Figure(figsize=(7.0, 3.4), layout="constrained")
-        ax = fig.add_subplot()
-    fig = _figure_of(ax)
-    _model_span(ax, result)
+    result, traj, fig, ax = _time_axes(scene, ax, "energy figure", span=True)
     energy = traj.energy
     e0 = float(energy[0])
     scale = e0 if e0 > 0 else 1.0

@@ -721,28 +721,8 @@ def _drawable(source: str, key: str, size: float, what: str = "") -> None:
 
 def _validate_models(s: Scene, src: str) -> None:
     """Checks and builds a scene's deployment and damper."""
-    if isinstance(s.deployment, _Raw):
-        table = s.deployment.table
-        for key in ("times", "inertia"):
-            if key not in table:
-                raise SceneError(src, f"deployment.{key}", "is missing")
-        try:
-            _set(s, "deployment", Deployment(table["times"], table["inertia"]))
-        except (TypeError, ValueError) as exc:
-            raise SceneError(src, "deployment", str(exc)) from None
-    elif s.deployment is not None and not isinstance(s.deployment, Deployment):
-        raise SceneError(src, "deployment", f"must be a Deployment, got {s.deployment!r}")
-    if isinstance(s.damper, _Raw):
-        table = s.damper.table
-        for key in ("inertia", "damping"):
-            if key not in table:
-                raise SceneError(src, f"damper.{key}", "is missing")
-        try:
-            _set(s, "damper", Damper(table["inertia"], table["damping"]))
-        except (TypeError, ValueError) as exc:
-            raise SceneError(src, "damper", str(exc)) from None
-    elif s.damper is not None and not isinstance(s.damper, Damper):
-        raise SceneError(src, "damper", f"must be a Damper, got {s.damper!r}")
+    _build_model(s, src, "deployment", Deployment, ("times", "inertia"))
+    _build_model(s, src, "damper", Damper, ("inertia", "damping"))
     if s.sigma0 is not None:
         if s.damper is None:
             raise SceneError(src, "damper.sigma", "needs a [damper]")
@@ -752,6 +732,22 @@ def _validate_models(s: Scene, src: str) -> None:
     if (s.deployment is not None or s.damper is not None) and s.flips:
         raise SceneError(src, "ask.flips", "must be false with a deployment or a damper "
                          "(flips are located for the constant body only)")
+
+
+def _build_model(s: Scene, src: str, name: str, kind: type, keys: tuple[str, ...]) -> None:
+    """Builds the scene's model `name` (a table of `keys` read from TOML) as a `kind`, or
+    checks that it is one."""
+    value = getattr(s, name)
+    if isinstance(value, _Raw):
+        for key in keys:
+            if key not in value.table:
+                raise SceneError(src, f"{name}.{key}", "is missing")
+        try:
+            _set(s, name, kind(*(value.table[key] for key in keys)))
+        except (TypeError, ValueError) as exc:
+            raise SceneError(src, name, str(exc)) from None
+    elif value is not None and not isinstance(value, kind):
+        raise SceneError(src, name, f"must be a {kind.__name__}, got {value!r}")
 
 
 def _uniform_box(inertia: tuple[float, ...]) -> tuple[float, float, float] | None:

@@ -1,0 +1,23 @@
+"""The guide's pages on bodies that change run as written: their `>>>` examples are doctests."""
+
+from __future__ import annotations
+
+import doctest
+from pathlib import Path
+
+import pytest
+
+GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide"
+
+
+@pytest.mark.parametrize("page", ["changing.md"])
+def test_the_guides_examples_run_as_written(page: str) -> None:
+    path = GUIDE / page
+    if not path.exists():
+        pytest.skip(f"no docs/guide/{page} beside the tests")
+    test = doctest.DocTestParser().get_doctest(path.read_text(encoding="utf-8"), {}, page,
+                                               str(path), 0)
+    assert len(test.examples) > 10
+    runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
+    runner.run(test)
+    assert runner.summarize(verbose=False).failed == 0
