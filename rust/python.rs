@@ -277,6 +277,20 @@ impl PyMethodInfo {
         PyTuple::new(py, self.info.models)
     }
 
+    /// A fixed-step method's stability limit on `|h λ|` along the imaginary axis (an undamped
+    /// wobble at rate `λ`); None for the others.
+    #[getter]
+    fn imaginary_limit(&self) -> Option<f64> {
+        self.info.stability.map(|s| s.imaginary)
+    }
+
+    /// A fixed-step method's stability limit on `h λ` along the negative real axis (a mode
+    /// decaying at rate `λ`, a damper's slip); None for the others.
+    #[getter]
+    fn real_limit(&self) -> Option<f64> {
+        self.info.stability.map(|s| s.real)
+    }
+
     /// One line about it.
     #[getter]
     fn about(&self) -> &'static str {

@@ -13,7 +13,6 @@ stable axis, whose frequency is at most ``Ω``, already goes unstable at ``h·Ω
 
 from __future__ import annotations
 
-import math
 import warnings
 from typing import Any
 
@@ -38,9 +37,6 @@ MAX_PREDICTED_DRIFT = 1e-6
 """`StepSizeWarning` is raised when RK4's predicted relative drift of ``|q|`` over the run
 exceeds this (or `rtol`, if larger, for a step chosen with ``dt=None``). Silence it with
 :mod:`warnings` filters, or lower ``dt``."""
-
-_WOBBLE_LIMIT = 2 * math.sqrt(2)
-
 
 class StepSizeWarning(UserWarning):
     """The step is too large for the method over this run: RK4 will visibly dissipate the
@@ -111,7 +107,8 @@ def warn_step(plan: _core.StepPlan, method: str, dt_given: bool, rtol: float, *,
     # the core predicts RK4's dissipation for the methods it threatens, 0 for the others
     if drift > tolerance:
         h_rate = plan.step * plan.rate_bound
-        if h_rate >= _WOBBLE_LIMIT:
+        limit = METHODS[method].imaginary_limit
+        if limit is not None and h_rate >= limit:
             why = (
                 "at or beyond RK4's stability limit (dt·Ω = 2√2 ≈ 2.83 for a wobble at the "
                 "rate bound, 4√2 ≈ 5.66 for the quaternion): the run may diverge"

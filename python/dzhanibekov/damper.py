@@ -10,10 +10,11 @@ import numpy as np
 
 from ._args import as_array, as_float
 from .accuracy import StepSizeWarning
+from .methods import DEFAULT_METHOD, METHODS
 from .body import Body, as_body
 
 __all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate",
-           "StiffDamperWarning", "RK4_REAL_LIMIT", "STIFF_RATIO", "damper_rate"]
+           "StiffDamperWarning", "STIFF_RATIO", "damper_rate"]
 
 FLAT_SHARE = 0.99
 """A spin is flat once the major axis carries this share of ``|L|``."""
@@ -63,10 +64,6 @@ class Damper:
         return hash((self.inertia, self.damping))
 
 
-RK4_REAL_LIMIT = 2.785293563405289
-"""RK4's stability limit on the negative real axis: the ``x`` where ``|R(−x)| = 1`` for
-``R(z) = 1 + z + z²/2 + z³/6 + z⁴/24``, the real root of ``x³ − 4x² + 12x − 24 = 0``."""
-
 STIFF_RATIO = 30.0
 """An adaptive run warns when the damper's rate ``λ`` (:func:`damper_rate`) exceeds the
 body's rate bound ``Ω = √(2T / I_min)`` by this factor: its steps are then set by the
@@ -94,7 +91,8 @@ def damper_rate(body: Any, damper: Damper) -> float:
 
     with ``I_min`` the least principal moment. An explicit method's step ``h`` is stable
     for this mode while ``h λ`` stays within its stability interval on the negative real
-    axis: ``h λ ≤`` `RK4_REAL_LIMIT` (≈ 2.785) for RK4. When ``λ`` far exceeds the body's
+    axis: ``h λ ≤`` ``METHODS[method].real_limit`` (2.785 for RK4, the real root of
+    ``x³ − 4x² + 12x − 24`` where ``R(−x) = 1``). When ``λ`` far exceeds the body's
     rates, the slip dies out almost at once and the body turns as if the sphere were
     rigidly attached, but an explicit method must still resolve ``1/λ``.
 
@@ -122,16 +120,17 @@ def damper_rate(body: Any, damper: Damper) -> float:
 def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method: str, *,
                stacklevel: int) -> None:
     """Warns with `StiffDamperWarning` when a fixed `step` is beyond RK4's stability limit for
-    the fastest of the damper `rates` (``step · λ >`` `RK4_REAL_LIMIT`), or when an adaptive
+    the fastest of the damper `rates` (``step · λ >`` the method's ``real_limit``), or when an adaptive
     run (`step` None) has a damper faster than `STIFF_RATIO` times its body's rate bound
     (`bounds`). `stacklevel` counts from this function."""
     worst = int(np.argmax(rates))
     rate = float(rates[worst])
     where = f"row {worst}: " if len(rates) > 1 else ""
     if step is not None:
-        if not step * rate > RK4_REAL_LIMIT:
+        limit = METHODS[method].real_limit
+        if limit is None or not step * rate > limit:
             return
-        why = (f"beyond RK4's stability limit h·c(1/j + 1/I_min) ≤ {RK4_REAL_LIMIT:.4f} for the "
+        why = (f"beyond {method!r}'s stability limit h·c(1/j + 1/I_min) ≤ {limit:.4f} for the "
                "decay of the slip between sphere and body: the run diverges")
     else:
         ratio = rate / float(bounds[worst]) if bounds[worst] > 0 else math.inf
@@ -144,7 +143,7 @@ def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method
     warnings.warn(
         f"{where}the damper is stiff for the step {step:.4g}: its slip decays at "
         f"λ = c(1/j + 1/I_min) = {rate:.4g} (time constant {1 / rate:.4g}, step·λ = "
-        f"{step * rate:.3g}); {why}. Take dt below {RK4_REAL_LIMIT / rate:.4g} (RK4), or a "
+        f"{step * rate:.3g}); {why}. Take dt below {_rk4_limit() / rate:.4g} (RK4), or a "
         "softer damper (a smaller damping c or a larger sphere j): a damper this fast is "
         "all but rigid.",
         StiffDamperWarning,
@@ -270,3 +269,10 @@ def _estimate(i: np.ndarray, damper: Damper, w: np.ndarray, s: np.ndarray,
     kappa = c * f * ((it - ia) / ia / it)
     t = np.log(np.tan(theta_f) / np.tan(theta0)) / kappa
     return float(t) if np.isfinite(t) and t >= 0 else math.inf
+
+
+def _rk4_limit() -> float:
+    """The paper's method's real-axis stability limit, from the registry."""
+    limit = METHODS[DEFAULT_METHOD].real_limit
+    assert limit is not None, "the default method is RK4, a fixed-step method"
+    return limit

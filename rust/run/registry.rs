@@ -94,9 +94,30 @@ pub struct MethodInfo {
     pub rk4_dissipation: bool,
     /// The models ([`crate::dynamics`]) it can run.
     pub models: &'static [&'static str],
+    /// Where a fixed-step method stays stable; `None` for the methods that choose their steps
+    /// or take none, and for the splittings (compositions of exact rotations).
+    pub stability: Option<Stability>,
     /// One line for users.
     pub about: &'static str,
 }
+
+/// How large `|hλ|` may be on the test equation `y' = λ y` before a method's steps grow
+/// without bound (Hairer & Wanner, *Solving ODEs II*, §IV.2: `|R(hλ)| ≤ 1`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stability {
+    /// Along the imaginary axis: an undamped wobble at rate `λ` (the free body's, at most its
+    /// rate bound Ω).
+    pub imaginary: f64,
+    /// Along the negative real axis: a mode decaying at rate `λ` (a damper's slip).
+    pub real: f64,
+}
+
+/// RK4's: `R(z) = 1 + z + z²/2 + z³/6 + z⁴/24` has `|R(iy)| = 1` at `y = 2√2` and
+/// `R(−x) = 1` at the real root of `x³ − 4x² + 12x − 24` (2.785…).
+const RK4_STABILITY: Stability = Stability {
+    imaginary: 2.0 * std::f64::consts::SQRT_2,
+    real: 2.785_293_563_405_282,
+};
 
 impl MethodInfo {
     /// Whether the method chooses its own steps (then `dt` is only the first one tried).
@@ -138,6 +159,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: true,
         rk4_dissipation: true,
         models: EVERY_MODEL,
+        stability: Some(RK4_STABILITY),
         about: "classic fixed-step fourth-order Runge–Kutta, the paper's method",
     },
     MethodInfo {
@@ -152,7 +174,9 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: true,
         models: EVERY_MODEL,
-        about: "RK4, each step projected back onto the energy, |L|, L_world and |q| = 1",
+        stability: Some(RK4_STABILITY),
+        about: "RK4, each step projected back onto the energy, |L|, L_world and |q| = 1 (E and \
+                |L| to round-off for dt·Ω ≲ 0.25, beyond to the square of RK4's change per step)",
     },
     MethodInfo {
         method: Method::Splitting,
@@ -168,6 +192,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: false,
         models: FREE_ONLY,
+        stability: None,
         about: "Strang's splitting into exact rotations about the body axes (order 2; energy \
                 error bounded)",
     },
@@ -184,6 +209,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: false,
         models: FREE_ONLY,
+        stability: None,
         about: "Suzuki's fourth-order composition of the splitting",
     },
     MethodInfo {
@@ -198,6 +224,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: false,
         models: EVERY_MODEL,
+        stability: None,
         about: "Dormand–Prince 5(4) with error control and dense output",
     },
     MethodInfo {
@@ -212,6 +239,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: false,
         models: EVERY_MODEL,
+        stability: None,
         about: "Dormand–Prince 8(5,3) (Hairer's DOP853) with error control and dense output",
     },
     MethodInfo {
@@ -224,6 +252,7 @@ pub const METHODS: [MethodInfo; 7] = [
         batch: false,
         rk4_dissipation: false,
         models: FREE_ONLY,
+        stability: None,
         about: "the closed-form solution (Jacobi elliptic functions), evaluated at the frames",
     },
 ];
@@ -438,6 +467,25 @@ impl Method {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// RK4's stability function, written out (Hairer & Wanner II, §IV.2).
+    fn rk4_r(re: f64, im: f64) -> (f64, f64) {
+        let z = nalgebra::Complex::new(re, im);
+        let r = 1.0 + z + z * z / 2.0 + z * z * z / 6.0 + z * z * z * z / 24.0;
+        (r.re, r.im)
+    }
+
+    #[test]
+    fn rk4s_stability_limits_are_where_its_amplification_reaches_one() {
+        let norm = |(re, im): (f64, f64)| (re * re + im * im).sqrt();
+        let s = RK4_STABILITY;
+        assert!((norm(rk4_r(0.0, s.imaginary)) - 1.0).abs() < 1e-14);
+        assert!(norm(rk4_r(0.0, 0.99 * s.imaginary)) < 1.0);
+        assert!(norm(rk4_r(0.0, 1.01 * s.imaginary)) > 1.0);
+        assert!((rk4_r(-s.real, 0.0).0 - 1.0).abs() < 1e-14);
+        assert!(norm(rk4_r(-0.99 * s.real, 0.0)) < 1.0);
+        assert!(norm(rk4_r(-1.01 * s.real, 0.0)) > 1.0);
+    }
 
     #[test]
     fn every_method_parses_back_from_its_name_to_its_own_entry() {
