@@ -21,20 +21,30 @@ impl Sides {
     /// opposite to the last one, with a crossing seen since.
     #[inline(always)]
     pub(crate) fn settle(&mut self, side: i8) {
-        if side != 0 {
-            if side == -self.side {
-                if let Some(tc) = self.candidate {
-                    // grown fallibly: a run of 10¹⁰ steps can find more flips than memory
-                    // holds, and that is an error at the end of the run, not an abort
-                    match self.flip_times.try_reserve(1) {
-                        Ok(()) => self.flip_times.push(tc),
-                        Err(_) => self.lost += 1,
-                    }
+        // the common cases first, without a store: between sides, or staying on the last
+        if side == 0 || (side == self.side && self.candidate.is_none()) {
+            return;
+        }
+        self.arrive(side);
+    }
+
+    /// The axis has come near `L` on `side`: a flip if that is the other side and a crossing
+    /// was seen since. Rare (twice per flip period), so kept out of the step loop.
+    #[cold]
+    #[inline(never)]
+    fn arrive(&mut self, side: i8) {
+        if side == -self.side {
+            if let Some(tc) = self.candidate {
+                // grown fallibly: a run of 10¹⁰ steps can find more flips than memory holds,
+                // and that is an error at the end of the run, not an abort
+                match self.flip_times.try_reserve(1) {
+                    Ok(()) => self.flip_times.push(tc),
+                    Err(_) => self.lost += 1,
                 }
             }
-            self.side = side;
-            self.candidate = None;
         }
+        self.side = side;
+        self.candidate = None;
     }
 
     /// [`Error::TooLarge`] if some flip times could not be stored.
