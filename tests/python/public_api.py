@@ -950,7 +950,9 @@ def _model_entry(kind: str) -> Entry:
                if k in ("omega0", "q0", "t_end", "frames", "method", "max_steps")}
     if kind == "damper":
         hostile |= {"damper": st.one_of(st.just(0.5), st.just("damper"), st.just((0.1, 0.2))),
-                    "sigma0": hostile_vector3().filter(lambda v: v is not None)}
+                    # (M, 3) rows of damper rates are a batch's starts, as omega0's are
+                    "sigma0": hostile_vector3().filter(
+                        lambda v: v is not None and not batch_rows_of(v, 3))}
     hostile["method"] = st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])
     return Entry(
         call=dz.simulate,
