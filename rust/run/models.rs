@@ -195,10 +195,7 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
     let omega0: [f64; 3] = sys.omega_body(0.0, &x0).into();
     let (unit_grid, unit_method) = to_unit(grid, method, omega0, scale)?;
     let unit = sys.in_units(scale)?;
-    let mut x = x0;
-    for v in &mut x[..N - 4] {
-        *v = scale.rate_to_unit(*v);
-    }
+    let x = state_to_unit(&x0, scale);
     let mut out = simulate_model(&unit, x, &unit_grid, unit_method, flips, cancel)
         .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     let rates = [
@@ -225,6 +222,15 @@ fn simulate_scaled<const N: usize, S: Model<N>>(
         });
     }
     Ok(out)
+}
+
+/// A model's state in the units of `scale`: its rates (or momenta) over `2^e`, its attitude
+/// (the last four components) as it is.
+fn state_to_unit<const N: usize>(x: &[f64; N], scale: RateScale) -> [f64; N] {
+    std::array::from_fn(|k| match k < N - 4 {
+        true => scale.rate_to_unit(x[k]),
+        false => x[k],
+    })
 }
 
 /// The method named `name` for the model `sys` from `x0` and its frame grid, as
@@ -306,10 +312,7 @@ pub fn model_step<const N: usize, S: Model<N>>(
     let rate = match scale.is_identity() {
         true => sys.rate_bound(x0),
         false => {
-            let x: [f64; N] = std::array::from_fn(|k| match k < N - 4 {
-                true => scale.rate_to_unit(x0[k]),
-                false => x0[k],
-            });
+            let x = state_to_unit(x0, scale);
             scale.rate_from_unit(sys.in_units(scale)?.rate_bound(&x))
         }
     };
