@@ -37,7 +37,14 @@ class Damper:
         The sphere's moment of inertia ``j`` about its centre, positive. The body's own
         tensor counts the sphere's mass as a point at its centre.
     damping : float
-        The viscous coefficient ``c`` (torque per unit relative rate), non-negative.
+        The viscous coefficient ``c`` (torque per unit relative rate), non-negative, with
+        ``c / j`` (the sphere's relaxation rate) finite in float64.
+
+    Raises
+    ------
+    TypeError, ValueError
+        A moment that is not positive and finite, a negative damping, or a relaxation rate
+        ``c / j`` beyond float64.
 
     Examples
     --------
@@ -52,6 +59,13 @@ class Damper:
         self.damping = as_float("damping", damping)
         if self.damping < 0:
             raise ValueError(f"`damping` must be non-negative, got {self.damping!r}")
+        with np.errstate(over="ignore"):
+            relax = np.float64(self.damping) / np.float64(self.inertia)
+        if not np.isfinite(relax):
+            raise ValueError(f"`damping` / `inertia` (the sphere's relaxation rate c/j = "
+                             f"{self.damping!r} / {self.inertia!r}) must be finite in float64, "
+                             f"at most {np.finfo(np.float64).max:.3g}; a damper this fast is "
+                             "rigid")
 
     def __repr__(self) -> str:
         return f"Damper(inertia={self.inertia!r}, damping={self.damping!r})"
@@ -114,7 +128,14 @@ def damper_rate(body: Any, damper: Damper) -> float:
     if not isinstance(damper, Damper):
         raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
     least = min(as_body(body).inertia)
-    return damper.damping * (1.0 / damper.inertia + 1.0 / least)
+    with np.errstate(over="ignore"):  # c/j and c/I, not c·(1/j): 1/5e-324 overflows
+        rate = float(np.float64(damper.damping) / damper.inertia
+                     + np.float64(damper.damping) / least)
+    if not math.isfinite(rate):
+        raise ValueError(f"the damper's rate c(1/j + 1/I_min) for `body` (I_min = {least!r}) "
+                         f"and `damper` ({damper!r}) exceeds float64's "
+                         f"{np.finfo(np.float64).max:.3g}")
+    return rate
 
 
 def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method: str, *,
@@ -125,6 +146,8 @@ def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method
     (`bounds`). `stacklevel` counts from this function."""
     worst = int(np.argmax(rates))
     rate = float(rates[worst])
+    if not rate > 0:  # no damping (c = 0): nothing relaxes, nothing is stiff
+        return
     where = f"row {worst}: " if len(rates) > 1 else ""
     if step is not None:
         limit = METHODS[method].real_limit

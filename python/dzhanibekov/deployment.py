@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from ._args import as_array
+from ._args import as_array, check_size
 from .body import Body
 
 __all__ = ["Deployment"]
@@ -29,6 +29,58 @@ def _as_tensor(k: int, value: Any) -> np.ndarray:
         return as_array(f"inertia[{k}]", value, "(3, 3)", last=3, ndim=(2,)).copy()
     raise ValueError(f"`inertia[{k}]` must be a Body, three principal moments or a 3 × 3 "
                      f"tensor, got shape {a.shape}")
+
+
+BYTES_PER_KNOT = 8 * (1 + 4 * 9)
+"""Memory a knot takes while a deployment is checked: its time and a few copies of its
+tensor (checked against the machine's memory before anything is allocated)."""
+
+
+def _as_tensors(inertia: Any) -> np.ndarray:
+    """The knots' tensors (K, 3, 3), checked symmetric positive definite all at once: from
+    an array of moments (K, 3) or tensors (K, 3, 3), else knot by knot (Bodies, mixed)."""
+    stacked = None
+    if isinstance(inertia, np.ndarray) or not any(isinstance(v, Body) for v in inertia):
+        try:
+            arr = np.asarray(inertia)
+        except (ValueError, TypeError):  # ragged: knot by knot says which
+            arr = None
+        if arr is not None and arr.dtype.kind in "iuf" and arr.shape[1:] in ((3,), (3, 3)):
+            stacked = np.require(arr, dtype=np.float64, requirements=["C", "A"])
+    if stacked is None:
+        return _checked(np.stack([_as_tensor(k, v) for k, v in enumerate(inertia)]))
+    if not np.isfinite(stacked).all():
+        k = int(np.argmax(~np.isfinite(stacked).reshape(len(stacked), -1).all(axis=1)))
+        raise ValueError(f"`inertia[{k}]` must be finite, got non-finite values")
+    if stacked.ndim == 2:  # principal moments: positive definite iff positive
+        bad = ~(stacked > 0).all(axis=1)
+        if bad.any():
+            k = int(np.argmax(bad))
+            raise ValueError(f"`inertia[{k}]` must be positive moments, got "
+                             f"{stacked[k].tolist()}")
+        tensors = np.zeros((len(stacked), 3, 3))
+        tensors[:, [0, 1, 2], [0, 1, 2]] = stacked
+        return tensors
+    return _checked(stacked)
+
+
+def _checked(tensors: np.ndarray) -> np.ndarray:
+    """`tensors` (K, 3, 3), each symmetric (to 1e-12 of its largest entry) and positive
+    definite, checked for all knots at once; an error names the first bad knot."""
+    largest = np.abs(tensors).max(axis=(1, 2))
+    asym = np.abs(tensors - tensors.transpose(0, 2, 1)).max(axis=(1, 2))
+    bad = asym > 1e-12 * largest
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"`inertia[{k}]` must be symmetric, got {tensors[k].tolist()}")
+    with np.errstate(all="ignore"):
+        scale = np.where(largest > 0, largest, 1.0)[:, None, None]
+        least = np.linalg.eigvalsh(tensors / scale)[:, 0]
+    bad = ~(least > 0)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise ValueError(f"`inertia[{k}]` must be positive definite, got {tensors[k].tolist()}")
+    return tensors
 
 
 class Deployment:
@@ -77,27 +129,28 @@ class Deployment:
         except TypeError:
             raise TypeError(f"`times` must be a sequence of knot times, got "
                             f"{type(times).__name__}") from None
+        check_size(n * BYTES_PER_KNOT, f"a deployment of {n} knots", "give fewer knots")
         t = as_array("times", times, "(K,)", last=n, ndim=(1,))
         if len(t) == 0:
             raise ValueError("`times` must hold at least one knot time")
-        if np.any(np.diff(t) <= 0):
-            raise ValueError(f"`times` must be strictly increasing, got {t.tolist()}")
+        steps = np.diff(t)
+        if not (steps > 0).all():
+            k = int(np.argmax(~(steps > 0)))
+            raise ValueError(f"`times` must be strictly increasing, got times[{k}] = "
+                             f"{float(t[k])!r} then times[{k + 1}] = {float(t[k + 1])!r}")
         try:
             if isinstance(inertia, (str, bytes)):
                 raise TypeError
-            items = list(inertia)
-        except TypeError:
+            if not isinstance(inertia, np.ndarray):
+                inertia = list(inertia)  # any iterable of knots
+            knots = len(inertia)
+        except TypeError:  # not a sequence: a number, a 0-d array
             raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
                             f"{type(inertia).__name__}") from None
-        if len(items) != len(t):
+        if knots != len(t):
             raise ValueError(f"`inertia` must give one body per knot time of `times` "
-                             f"({len(t)}), got {len(items)}")
-        tensors = np.stack([_as_tensor(k, v) for k, v in enumerate(items)])
-        for k, m in enumerate(tensors):
-            if not np.allclose(m, m.T, rtol=0, atol=1e-12 * np.abs(m).max()):
-                raise ValueError(f"`inertia[{k}]` must be symmetric, got {m.tolist()}")
-            if np.linalg.eigvalsh(m).min() <= 0:
-                raise ValueError(f"`inertia[{k}]` must be positive definite, got {m.tolist()}")
+                             f"({len(t)}), got {len(inertia)}")
+        tensors = _as_tensors(inertia)
         self.times = np.ascontiguousarray(t, dtype=np.float64)
         self.tensors = np.ascontiguousarray(tensors, dtype=np.float64)
 
