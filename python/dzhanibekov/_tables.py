@@ -4,7 +4,9 @@ A leaf: it reads the results' attributes and imports none of the package, so the
 classes can offer ``to_xarray()`` and ``to_dataframe()`` by calling in here. xarray and
 pandas are imported on first use, with an error naming the extra when they are missing.
 
-Layout (names follow the package; units are the user's own, consistent set):
+Layout (names follow the package; units are the user's own, consistent set, so variables in
+them carry no CF ``units`` and the attribute ``unit_system`` says so; quaternions carry
+``"1"`` and angles ``"rad"``):
 
 - ``Trajectory``: dims ``time``, ``axis`` (x, y, z), ``quaternion`` (Q, U, V, W);
   ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``.
@@ -36,7 +38,11 @@ EXTRA = 'the `io` extra: pip install ".[io]" from a checkout (xarray, pandas, h5
 
 Q_DOC = ("attitude world-from-body, unit quaternion scalar first (Q, U, V, W): "
          "x_world = M(q) x_body")
-UNITS = "consistent units"
+UNIT_SYSTEM = ("the user's own consistent units, not named in the file: times in a time unit T "
+               "(time, flip_times, periods), angular velocities in rad/T, moments of inertia "
+               "in M L^2; quaternions and angles (rad) carry CF units")
+"""The global attribute ``unit_system``: the runs' units are the user's own, so the variables
+measured in them carry no CF ``units`` (a CF reader would misread any invented one)."""
 
 
 def require(module: str, what: str, extra: str = EXTRA) -> Any:
@@ -49,19 +55,20 @@ def require(module: str, what: str, extra: str = EXTRA) -> Any:
 
 
 def _attrs(run: Any) -> dict[str, Any]:
-    return {"method": run.method, "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+    return {"method": run.method, "dzhanibekov_conventions": Q_DOC + "; omega in body axes",
+            "unit_system": UNIT_SYSTEM}
 
 
 def _vars(prefix: tuple[str, ...], omega: np.ndarray, q: np.ndarray) -> dict[str, Any]:
     return {
         "omega": (prefix + ("time", "axis"), omega,
-                  {"long_name": "body-frame angular velocity (u, v, w)", "units": UNITS}),
+                  {"long_name": "body-frame angular velocity (u, v, w)"}),
         "q": (prefix + ("time", "quaternion"), q, {"long_name": Q_DOC, "units": "1"}),
     }
 
 
 def _coords(t: np.ndarray) -> dict[str, Any]:
-    return {"time": ("time", t, {"long_name": "time", "units": UNITS}),
+    return {"time": ("time", t, {"long_name": "time"}),
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
@@ -75,8 +82,7 @@ def trajectory_dataset(traj: Any) -> Any:
         "flips_located": int(traj.flip_times is not None),
     } | {f"drift_{k}": float(v) for k, v in zip(DRIFTS, traj.drift)}
     if traj.flip_times is not None:
-        data["flip_times"] = ("flip", traj.flip_times, {"long_name": "flip times",
-                                                        "units": UNITS})
+        data["flip_times"] = ("flip", traj.flip_times, {"long_name": "flip times"})
     return xr.Dataset(data, coords=_coords(traj.t), attrs=attrs)
 
 
@@ -97,8 +103,7 @@ def batch_dataset(batch: Any) -> Any:
             padded[i, : len(times)] = times
         data["flips"] = ("run", counts, {"long_name": "flips counted"})
         data["flip_times"] = (("run", "flip"), padded,
-                              {"long_name": "flip times, NaN beyond each run's flips",
-                               "units": UNITS})
+                              {"long_name": "flip times, NaN beyond each run's flips"})
     coords = _coords(batch.t) | {"run": ("run", np.arange(m))}
     return xr.Dataset(data, coords=coords, attrs=_attrs(batch))
 
@@ -133,14 +138,13 @@ def sweep_dataset(sweep: Any) -> Any:
     data: dict[str, Any] = {
         "inertia": (dims + ("axis",), sweep.inertia, {"long_name": "principal moments"}),
         "omega0": (dims + ("axis",), sweep.omega0,
-                   {"long_name": "initial body-frame angular velocity", "units": UNITS}),
+                   {"long_name": "initial body-frame angular velocity"}),
         "q0": (dims + ("quaternion",), sweep.q0, {"long_name": "initial " + Q_DOC}),
         "flips": (dims, sweep.flips, {"long_name": "flips counted"}),
-        "first_flip": (dims, sweep.first_flip, {"long_name": "time of the first flip",
-                                                "units": UNITS}),
-        "period": (dims, sweep.period, {"long_name": "measured flip period", "units": UNITS}),
+        "first_flip": (dims, sweep.first_flip, {"long_name": "time of the first flip"}),
+        "period": (dims, sweep.period, {"long_name": "measured flip period"}),
         "exact_period": (dims, sweep.exact_period,
-                         {"long_name": "exact flip period 2K(m)/lambda", "units": UNITS}),
+                         {"long_name": "exact flip period 2K(m)/lambda"}),
         "tilt": (dims, sweep.tilt, {"long_name": "largest tilt of the spin axis",
                                     "units": "rad"}),
         "dt": (dims, sweep.dt), "n_steps": (dims, sweep.n_steps), "nfev": (dims, sweep.nfev),
@@ -155,7 +159,8 @@ def sweep_dataset(sweep: Any) -> Any:
         if values is not None:
             coords[name] = (name, values)
     attrs = {"method": sweep.method, "t_end": sweep.t_end,
-             "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+             "dzhanibekov_conventions": Q_DOC + "; omega in body axes",
+             "unit_system": UNIT_SYSTEM}
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

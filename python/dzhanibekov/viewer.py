@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from ._args import as_float, as_int
+from ._files import as_path, replacing
 from ._tables import require
 from .geometry import box_edges
 from .results import Trajectory
@@ -27,24 +28,70 @@ __all__ = ["write_html", "figure"]
 EXTRA = 'the `viewer` extra: pip install ".[viewer]" from a checkout (plotly)'
 DEFAULT_FRAMES = 201
 """Frames shown at most by default: each is a copy of every drawn point in the page."""
+MAX_FRAMES = 1000
+"""The most frames the viewer shows (`frames`): each shown frame holds a copy of every drawn
+point, and the signal point's trail up to it, in the page (about 0.1 MB a frame)."""
+PATH_POINTS = 1000
+"""The most points of the signal point's path in the page: a run of more frames is drawn
+through that many of them, evenly spread (the shown frames among them)."""
 
 
-def _result(scene: Scene | SceneResult | Trajectory) -> SceneResult:
-    """What the viewer draws, every object at every frame (one call to `rotate`)."""
+def _subsampled(traj: Trajectory, count: int) -> Trajectory:
+    """`traj` at `count` of its frames evenly spread (the first and last among them)."""
+    n = len(traj.t)
+    if count >= n:
+        return traj
+    kept = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
+    return dataclasses.replace(traj, t=traj.t[kept], omega=traj.omega[kept], q=traj.q[kept],
+                               sigma=None if traj.sigma is None else traj.sigma[kept],
+                               _invariants={})
+
+
+def _frames(frames: int | None, n: int) -> int:
+    """The frames shown, of a run of `n`: `frames`, checked against the viewer's bound."""
+    if frames is None:
+        return min(n, DEFAULT_FRAMES)
+    count = as_int("frames", frames, minimum=1)
+    if count > MAX_FRAMES:
+        raise ValueError(f"`frames` must be at most {MAX_FRAMES} (the viewer's MAX_FRAMES: each "
+                         f"shown frame is a copy of the drawn points in the page), got {count}")
+    if count > n:
+        raise ValueError(f"`frames` must be at most the run's {n} frames, got {count}")
+    return count
+
+
+def _result(scene: Scene | SceneResult | Trajectory, frames: int | None) -> tuple[SceneResult,
+                                                                                    np.ndarray]:
+    """What the viewer draws, every object at each of at most `PATH_POINTS` frames of the run
+    (one call to `rotate`), and the indices of the shown frames among them."""
     if isinstance(scene, Trajectory):
-        return result_for(scene, animation=True)
-    if isinstance(scene, SceneResult):
-        scene = scene.scene
-    if not isinstance(scene, Scene):
-        raise TypeError(f"`scene` must be a Scene or a Trajectory, got {type(scene).__name__}")
-    try:
-        scene.drawn_box
-        box = True
-    except SceneError:
-        box = False
-    draw = dataclasses.replace(scene.draw, box=box, ellipsoid=True, signal_point=True,
-                               path=True, momentum=True, animation=True)
-    return execute(make_plan(scene.replace(draw=draw)))
+        count = _frames(frames, len(scene.t))
+        sub = _subsampled(scene, max(count, min(len(scene.t), PATH_POINTS)))
+        result = result_for(sub, animation=True)
+    else:
+        traj = None
+        if isinstance(scene, SceneResult):
+            traj = scene.trajectory
+            scene = scene.scene
+        if not isinstance(scene, Scene):
+            raise TypeError(f"`scene` must be a Scene or a Trajectory, got "
+                            f"{type(scene).__name__}")
+        count = _frames(frames, scene.frames)
+        try:
+            scene.drawn_box
+            box = True
+        except SceneError:
+            box = False
+        draw = dataclasses.replace(scene.draw, box=box, ellipsoid=True, signal_point=True,
+                                   path=True, momentum=True, animation=True, phases=())
+        if traj is None:
+            traj = scene.run(flips=scene.flips)
+        sub = _subsampled(traj, max(count, min(len(traj.t), PATH_POINTS)))
+        staged = scene.replace(draw=draw, frames=len(sub.t))
+        result = execute(make_plan(staged), trajectory=sub)
+    n = len(sub.t)
+    shown = np.unique(np.round(np.linspace(0, n - 1, min(count, n))).astype(int))
+    return result, shown
 
 
 def _edges(corners: np.ndarray) -> tuple[list[float | None], ...]:
@@ -64,13 +111,9 @@ def figure(scene: Scene | SceneResult | Trajectory, *, frames: int | None = None
     with one animation frame per shown frame, play/pause buttons and a time slider."""
     go = require("plotly.graph_objects", "the viewer", EXTRA)
     fps = as_float("fps", fps, positive=True)
-    result = _result(scene)
+    result, shown = _result(scene, frames)
     traj = result.trajectory
     assert traj is not None
-    n = len(traj.t)
-    count = min(n, DEFAULT_FRAMES) if frames is None else as_int("frames", frames, minimum=1,
-                                                                  maximum=n)
-    shown = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
     path = result.path
     mesh = result.mesh
     assert mesh is not None
@@ -155,7 +198,9 @@ def write_html(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     path : str or Path
         The HTML file to write.
     frames : int, optional
-        Frames shown, evenly spread over the run (default: every frame, at most 201).
+        Frames shown, evenly spread over the run (default: every frame, at most 201; at
+        most :data:`MAX_FRAMES`). The path is drawn through at most :data:`PATH_POINTS`
+        frames of the run, evenly spread, whatever its length.
     fps : float
         Frames per second when playing.
 
@@ -167,6 +212,11 @@ def write_html(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     ------
     ImportError
         plotly is missing: install the ``viewer`` extra.
+    ValueError
+        `frames` beyond the run's frames or :data:`MAX_FRAMES`.
+    OSError
+        The file cannot be written (its folder is missing, the disk is full): the previous
+        file is as it was (it is replaced only once the new one is complete).
 
     Examples
     --------
@@ -174,7 +224,8 @@ def write_html(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     >>> dz.viewer.write_html(dz.SCENES["example"], "flip.html")    # doctest: +SKIP
     PosixPath('flip.html')
     """
+    destination = as_path(path)
     fig = figure(scene, frames=frames, fps=fps)
-    path = Path(path)
-    fig.write_html(path, include_plotlyjs=True, full_html=True, auto_play=False)
-    return path
+    with replacing(destination) as tmp:  # all or nothing: the previous file kept on failure
+        fig.write_html(tmp, include_plotlyjs=True, full_html=True, auto_play=False)
+    return destination
