@@ -3,7 +3,8 @@
     python benches/python/bench_files.py            # a ~100 MB AEM (about a minute)
     python benches/python/bench_files.py --quick    # a ~10 MB AEM
 
-Each measurement runs in a child process of its own (peak RSS is a process's, ru_maxrss):
+Each measurement runs in a child process of its own (Linux: the peak resident set, VmHWM,
+reset before the call, above the resident set then):
 `read_aem` of the file, and for comparison the previous reader (the whole text read, split
 into lines and fields, then converted: `legacy_read`, written out below as it was), plus
 `dz.save` and `dz.load` of a 10⁶-frame trajectory. Printed: the median seconds of three
@@ -22,7 +23,7 @@ import tempfile
 import textwrap
 
 CHILD = textwrap.dedent("""
-    import resource, sys, time
+    import sys, time
     import numpy as np
     import dzhanibekov as dz
     what, path = sys.argv[1], sys.argv[2]
@@ -42,7 +43,16 @@ CHILD = textwrap.dedent("""
         epochs = [row[0] for row in rows]
         return values, epochs
 
-    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    def status(field):
+        with open("/proc/self/status") as f:
+            return next(int(l.split()[1]) * 1024 for l in f if l.startswith(field + ":"))
+
+    def reset_peak():
+        with open("/proc/self/clear_refs", "w") as f:  # VmHWM := VmRSS (Linux)
+            f.write("5")
+
+    reset_peak()
+    base = status("VmRSS")
     start = time.perf_counter()
     if what == "read_aem":
         rows = len(dz.io.read_aem(path).t)
@@ -52,13 +62,14 @@ CHILD = textwrap.dedent("""
         rows = len(dz.load(path).t)
     else:
         traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=1000.0, frames=10**6)
-        base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        reset_peak()
+        base = status("VmRSS")
         start = time.perf_counter()
         dz.save(traj, path)
         rows = len(traj.t)
     seconds = time.perf_counter() - start
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base
-    print(rows, seconds, peak * 1024)
+    peak = status("VmHWM") - base
+    print(rows, seconds, peak)
 """)
 
 

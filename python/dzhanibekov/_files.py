@@ -162,7 +162,7 @@ def replacing(path: Any, *, name: str = "path") -> Iterator[Path]:
             yield tmp
             if interrupts.seen:  # swallowed by the writer: honour it now
                 raise KeyboardInterrupt
-            fd = os.open(tmp, os.O_RDONLY)
+            fd = os.open(tmp, os.O_RDWR)  # (Windows flushes only a writable descriptor)
             try:
                 os.fsync(fd)
             finally:

@@ -508,7 +508,6 @@ def _read(f: IO[bytes], p: Path) -> AttitudeEphemeris:
     layout: tuple[int, bool] = (4, False)  # fields after the epoch, rates
     width = 5  # fields of a data line
     epochs = _Epochs()
-    epoch_micros = epochs.micros
     number = 0
 
     def fail(message: str) -> ReadError:
@@ -529,19 +528,14 @@ def _read(f: IO[bytes], p: Path) -> AttitudeEphemeris:
                 raise fail(f"a data line of {current.metadata['ATTITUDE_TYPE']} has {width} "
                            f"fields (the epoch and {width - 1} numbers), got {len(fields)}")
             try:
-                micros = epoch_micros(fields[0])
-            except ValueError as exc:
-                raise fail(str(exc)) from None
-            try:
                 if "_" in line:  # float() reads 1_0 as 10; a KVN number has no underscore
                     raise ValueError
                 current.values.extend(map(float, fields[1:]))
             except ValueError:
-                del current.values[len(current.micros) * (width - 1):]
+                del current.values[len(current.epochs) * (width - 1):]
                 bad = next((x for x in fields[1:] if not _NUMBER.match(x)), fields[1])
                 raise fail(f"{bad[:40]!r} is not a number") from None
-            current.epochs.append(fields[0])
-            current.micros.append(micros)
+            current.epochs.append(fields[0])  # parsed all at once when the segment ends
             current.lines.append(number)
             continue
         if line == "META_START":
@@ -627,21 +621,73 @@ def _check_metadata(meta: dict[str, str], version: str, fail: Any) -> tuple[int,
     return 4 + (3 if rates else 0), rates
 
 
+_UNIX_DAY = _dt.date(1970, 1, 1).toordinal()
+_LAYOUT = {4: "-", 7: "-", 10: "T", 13: ":", 16: ":", 19: "."}
+"""The fixed characters of the common epoch form ``YYYY-MM-DDThh:mm:ss.ffffff``."""
+
+
+def _epochs_micros(segment: _Segment, epochs: _Epochs, p: Path) -> np.ndarray:
+    """The segment's epochs in microseconds since 0001-01-01 (as `_Epochs.micros`)."""
+    texts = segment.epochs
+    out = np.empty(len(texts), dtype=np.int64)
+    for start in range(0, len(texts), _EPOCH_CHUNK):
+        chunk = texts[start: start + _EPOCH_CHUNK]
+        micros = _common_micros(chunk)
+        if micros is None:  # one by one, naming the first epoch that is none
+            micros = np.empty(len(chunk), dtype=np.int64)
+            for k, text in enumerate(chunk):
+                try:
+                    micros[k] = epochs.micros(text)
+                except ValueError as exc:
+                    line = segment.lines[start + k]
+                    raise ReadError(f"{p}:{line}: {exc}", path=str(p)) from None
+        out[start: start + len(chunk)] = micros
+    return out
+
+
+_EPOCH_CHUNK = 1 << 13
+"""Epochs parsed at once (the transient arrays stay a few MB whatever the file)."""
+
+
+def _common_micros(texts: list[str]) -> np.ndarray | None:
+    """`texts` parsed by NumPy when every one has the common form ``YYYY-MM-DDThh:mm:ss[.f]``
+    of one length (NumPy's own date checks, plus the form's separators and years from 0001
+    checked here); None otherwise (or for a date NumPy refuses: checked one by one)."""
+    width = len(texts[0])
+    if not (19 <= width <= 26 and width != 20 and all(len(x) == width for x in texts)):
+        return None
+    chars = np.array(texts, dtype=f"U{width}").view("U1").reshape(len(texts), width)
+    digits = [k for k in range(width) if k not in _LAYOUT]
+    if not all((chars[:, k] == c).all() for k, c in _LAYOUT.items() if k < width):
+        return None
+    if not np.char.isdigit(chars[:, digits]).all():
+        return None
+    if (chars[:, :4] == "0").all(axis=1).any():
+        return None  # year 0000: refused one by one
+    try:
+        stamps = np.array(texts, dtype="datetime64[us]")
+    except ValueError:  # a date or time that does not exist: say which, one by one
+        return None
+    micros: np.ndarray = stamps.astype(np.int64) + _UNIX_DAY * _US_PER_DAY
+    return micros
+
+
 def _close(segment: _Segment, epochs: _Epochs, p: Path) -> None:
-    """Checks a segment's rows all at once: finite numbers, epochs that increase, unit
-    quaternions, epochs inside START_TIME … STOP_TIME; an error names the data line."""
+    """Checks a segment's rows all at once: epochs that exist and increase, finite numbers,
+    unit quaternions, epochs inside START_TIME … STOP_TIME; an error names the data line."""
 
     def fail(k: int, message: str) -> ReadError:
         return ReadError(f"{p}:{segment.lines[k]}: {message}", path=str(p))
 
-    if not segment.micros:
+    if not segment.epochs:
         raise ReadError(f"{p}:{segment.line}: a segment without data lines", path=str(p))
-    values = np.frombuffer(segment.values, dtype=np.float64).reshape(len(segment.micros), -1)
+    micros = _epochs_micros(segment, epochs, p)
+    segment.micros = array.array("q", micros.tobytes())
+    values = np.frombuffer(segment.values, dtype=np.float64).reshape(len(micros), -1)
     finite = np.isfinite(values).all(axis=1)
     if not finite.all():
         k = int(np.argmin(finite))
         raise fail(k, f"{float(values[k][~np.isfinite(values[k])][0])!r} is not a finite number")
-    micros = np.frombuffer(segment.micros, dtype=np.int64)
     later = np.diff(micros) > 0
     if not later.all():
         k = int(np.argmin(later)) + 1

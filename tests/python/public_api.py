@@ -672,7 +672,7 @@ def scene_hostile() -> dict[str, st.SearchStrategy[Any]]:
         "t_end": hostile_real(positive=True),
         "frames": hostile_int(2, huge=False),
         "q0": hostile_quaternion(),
-        "dt": hostile_real(positive=True),
+        "dt": hostile_real(positive=True).filter(lambda v: v is not None),  # None: "none"
         "method": hostile_name(tuple(dz.METHODS)),
         "box": hostile_vector3(positive=True).filter(lambda v: v is not None),
         "signal_point": vec3.filter(lambda v: v is not None),
