@@ -1,6 +1,6 @@
 //! The rigid body: its principal moments of inertia.
 
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
 
@@ -122,8 +122,267 @@ impl RigidBody {
     /// The axis (0 = x, 1 = y, 2 = z) of the strictly intermediate moment, about which spin is
     /// unstable; `None` when two moments are equal (a symmetric top has no such axis).
     pub fn intermediate_axis(&self) -> Option<usize> {
-        let i = self.inertia_body;
-        let between = |m: f64, a: f64, b: f64| (a < m && m < b) || (b < m && m < a);
-        (0..3).find(|&k| between(i[k], i[(k + 1) % 3], i[(k + 2) % 3]))
+        intermediate_index(&self.inertia_body)
+    }
+}
+
+/// The index of the strictly intermediate of three moments; `None` when two are equal.
+pub fn intermediate_index(i: &Vector3<f64>) -> Option<usize> {
+    let between = |m: f64, a: f64, b: f64| (a < m && m < b) || (b < m && m < a);
+    (0..3).find(|&k| between(i[k], i[(k + 1) % 3], i[(k + 2) % 3]))
+}
+
+/// A body's inertia tensor in the user's own axes, and its principal frame: the moments
+/// and the proper rotation `R` (user axes from principal axes, its columns the principal axes
+/// in user coordinates) with `T = R diag(I) Rᵀ`. Runs happen in the principal frame; the
+/// change of axes is made once at each edge of a run ([`crate::run`]).
+///
+/// Which principal axis is called x, y or z: each is matched to the user axis it lies
+/// nearest (the permutation with the largest `Σ |R_kk|`), so that a tensor that is diagonal,
+/// or nearly so (a mesh's, to round-off), keeps its moments in the user's x, y, z order; where
+/// two matchings tie (an axis at 45° between two user axes), the moments are ascending. Each
+/// axis then points to the side of its user axis, and `det R = +1`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Inertia {
+    tensor: Matrix3<f64>,
+    principal: RigidBody,
+    /// `R`; `None` when the user's axes are principal (a diagonal tensor).
+    axes: Option<Matrix3<f64>>,
+}
+
+/// How far two matchings' scores may differ and still count as a tie.
+const TIE: f64 = 1e-9;
+
+impl Inertia {
+    /// The tensor `tensor` (products of inertia with a minus sign off the diagonal, so that
+    /// `L = T ω`), symmetric to 1e-10 of its largest entry (the mean of it and its transpose is
+    /// used) and positive definite, with principal moments [`RigidBody::try_new`] accepts.
+    ///
+    /// # Errors
+    /// A tensor that is not finite, symmetric or positive definite, or whose moments are out
+    /// of range.
+    ///
+    /// # Example
+    /// ```
+    /// use approx::assert_relative_eq;
+    /// use nalgebra::Matrix3;
+    /// let t = Matrix3::new(2.0, -0.5, 0.0, -0.5, 2.0, 0.0, 0.0, 0.0, 3.0);
+    /// let body = dzhanibekov::body::Inertia::try_new(t).unwrap();
+    /// assert_relative_eq!(body.principal().inertia_body().x, 1.5, epsilon = 1e-14);
+    /// assert_relative_eq!(body.axes().determinant(), 1.0, epsilon = 1e-14);
+    /// ```
+    pub fn try_new(tensor: Matrix3<f64>) -> Result<Self> {
+        let largest = tensor.amax();
+        if !tensor.iter().all(|v| v.is_finite()) || largest <= 0.0 {
+            return Err(Error::invalid(
+                "tensor",
+                "must be finite and positive definite",
+                tensor.as_slice(),
+            ));
+        }
+        if (tensor - tensor.transpose()).amax() > 1e-10 * largest {
+            return Err(Error::invalid(
+                "tensor",
+                "must be symmetric (to 1e-10 of its largest entry)",
+                tensor.as_slice(),
+            ));
+        }
+        let diagonal = (0..3).all(|i| (0..3).all(|j| i == j || tensor[(i, j)] == 0.0));
+        if diagonal {
+            // the diagonal itself, not scaled there and back (which rounds): any scale float64
+            // holds, 1e308 included
+            let principal = RigidBody::try_new(tensor.diagonal().into()).map_err(|_| {
+                Error::invalid(
+                    "tensor",
+                    "must be positive definite, with moments whose ratio of largest to smallest \
+                     is at most 1e150",
+                    tensor.as_slice(),
+                )
+            })?;
+            return Ok(Self {
+                tensor,
+                principal,
+                axes: None,
+            });
+        }
+        // scaled by a power of two (exact) so that neither the mean with the transpose nor the
+        // eigensolver overflows or underflows, whatever the tensor's scale
+        let exponent = largest.log2().floor() as i32;
+        let unit = ldexp(&tensor, -exponent);
+        let unit = (unit + unit.transpose()) * 0.5;
+        let (moments, axes) = principal_frame(&unit);
+        let factored = unit.cholesky().is_some();
+        if !(factored && moments.min() > 0.0) {
+            // with products of inertia an eigenvalue is found to about ε × the largest
+            let resolution = 4.0 * f64::EPSILON * moments.max();
+            let least = moments.min();
+            let allowed = if least.is_nan() || least < -resolution {
+                "must be positive definite".into()
+            } else {
+                format!(
+                    "must be positive definite, but it is singular to round-off: its smallest \
+                     eigenvalue ({:.3e}) is within what float64 resolves beside the largest, \
+                     about {:.3e} (ε × the largest) for a tensor with products of inertia; give \
+                     principal moments (a Body, or a diagonal tensor) to go below",
+                    scale(least, exponent),
+                    scale(resolution, exponent)
+                )
+            };
+            return Err(Error::invalid("tensor", allowed, tensor.as_slice()));
+        }
+        let moments = moments.map(|m| scale(m, exponent));
+        let principal = RigidBody::try_new(moments.into()).map_err(|_| {
+            Error::invalid(
+                "tensor",
+                "must have principal moments that float64 holds, with a ratio of largest to \
+                 smallest of at most 1e150",
+                tensor.as_slice(),
+            )
+        })?;
+        Ok(Self {
+            tensor: ldexp(&unit, exponent),
+            principal,
+            axes: Some(axes),
+        })
+    }
+
+    /// A body given by its principal moments along the user's axes.
+    pub fn from_principal(body: RigidBody) -> Self {
+        Self {
+            tensor: Matrix3::from_diagonal(&body.inertia_body()),
+            principal: body,
+            axes: None,
+        }
+    }
+
+    /// The tensor in the user's axes.
+    pub fn tensor(&self) -> &Matrix3<f64> {
+        &self.tensor
+    }
+
+    /// The principal moments (in the order of [`Inertia::axes`]' columns).
+    pub fn principal(&self) -> &RigidBody {
+        &self.principal
+    }
+
+    /// `R`, user axes from principal axes.
+    pub fn axes(&self) -> Matrix3<f64> {
+        self.axes.unwrap_or_else(Matrix3::identity)
+    }
+
+    /// Whether the user's axes are the principal axes.
+    pub fn is_principal(&self) -> bool {
+        self.axes.is_none()
+    }
+}
+
+/// `x · 2^exponent`, exact unless the result overflows or underflows (two factors, so that any
+/// exponent a float64's scale gives, −1074 to 1023, is reached).
+fn scale(x: f64, exponent: i32) -> f64 {
+    let half = exponent / 2;
+    x * 2f64.powi(half) * 2f64.powi(exponent - half)
+}
+
+/// [`scale`] of every entry.
+fn ldexp(m: &Matrix3<f64>, exponent: i32) -> Matrix3<f64> {
+    m.map(|x| scale(x, exponent))
+}
+
+/// The eigen-decomposition of a symmetric positive definite `m`, ordered and signed as
+/// [`Inertia`] says.
+fn principal_frame(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
+    let eig = m.symmetric_eigen();
+    // ascending first, so that a tie keeps the ascending order
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    const PERMUTATIONS: [[usize; 3]; 6] = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    let score = |p: &[usize; 3]| -> f64 {
+        (0..3)
+            .map(|k| eig.eigenvectors[(k, order[p[k]])].abs())
+            .sum()
+    };
+    let mut best = PERMUTATIONS[0];
+    for p in &PERMUTATIONS[1..] {
+        if score(p) > score(&best) + TIE {
+            best = *p;
+        }
+    }
+    let mut moments = Vector3::zeros();
+    let mut axes = Matrix3::zeros();
+    for k in 0..3 {
+        let j = order[best[k]];
+        moments[k] = eig.eigenvalues[j];
+        let mut column = eig.eigenvectors.column(j).into_owned();
+        if column[k] < 0.0 {
+            column = -column;
+        }
+        axes.set_column(k, &column);
+    }
+    if axes.determinant() < 0.0 {
+        // the axis least aligned with its user axis takes the sign
+        let k = (0..3)
+            .min_by(|&a, &b| axes[(a, a)].abs().total_cmp(&axes[(b, b)].abs()))
+            .unwrap_or(2);
+        let flipped = -axes.column(k);
+        axes.set_column(k, &flipped);
+    }
+    (moments, axes)
+}
+
+#[cfg(test)]
+mod edges {
+    use super::*;
+
+    fn rotation() -> Matrix3<f64> {
+        nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner()
+    }
+
+    #[test]
+    fn a_diagonal_tensor_is_taken_as_it_is_at_any_scale() {
+        for d in [
+            [1e308, 1e308, 1e308],
+            [3e-300, 2e-300, 1e-300],
+            [1.0, 1e-15, 1.0],
+        ] {
+            let t = Matrix3::from_diagonal(&Vector3::from(d));
+            let body = Inertia::try_new(t).unwrap();
+            assert_eq!(body.tensor(), &t);
+            assert_eq!(body.principal().inertia_body(), Vector3::from(d));
+            assert!(body.is_principal());
+        }
+    }
+
+    #[test]
+    fn a_tensor_with_products_of_inertia_near_float64s_limits() {
+        let r = rotation();
+        for s in [1e300, 1e-300] {
+            let t = r * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)) * r.transpose() * s;
+            let body = Inertia::try_new(t).unwrap();
+            let mut m: Vec<f64> = body.principal().inertia_body().iter().copied().collect();
+            m.sort_by(f64::total_cmp);
+            for (got, want) in m.iter().zip([1.0, 2.0, 3.0]) {
+                assert!((got / s - want).abs() < 1e-13, "{got} at scale {s}");
+            }
+            assert!(body.tensor().iter().all(|v| v.is_finite()));
+        }
+    }
+
+    #[test]
+    fn a_singular_tensor_is_refused_naming_the_resolution() {
+        let r = rotation();
+        let t = r * Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 2.0)) * r.transpose();
+        let text = Inertia::try_new(t).unwrap_err().to_string();
+        assert!(text.contains("singular to round-off"), "{text}");
+        assert!(text.contains("ε × the largest"), "{text}");
+        let t = r * Matrix3::from_diagonal(&Vector3::new(-0.5, 1.0, 2.0)) * r.transpose();
+        let text = Inertia::try_new(t).unwrap_err().to_string();
+        assert!(text.contains("must be positive definite") && !text.contains("round-off"));
     }
 }

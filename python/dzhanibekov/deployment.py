@@ -6,6 +6,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _core
 from ._args import as_array, check_size
 from .body import Body
 
@@ -32,55 +33,43 @@ def _as_tensor(k: int, value: Any) -> np.ndarray:
 
 
 BYTES_PER_KNOT = 8 * (1 + 4 * 9)
-"""Memory a knot takes while a deployment is checked: its time and a few copies of its
-tensor (checked against the machine's memory before anything is allocated)."""
+"""Memory a knot takes while a deployment is built: its time and a few copies of its tensor
+(the stacked input, the core's, the arrays it returns), checked against the machine's memory
+before anything is allocated."""
 
 
-def _as_tensors(inertia: Any) -> np.ndarray:
-    """The knots' tensors (K, 3, 3), checked symmetric positive definite all at once: from
-    an array of moments (K, 3) or tensors (K, 3, 3), else knot by knot (Bodies, mixed)."""
+def _tensors(inertia: Any, n: int) -> np.ndarray:
+    """The knots' tensors (n, 3, 3): an array (or a sequence) of moments (n, 3) or tensors
+    (n, 3, 3) stacked at once, else item by item (Bodies, mixed kinds). The core checks them
+    (symmetric, positive definite, finite) and names the first bad knot."""
+    try:
+        if isinstance(inertia, (str, bytes)):
+            raise TypeError
+        items = inertia if isinstance(inertia, np.ndarray) else list(inertia)
+        knots = len(items)
+    except TypeError:  # not a sequence: a number, a 0-d array
+        raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
+                        f"{type(inertia).__name__}") from None
+    if knots != n:
+        raise ValueError(f"`inertia` must give one body per knot time of `times` ({n}), got "
+                         f"{knots}")
+    if not knots:
+        raise ValueError("`times` must hold at least one knot time")
     stacked = None
-    if isinstance(inertia, np.ndarray) or not any(isinstance(v, Body) for v in inertia):
+    if isinstance(items, np.ndarray) or not any(isinstance(v, Body) for v in items):
         try:
-            arr = np.asarray(inertia)
-        except (ValueError, TypeError):  # ragged: knot by knot says which
+            arr = np.asarray(items)
+        except (ValueError, TypeError):  # ragged: item by item says which
             arr = None
         if arr is not None and arr.dtype.kind in "iuf" and arr.shape[1:] in ((3,), (3, 3)):
             stacked = np.require(arr, dtype=np.float64, requirements=["C", "A"])
     if stacked is None:
-        return _checked(np.stack([_as_tensor(k, v) for k, v in enumerate(inertia)]))
-    if not np.isfinite(stacked).all():
-        k = int(np.argmax(~np.isfinite(stacked).reshape(len(stacked), -1).all(axis=1)))
-        raise ValueError(f"`inertia[{k}]` must be finite, got non-finite values")
-    if stacked.ndim == 2:  # principal moments: positive definite iff positive
-        bad = ~(stacked > 0).all(axis=1)
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise ValueError(f"`inertia[{k}]` must be positive moments, got "
-                             f"{stacked[k].tolist()}")
-        tensors = np.zeros((len(stacked), 3, 3))
-        tensors[:, [0, 1, 2], [0, 1, 2]] = stacked
-        return tensors
-    return _checked(stacked)
-
-
-def _checked(tensors: np.ndarray) -> np.ndarray:
-    """`tensors` (K, 3, 3), each symmetric (to 1e-12 of its largest entry) and positive
-    definite, checked for all knots at once; an error names the first bad knot."""
-    largest = np.abs(tensors).max(axis=(1, 2))
-    asym = np.abs(tensors - tensors.transpose(0, 2, 1)).max(axis=(1, 2))
-    bad = asym > 1e-12 * largest
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"`inertia[{k}]` must be symmetric, got {tensors[k].tolist()}")
-    with np.errstate(all="ignore"):
-        scale = np.where(largest > 0, largest, 1.0)[:, None, None]
-        least = np.linalg.eigvalsh(tensors / scale)[:, 0]
-    bad = ~(least > 0)
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise ValueError(f"`inertia[{k}]` must be positive definite, got {tensors[k].tolist()}")
-    return tensors
+        return np.ascontiguousarray(np.stack([_as_tensor(k, v) for k, v in enumerate(items)]))
+    if stacked.ndim == 2:  # principal moments
+        out = np.zeros((n, 3, 3))
+        out[:, [0, 1, 2], [0, 1, 2]] = stacked
+        return out
+    return stacked
 
 
 class Deployment:
@@ -105,9 +94,11 @@ class Deployment:
 
     Raises
     ------
-    TypeError, ValueError
+    TypeError
+        Knots or bodies of the wrong kind.
+    ValueError
         Knots that are not increasing, tensors that are not symmetric positive definite, or
-        as many bodies as times not given (checked again by the core).
+        as many bodies as times not given (checked by the core).
 
     Examples
     --------
@@ -116,7 +107,7 @@ class Deployment:
     [1.0, 2.5, 2.5]
     """
 
-    __slots__ = ("times", "tensors")
+    __slots__ = ("times", "tensors", "_core")
 
     times: np.ndarray
     """Knot times, shape (K,)."""
@@ -131,28 +122,13 @@ class Deployment:
                             f"{type(times).__name__}") from None
         check_size(n * BYTES_PER_KNOT, f"a deployment of {n} knots", "give fewer knots")
         t = as_array("times", times, "(K,)", last=n, ndim=(1,))
-        if len(t) == 0:
-            raise ValueError("`times` must hold at least one knot time")
-        steps = np.diff(t)
-        if not (steps > 0).all():
-            k = int(np.argmax(~(steps > 0)))
-            raise ValueError(f"`times` must be strictly increasing, got times[{k}] = "
-                             f"{float(t[k])!r} then times[{k + 1}] = {float(t[k + 1])!r}")
-        try:
-            if isinstance(inertia, (str, bytes)):
-                raise TypeError
-            if not isinstance(inertia, np.ndarray):
-                inertia = list(inertia)  # any iterable of knots
-            knots = len(inertia)
-        except TypeError:  # not a sequence: a number, a 0-d array
-            raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
-                            f"{type(inertia).__name__}") from None
-        if knots != len(t):
-            raise ValueError(f"`inertia` must give one body per knot time of `times` "
-                             f"({len(t)}), got {len(inertia)}")
-        tensors = _as_tensors(inertia)
-        self.times = np.ascontiguousarray(t, dtype=np.float64)
-        self.tensors = np.ascontiguousarray(tensors, dtype=np.float64)
+        tensors = _tensors(inertia, len(t))
+        self._core = _core.Deployment(np.ascontiguousarray(t, dtype=np.float64), tensors)
+        self.times = np.ascontiguousarray(self._core.times)
+        self.tensors = np.ascontiguousarray(self._core.tensors)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Deployment, (self.times, self.tensors))
 
     def inertia_at(self, t: float) -> np.ndarray:
         """The tensor ``I(t)``, shape (3, 3) (a convenience for plots: runs evaluate the

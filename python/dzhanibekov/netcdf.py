@@ -13,8 +13,10 @@ was.
 **Reading** checks what it reads as strictly as a run checks what it computes, against one
 table per kind (:data:`LAYOUTS`): each variable's dimensions, type and values (finite, unit
 quaternions to the run's own recorded drift, times that start at 0 and increase, flip
-counts that match the flip times …), each attribute, and the rules that tie them together.
-Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
+counts that match the flip times …), each attribute, and the rules that tie them together;
+then each run's system is rebuilt (the core checks its body, deployment and parts as when
+the run was made) and what the loaded result derives from it (principal moments, energy,
+angular momentum) must be what the file says. Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
 what is wrong. A new field of a result is one row of its table.
 """
 
@@ -34,10 +36,13 @@ from . import _core, _tables
 from ._args import check_size
 from ._files import HDF5_SIGNATURE, ReadError, as_path, describe, open_regular, replacing
 from .body import Body, InertiaWarning
+from .damper import Damper
+from .deployment import Deployment
 from .methods import METHODS
-from .results import Batch, BatchDrift, Drift, Sweep, Trajectory
+from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
+from .system import System, Systems
 
-__all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE"]
+__all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE", "PART_NAMES"]
 
 KIND_ATTRIBUTE = "dzhanibekov_result"
 """The attribute naming the kind of result a file holds."""
@@ -81,12 +86,13 @@ class Var:
 
 @dataclass(frozen=True)
 class Attr:
-    """An attribute of a layout: `kind` as for :class:`Var` (a scalar, or an array of
-    `shape`), and its checks."""
+    """An attribute of a layout: `kind` as for :class:`Var` (a scalar, an array of `shape`,
+    or for `shape` None a list of any length: a list of names), and its checks."""
 
     kind: str
     checks: tuple[Check, ...] = ()
-    shape: tuple[int, ...] = ()
+    shape: tuple[int, ...] | None = ()
+    optional: bool = False
 
 
 Rule = Callable[["Loaded"], "str | None"]
@@ -101,6 +107,9 @@ class Layout:
     attrs: Mapping[str, Attr]
     rules: tuple[Rule, ...]
     build: Callable[[Loaded], Any]
+    after: Callable[[Loaded, Any], str | None] | None = None
+    """A check of the built result against the file (what it derives from its own system
+    against what the file says it derived): None if they agree, else what is wrong."""
     sizes: Mapping[str, int] = field(default_factory=dict)
     """Dimensions of a fixed length (``axis``: 3, ``quaternion``: 4)."""
     least: Mapping[str, int] = field(default_factory=dict)
@@ -300,24 +309,138 @@ def sweep_outcomes(d: Loaded) -> str | None:
     return None
 
 
+# -- the system a file describes ------------------------------------------------------------------
+
+PART_NAMES = ("damper",)
+"""The parts a file may name (``parts``), each with its state variable of that name."""
+
+_BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
+_KNOT_VARS = ("knot_times", "knot_tensors")
+_DAMPER_VARS = ("damper_inertia", "damper_damping", "damper_sigma0")
+_DERIVED = ("energy", "momentum_body", "momentum_world")
+_KEPT = (*_tables.DRIFTS, "jacobi")
+
+
+def _runs(d: Loaded) -> int | None:
+    """How many runs the file holds: None for one run (no ``run`` dimension)."""
+    return len(d["run"]) if "run" in d.values else None
+
+
+def system_parts(d: Loaded) -> str | None:
+    """The system is described once, completely: a body (tensor, mass, centre of mass) or a
+    deployment's knots, and each named part's parameters and state; none for an empty
+    batch."""
+    runs = _runs(d)
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *PART_NAMES,
+                                 *_DERIVED) if name in d.values]
+    if runs == 0:
+        return None if not present else f"`{present[0]}` must not be there: the batch is empty"
+    body = [name in d.values for name in _BODY_VARS]
+    knots = [name in d.values for name in _KNOT_VARS]
+    if not (all(body) and not any(knots)) and not (all(knots) and not any(body)):
+        return ("the system's body must be given once: `body_tensor`, `body_mass` and "
+                "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
+    parts = tuple(d["parts"]) if "parts" in d.attrs else ()
+    for name in PART_NAMES:
+        if (name in parts) != (name in d.values):
+            return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
+                    f"the {name}, but its state `{name}` is {'missing' if name in parts else 'there'}")
+    damper = [name in d.values for name in _DAMPER_VARS]
+    if any(damper) and not all(damper) or all(damper) != ("damper" in parts):
+        return ("a damper's `damper_inertia`, `damper_damping` and `damper_sigma0` must be "
+                "there exactly when `parts` names the damper")
+    missing = [name for name in _DERIVED if name not in d.values]
+    if missing:
+        return f"`{missing[0]}` is missing"
+    if "damper_sigma0" in d.values:
+        s0 = np.isnan(d["damper_sigma0"]).reshape(-1, 3)
+        if (s0.any(axis=1) != s0.all(axis=1)).any():
+            return "`damper_sigma0` must be three rates, or NaN for each (co-rotating)"
+    if "knot_times" in d.values:
+        return _knots_padded(d["knot_times"], d["knot_tensors"])
+    return None
+
+
+def _knots_padded(times: np.ndarray, tensors: np.ndarray) -> str | None:
+    """Each run's knots first, then NaN to the common length (tensors NaN exactly there)."""
+    times = times.reshape(-1, times.shape[-1])
+    tensors = tensors.reshape(len(times), -1, 9)
+    for i, (t, k) in enumerate(zip(times, tensors)):
+        nan = np.isnan(t)
+        n = int((~nan).sum())
+        if n == 0 or nan[:n].any():
+            return (f"`knot_times` of run {i} must hold its knots first, then NaN (at least "
+                    "one knot)")
+        if not np.isfinite(k[:n]).all() or not np.isnan(k[n:]).all():
+            return (f"`knot_tensors` of run {i} must be finite for its {n} knots and NaN "
+                    "beyond them")
+    return None
+
+
+def _systems(d: Loaded) -> list[System]:
+    """The systems a file describes (see `_tables.system_vars`): one per run (one for a
+    single run). The core checks each value, as when the run was made."""
+    runs = _runs(d)
+    n = 1 if runs is None else runs
+
+    def rows(name: str) -> np.ndarray:
+        a: np.ndarray = d[name]
+        return a[None] if runs is None else a
+
+    bodies: list[Any]
+    if "knot_times" in d.values:
+        bodies = _deployments(rows("knot_times"), rows("knot_tensors"))
+    else:
+        tensor, mass = rows("body_tensor"), rows("body_mass")
+        com = rows("body_center_of_mass")
+        bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
+                                 com[i]) for i in range(n)]
+    parts: list[list[Damper]] = [[] for _ in range(n)]
+    if "damper_inertia" in d.values:
+        j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
+        for i in range(n):
+            parts[i].append(Damper(float(j[i]), float(c[i]),
+                                   None if np.isnan(s0[i]).any() else s0[i]))
+    return [System(b, parts=p) for b, p in zip(bodies, parts)]
+
+
+def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
+    """Deployments from NaN-padded knots, one per row."""
+    return [Deployment(t[~np.isnan(t)], k[~np.isnan(t)]) for t, k in zip(times, tensors)]
+
+
+def _moments(system: System) -> np.ndarray:
+    """A system's principal moments at ``t = 0``, as a file's ``inertia`` gives them."""
+    body = system.body
+    if isinstance(body, Body):
+        return np.array(body.inertia)
+    return np.linalg.eigvalsh(system.tensor_at(0.0))
+
+
 # -- building ---------------------------------------------------------------------------------
 
 
-def _body(inertia: np.ndarray) -> Body:
-    with warnings.catch_warnings():  # warned about when the run was made
-        warnings.simplefilter("ignore", InertiaWarning)
-        ix, iy, iz = (float(i) for i in np.asarray(inertia))
-        return Body((ix, iy, iz))
+def _drift_of(d: Loaded, runs: bool) -> BatchDrift:
+    jacobi = d["drift_jacobi"] if "drift_jacobi" in d else None
+    if runs:
+        return BatchDrift.of(lambda k: d[f"drift_{k}"], jacobi, tuple(d["drift_kept"]))
+    return BatchDrift.of(lambda k: np.asarray([float(d[f"drift_{k}"])]),
+                         None if jacobi is None else np.asarray([float(jacobi)]),
+                         tuple(d["drift_kept"]))
 
 
 def build_trajectory(d: Loaded) -> Trajectory:
+    system = _systems(d)[0]
+    state = np.concatenate([d[name] for name in system.part_names], axis=1) \
+        if system.part_names else None
     return Trajectory(
         t=d["time"], omega=d["omega"], q=d["q"],
         flip_times=d["flip_times"] if int(d["flips_located"]) else None,
-        body=_body(d["inertia"]), method=str(d["method"]), dt=float(d["dt"]),
+        system=system, method=str(d["method"]), dt=float(d["dt"]),
         n_steps=int(d["n_steps"]), nfev=int(d["nfev"]),
-        drift=Drift(*(float(d[f"drift_{k}"]) for k in _tables.DRIFTS)),
+        drift=_drift_of(d, runs=False).row(0),
         n_rejected=int(d["n_rejected"]),
+        parts=split_parts(system, state),
     )
 
 
@@ -328,12 +451,15 @@ def build_batch(d: Loaded) -> Batch:
         padded = d["flip_times"]
         times = np.concatenate([padded[i, :c] for i, c in enumerate(counts)] + [np.empty(0)])
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    m = len(d["run"])
+    systems = Systems(m, each=tuple(_systems(d))) if m else Systems(0, each=())
     return Batch(
         t=d["time"], omega=d["omega"], q=d["q"], _flip_times=times, _flip_offsets=offsets,
-        inertia=d["inertia"], method=str(d["method"]), dt=d["dt"],
+        systems=systems, method=str(d["method"]), dt=d["dt"],
         n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
         n_rejected=d["n_rejected"].astype(np.int64),
-        drift=BatchDrift(*(d[f"drift_{k}"] for k in _tables.DRIFTS)),
+        drift=_drift_of(d, runs=True),
+        parts={name: d[name] for name in d["parts"]},
     )
 
 
@@ -342,20 +468,115 @@ def build_sweep(d: Loaded) -> Sweep:
         inertia=d["inertia"], omega0=d["omega0"], q0=d["q0"],
         flips=d["flips"].astype(np.int64), first_flip=d["first_flip"], period=d["period"],
         exact_period=d["exact_period"], tilt=d["tilt"],
-        drift=BatchDrift(*(d[f"drift_{k}"] for k in _tables.DRIFTS)),
+        drift=BatchDrift.of(lambda k: d[f"drift_{k}"]),
         t_end=float(d["t_end"]), method=str(d["method"]), dt=d["dt"],
         n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
         status=d["status"].astype(np.asarray(_core.RUN_STATUSES).dtype),
     )
 
 
+def build_deployment_sweep(d: Loaded) -> DeploymentSweep:
+    m = len(d["run"])
+    deployments = _deployments(d["knot_times"], d["knot_tensors"]) if m else []
+    return DeploymentSweep(
+        deployments=tuple(deployments), omega0=d["omega0"], q0=d["q0"],
+        inertia=d["inertia"], omega_deployed=d["omega_deployed"],
+        flip_period=d["flip_period"], tumbles=d["tumbles"].astype(bool),
+        energy_change=d["energy_change"],
+        drift=BatchDrift.of(lambda k: d[f"drift_{k}"], None, tuple(d["drift_kept"])),
+        t_end=float(d["t_end"]), method=str(d["method"]), dt=d["dt"],
+        n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
+        status=d["status"].astype(np.asarray(_core.RUN_STATUSES).dtype),
+    )
+
+
+# -- what a loaded result derives, against what the file says ------------------------------------
+
+
+def _agrees(stored: np.ndarray, computed: np.ndarray, runs: bool) -> bool:
+    """`stored` equals `computed` to round-off of each run's largest value (they are the same
+    computation on the same numbers, so in practice bit for bit)."""
+    lead = 1 if runs else 0
+    axes = tuple(range(lead, computed.ndim))
+    scale = np.abs(computed).max(axis=axes, keepdims=True, initial=0.0) if axes else \
+        np.abs(computed)
+    return bool((np.abs(stored - computed) <= 1e-12 * scale).all())
+
+
+def _derived_agree(d: Loaded, result: Any, runs: bool) -> str | None:
+    if runs and not len(result):
+        return None
+    moments = result.inertia if runs else _moments(result.system)
+    if not _agrees(d["inertia"], moments, runs):
+        return "`inertia` is not the principal moments of the file's own system"
+    for name in _DERIVED:
+        if not _agrees(d[name], getattr(result, name), runs):
+            return (f"`{name}` is not what the file's own system and frames give (the energy "
+                    "and angular momentum a run of that system has)")
+    return None
+
+
+def trajectory_derived(d: Loaded, traj: Any) -> str | None:
+    return _derived_agree(d, traj, runs=False)
+
+
+def batch_derived(d: Loaded, batch: Any) -> str | None:
+    return _derived_agree(d, batch, runs=True)
+
+
+def deployment_sweep_rules(d: Loaded) -> str | None:
+    """Knots for every run; `tumbles` says whether `flip_period` is finite; a finished run
+    has its deployed rates and period, an unfinished one NaN."""
+    m = len(d["run"])
+    knots = [name in d.values for name in _KNOT_VARS]
+    if any(knots) != bool(m) or any(knots) != all(knots):
+        return ("`knot_times` and `knot_tensors` must be there exactly when there are runs"
+                if m else "`knot_times` must not be there: the sweep is empty")
+    if m:
+        problem = _knots_padded(d["knot_times"], d["knot_tensors"])
+        if problem:
+            return problem
+    period, ok = d["flip_period"], d["status"] == "ok"
+    if (d["tumbles"].astype(bool) != np.isfinite(period)).any():
+        return "`tumbles` must say whether `flip_period` is finite"
+    if np.isnan(period[ok]).any() or not np.isfinite(d["omega_deployed"][ok]).all():
+        return "`flip_period` and `omega_deployed` must be numbers for a run that finished"
+    if not np.isnan(period[~ok]).all() or not np.isnan(d["omega_deployed"][~ok]).all():
+        return "`flip_period` and `omega_deployed` must be NaN for a run that did not finish"
+    return None
+
+
 # -- the layouts --------------------------------------------------------------------------------
 
 _COUNT = Attr("i", (non_negative,))
 _METHOD = Attr("U", (one_of(tuple(METHODS)),))
+_KEPT_NAMES = Attr("U", (one_of(_KEPT),), shape=None)
+_PARTS = Attr("U", (one_of(PART_NAMES),), shape=None)
 _LABELS = {"axis": Var(("axis",), "U", (labels(_tables.AXIS),)),
            "quaternion": Var(("quaternion",), "U", (labels(_tables.QUATERNION),))}
-_FIXED = {"axis": 3, "quaternion": 4}
+_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4}
+_OPT = True
+
+
+def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
+    """The variables of `_tables.system_vars` and `_tables._derived` (all optional here:
+    the rule `system_parts` says which go together)."""
+    return {
+        "body_tensor": Var(lead + ("axis", "axis_"), "f", (finite,), optional=_OPT),
+        "body_mass": Var(lead, "f", (finite_or_nan, positive_or_nan), optional=_OPT),
+        "body_center_of_mass": Var(lead + ("axis",), "f", (finite,), optional=_OPT),
+        "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
+        "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
+                            optional=_OPT),
+        "damper_inertia": Var(lead, "f", (finite, positive), optional=_OPT),
+        "damper_damping": Var(lead, "f", (finite, non_negative), optional=_OPT),
+        "damper_sigma0": Var(lead + ("axis",), "f", (finite_or_nan,), optional=_OPT),
+        "damper": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
+        "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+    }
+
 
 LAYOUTS: Mapping[str, Layout] = {
     "Trajectory": Layout(
@@ -365,6 +586,7 @@ LAYOUTS: Mapping[str, Layout] = {
             "omega": Var(("time", "axis"), "f", (finite,)),
             "q": Var(("time", "quaternion"), "f", (finite,)),
             "flip_times": Var(("flip",), "f", optional=True),
+            **_system_vars(()),
         },
         attrs={
             "method": _METHOD,
@@ -373,10 +595,14 @@ LAYOUTS: Mapping[str, Layout] = {
             "n_steps": _COUNT, "nfev": _COUNT, "n_rejected": _COUNT,
             "flips_located": Attr("i", (flag,)),
             **{f"drift_{k}": Attr("f", (finite, non_negative)) for k in _tables.DRIFTS},
+            "drift_jacobi": Attr("f", (finite, non_negative), optional=True),
+            "drift_kept": _KEPT_NAMES,
+            "parts": _PARTS,
         },
-        rules=(trajectory_q_unit, trajectory_flips),
+        rules=(trajectory_q_unit, trajectory_flips, system_parts),
         build=build_trajectory,
-        sizes=_FIXED, least={"time": 2},
+        after=trajectory_derived,
+        sizes=_FIXED, least={"time": 2, "knot": 1},
     ),
     "Batch": Layout(
         variables={
@@ -392,13 +618,16 @@ LAYOUTS: Mapping[str, Layout] = {
             "n_rejected": Var(("run",), "i", (non_negative,)),
             **{f"drift_{k}": Var(("run",), "f", (finite, non_negative))
                for k in _tables.DRIFTS},
+            "drift_jacobi": Var(("run",), "f", (finite_or_nan, non_negative), optional=True),
             "flips": Var(("run",), "i", (non_negative,), optional=True),
             "flip_times": Var(("run", "flip"), "f", (finite_or_nan,), optional=True),
+            **_system_vars(("run",)),
         },
-        attrs={"method": _METHOD},
-        rules=(run_numbers, batch_q_unit, batch_flips),
+        attrs={"method": _METHOD, "drift_kept": _KEPT_NAMES, "parts": _PARTS},
+        rules=(run_numbers, batch_q_unit, batch_flips, system_parts),
         build=build_batch,
-        sizes=_FIXED, least={"time": 2},
+        after=batch_derived,
+        sizes=_FIXED, least={"time": 2, "knot": 1},
     ),
     "Sweep": Layout(
         variables={
@@ -422,18 +651,47 @@ LAYOUTS: Mapping[str, Layout] = {
         build=build_sweep,
         sizes=_FIXED, grid_coordinates=True,
     ),
+    "DeploymentSweep": Layout(
+        variables={
+            "run": Var(("run",), "i"),
+            **_LABELS,
+            "omega0": Var(("run", "axis"), "f", (finite,)),
+            "q0": Var(("run", "quaternion"), "f", (finite,)),
+            "inertia": Var(("run", "axis"), "f", (finite, positive, moments)),
+            "omega_deployed": Var(("run", "axis"), "f", (finite_or_nan,)),
+            "flip_period": Var(("run",), "f", (positive_or_nan,)),
+            "tumbles": Var(("run",), "i", (flag,)),
+            "energy_change": Var(("run",), "f", (finite_or_nan,)),
+            "dt": Var(("run",), "f"),
+            "n_steps": Var(("run",), "i", (non_negative,)),
+            "nfev": Var(("run",), "i", (non_negative,)),
+            "status": Var(("run",), "U", (one_of(tuple(_core.RUN_STATUSES)),)),
+            **{f"drift_{k}": Var(("run",), "f") for k in _tables.DRIFTS},
+            "knot_times": Var(("run", "knot"), "f", (finite_or_nan,), optional=True),
+            "knot_tensors": Var(("run", "knot", "axis", "axis_"), "f", (finite_or_nan,),
+                                optional=True),
+        },
+        attrs={"method": _METHOD, "t_end": Attr("f", (finite, positive)),
+               "drift_kept": _KEPT_NAMES},
+        rules=(run_numbers, deployment_sweep_rules),
+        build=build_deployment_sweep,
+        sizes=_FIXED, least={"knot": 1},
+    ),
 }
 """What a file of each kind holds: its variables (dimensions, type, allowed values), its
-attributes and the rules between them. The check of a file and the build of its result both
-read this table."""
+attributes, the rules between them, and what the built result must agree with (its own
+system's moments, energy and angular momentum). The check of a file and the build of its
+result both read this table."""
 
 
 # -- save -------------------------------------------------------------------------------------
 
 
-def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
+def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
-    back: arrays bit for bit, and the metadata to rebuild the object. All or nothing: the
+    back: arrays bit for bit, and the metadata to rebuild the object (each run's system: the
+    body's tensor, a deployment's knots, the parts with their parameters; every part's
+    state, so that what a loaded run derives is the saved run's, bit for bit). All or nothing: the
     previous file is replaced only once the new one is complete, and is as it was after
     any failure (a full disk, Ctrl-C).
 
@@ -442,7 +700,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
 
     Parameters
     ----------
-    result : Trajectory, Batch or Sweep
+    result : Trajectory, Batch, Sweep or DeploymentSweep
     path : str or Path
         The file to write (replaced if it exists), ending in one of :data:`SUFFIXES`
         (``.nc`` by convention).
@@ -454,7 +712,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     Raises
     ------
     TypeError
-        `result` is none of the three, or `path` not a path.
+        `result` is none of these, or `path` not a path.
     ValueError
         `path` ends in another suffix (the message says what writes that format).
     ImportError
@@ -471,11 +729,12 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     >>> bool((dz.load(path).q == traj.q).all())                   # doctest: +SKIP
     True
     """
-    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep"}
+    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep",
+             DeploymentSweep: "DeploymentSweep"}
     kind = kinds.get(type(result))
     if kind is None:
-        raise TypeError(f"`result` must be a Trajectory, Batch or Sweep, got "
-                        f"{type(result).__name__}")
+        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep or DeploymentSweep, "
+                        f"got {type(result).__name__}")
     p = as_path(path)
     suffix = p.suffix.lower()
     if suffix not in SUFFIXES:
@@ -500,7 +759,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
 # -- load -------------------------------------------------------------------------------------
 
 
-def load(path: str | Path) -> Trajectory | Batch | Sweep:
+def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
     """Reads a result written by :func:`save`, checking it as strictly as a run checks
     what it computes (see the module's docs and :data:`LAYOUTS`).
 
@@ -510,7 +769,7 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep:
 
     Returns
     -------
-    Trajectory, Batch or Sweep
+    Trajectory, Batch, Sweep or DeploymentSweep
 
     Raises
     ------
@@ -519,7 +778,8 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep:
         refused at once), is of another format (named: an AEM, a netCDF-3 file, …), is a
         damaged HDF5 file, was not written by :func:`save`, or holds what a save never
         writes (NaN, quaternions off unit norm, times that run backwards, flip counts that
-        do not match the flip times, a variable of the wrong shape); the message names the
+        do not match the flip times, a variable of the wrong shape, a system the core refuses,
+        energies or angular momenta its own system does not give); the message names the
         file and the field.
     TooLargeError
         Its arrays would need more memory than the machine has now.
@@ -575,7 +835,15 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep:
     if problem:
         raise ReadError(f"{p} holds a {kind} that dz.save never writes: {problem}",
                         path=str(p))
-    result: Trajectory | Batch | Sweep = layout.build(loaded)
+    try:
+        result: Trajectory | Batch | Sweep | DeploymentSweep = layout.build(loaded)
+    except (TypeError, ValueError) as exc:  # a body, part or deployment the core refuses
+        raise ReadError(f"{p} holds a {kind} whose system dz cannot build: {exc}",
+                        path=str(p)) from None
+    problem = layout.after(loaded, result) if layout.after is not None else None
+    if problem:
+        raise ReadError(f"{p} holds a {kind} that dz.save never writes: {problem}",
+                        path=str(p))
     return result
 
 
@@ -699,6 +967,7 @@ def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) ->
              np.ascontiguousarray(raw, dtype=np.int64) if spec.kind == "i" else
              np.array([v.decode() if isinstance(v, bytes) else str(v) for v in raw.ravel()],
                       dtype=str).reshape(raw.shape))
+        a = a.reshape(raw.shape)  # ascontiguousarray makes a 0-d variable 1-d
         for check in spec.checks:
             if problem := check(a):
                 raise _Bad(f"`{name}` {problem}")
@@ -712,9 +981,19 @@ def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) ->
 def _read_attribute(ds: Any, name: str, spec: Attr, attrs: dict[str, Any]) -> None:
     """Attribute `name` of `ds`, checked against `spec`, into `attrs`."""
     if name not in ds.attrs:
+        if spec.optional:
+            return
         raise _Bad(f"the attribute `{name}` is missing")
     raw = np.asarray(ds.attrs[name])
-    if raw.shape != spec.shape and not (spec.shape == () and raw.shape == (1,)):
+    if spec.shape is None:  # a list of names: netCDF keeps one as a string, none as []
+        if raw.shape == (0,):
+            raw = np.array([], dtype=str)
+        if raw.ndim == 0:
+            raw = raw.reshape(1)
+        if raw.ndim != 1:
+            raise _Bad(f"the attribute `{name}` must be a list of names, got shape "
+                       f"{raw.shape}")
+    elif raw.shape != spec.shape and not (spec.shape == () and raw.shape == (1,)):
         raise _Bad(f"the attribute `{name}` must have shape {spec.shape}, got {raw.shape}")
     kind = _kind_of(raw.dtype)
     if kind != spec.kind and not (spec.kind == "f" and kind == "i"):
@@ -723,8 +1002,14 @@ def _read_attribute(ds: Any, name: str, spec: Attr, attrs: dict[str, Any]) -> No
     a = raw.astype(np.float64) if spec.kind == "f" else raw
     if spec.kind == "U":
         a = np.asarray([v.decode() if isinstance(v, bytes) else str(v)
-                        for v in np.ravel(raw)]).reshape(raw.shape)
+                        for v in np.ravel(raw)], dtype=str).reshape(raw.shape)
     for check in spec.checks:
-        if problem := check(np.atleast_1d(a)):
+        if a.size and (problem := check(np.atleast_1d(a))):
             raise _Bad(f"the attribute `{name}` {problem}")
-    attrs[name] = a.reshape(spec.shape) if spec.shape else a.reshape(()).item()
+    if spec.shape is None:
+        names = tuple(str(v) for v in a)
+        if len(set(names)) != len(names):
+            raise _Bad(f"the attribute `{name}` names one twice: {list(names)}")
+        attrs[name] = names
+    else:
+        attrs[name] = a.reshape(spec.shape) if spec.shape else a.reshape(()).item()

@@ -547,12 +547,25 @@ def _netcdf_mutations(kind: str, ds: Any) -> dict[str, Any]:
         out["drift NaN"] = attr("drift_q_norm", np.nan)
         out["dt a string"] = attr("dt", "0.1")
         out["one frame"] = ds.isel(time=slice(0, 1))
+        # the run's system and what it derives (issue 20's fields)
+        out["energy edited"] = values("energy", lambda e: e * (1 + 1e-6))
+        out["momentum_world edited"] = values("momentum_world", lambda m: m + 1e-3)
+        out["inertia not the system's"] = attr("inertia", np.array([1.0, 2.0, 3.0]))
+        out["body_tensor not positive definite"] = values("body_tensor", lambda t: -t)
+        out["body_tensor missing"] = ds.drop_vars("body_tensor")
+        out["knots beside the body"] = ds.assign(
+            knot_times=("knot", np.array([0.0])),
+            knot_tensors=(("knot", "axis", "axis_"), np.eye(3)[None]))
+        out["parts names a damper"] = ds.assign_attrs(parts=["damper"])
+        out["drift_kept unknown"] = ds.assign_attrs(drift_kept=["energy", "spin"])
     if kind == "Batch":
         out["flips one more"] = values("flips", lambda c: c + 1)
         out["flips one fewer"] = values("flips", lambda c: c - 1)
         out["flip_times without flips"] = ds.drop_vars("flips")
         out["run numbers shuffled"] = values("run", lambda r: r[::-1].copy())
         out["inertia NaN"] = values("inertia", lambda i: i * np.nan)
+        out["energy edited"] = values("energy", lambda e: e * (1 + 1e-6))
+        out["body_mass negative"] = values("body_mass", lambda m: np.full_like(m, -1.0))
     if kind == "Sweep":
         out["status unknown"] = values("status", lambda st: np.full(st.shape, "maybe",
                                                                     dtype=object))

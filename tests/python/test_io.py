@@ -60,22 +60,25 @@ def test_trajectory_dataset_dims_coords_and_attrs(traj):
 
 def test_trajectory_dataframe(traj):
     df = traj.to_dataframe()
-    assert list(df.columns) == ["u", "v", "w", "Q", "U", "V", "W"]
-    assert df.index.name == "t" and np.array_equal(df.index.values, traj.t)
+    assert list(df.columns) == ["u", "v", "w", "Q", "U", "V", "W", "energy", "L_x", "L_y", "L_z"]
+    # one name for time, as in the dataset
+    assert df.index.name == "time" and np.array_equal(df.index.values, traj.t)
     assert np.array_equal(df[["Q", "U", "V", "W"]].to_numpy(), traj.q)
+    assert np.array_equal(df["energy"].to_numpy(), traj.energy)
+    assert np.array_equal(df[["L_x", "L_y", "L_z"]].to_numpy(), traj.momentum_world)
 
 
 def test_batch_dataset_has_run_and_time(batch):
     ds = batch.to_xarray()
     assert ds.q.dims == ("run", "time", "quaternion")
-    assert dict(ds.sizes) == {"run": 3, "time": 21, "axis": 3, "quaternion": 4,
+    assert dict(ds.sizes) == {"run": 3, "time": 21, "axis": 3, "quaternion": 4, "axis_": 3,
                               "flip": int(batch.flips.max())}
     assert np.array_equal(ds.q.values, batch.q)
     for i, times in enumerate(batch.flip_times):
         row = ds.flip_times.values[i]
         assert np.array_equal(row[: len(times)], times) and np.isnan(row[len(times):]).all()
     df = batch.to_dataframe()
-    assert df.index.names == ["run", "t"] and len(df) == 3 * 21
+    assert df.index.names == ["run", "time"] and len(df) == 3 * 21
     assert np.array_equal(df.loc[2][["u", "v", "w"]].to_numpy(), batch.omega[2])
 
 
@@ -163,7 +166,7 @@ def test_save_load_sweep_bit_for_bit(sweep, tmp_path):
 
 
 def test_save_refuses_other_objects(tmp_path):
-    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch or Sweep"):
+    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch, Sweep or "):
         dz.save({"q": 1}, tmp_path / "x.nc")
 
 
@@ -318,6 +321,108 @@ def test_write_aem_refuses_bad_input(traj, tmp_path):
     with pytest.raises(ValueError, match="`version` must be one of"):
         dz.io.write_aem(traj, tmp_path / "a.aem", "B", "1", "2026-01-01T00:00:00",
                         ref_frame_a="ICRF", version="3.0")
+
+
+# -- systems in files (issue 20's content in the checked layout of issue 24) -----------------
+
+
+def _damped(sigma0=(0.1, -0.2, 1.0)):
+    body = dz.Body.from_tensor([[2.0, -0.3, 0.1], [-0.3, 3.0, 0.2], [0.1, 0.2, 4.0]], mass=2.0)
+    return dz.System(body, parts=[dz.Damper(0.05, 0.02, sigma0=sigma0)])
+
+
+def _assert_same_run(back, run, derived=("energy", "momentum_body", "momentum_world")):
+    _assert_same_arrays(back, run, ["t", "omega", "q"])
+    assert back.parts.keys() == run.parts.keys()
+    for name in run.parts:
+        assert back.parts[name].tobytes() == run.parts[name].tobytes(), name
+    for name in derived:  # derived by the loaded system: the saved run's, bit for bit
+        assert getattr(back, name).tobytes() == getattr(run, name).tobytes(), name
+
+
+def test_save_load_a_damped_body_of_a_full_tensor(tmp_path):
+    traj = dz.simulate(_damped(), (0.3, 0.2, 1.0), t_end=20.0, frames=21)
+    back = dz.load(dz.save(traj, tmp_path / "damped.nc"))
+    assert back.system == traj.system and back.system.part_names == ("damper",)
+    assert back.body.tensor.tobytes() == traj.body.tensor.tobytes() and back.body.mass == 2.0
+    assert back.system.parts[0].sigma0 == (0.1, -0.2, 1.0)
+    _assert_same_run(back, traj)
+    assert back.drift == traj.drift and back.drift.kept == traj.drift.kept
+    co_rotating = dz.simulate(_damped(None), (0.3, 0.2, 1.0), t_end=5.0, frames=6)
+    again = dz.load(dz.save(co_rotating, tmp_path / "co.nc"))
+    assert again.system.parts[0].sigma0 is None and again.system == co_rotating.system
+
+
+def test_save_load_deployments_and_a_batch_of_damped_systems(tmp_path):
+    d = dz.Deployment([1.0, 2.0, 4.0], [(1.0, 2.0, 3.0), (1.5, 2.0, 3.0), (1.0, 3.0, 2.0)])
+    traj = dz.simulate(d, (0.01, 0.01, 1.0), t_end=6.0, frames=7)
+    back = dz.load(dz.save(traj, tmp_path / "deployment.nc"))
+    assert isinstance(back.body, dz.Deployment) and back.system == traj.system
+    _assert_same_run(back, traj)
+    assert back.drift == traj.drift
+    # runs of different knot counts (NaN-padded in the file)
+    two = dz.Deployment([1.0, 2.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
+    batch = dz.simulate([d, two], (0.01, 0.01, 1.0), t_end=6.0, frames=7)
+    again = dz.load(dz.save(batch, tmp_path / "deployments.nc"))
+    assert [s.body for s in again.systems] == [d, two]
+    _assert_same_run(again, batch)
+    damped = dz.simulate(_damped(None), [(0.3, 0.2, 1.0), (1.0, 0.1, 0.2)], t_end=5.0,
+                         frames=6)
+    loaded = dz.load(dz.save(damped, tmp_path / "damped-batch.nc"))
+    assert list(loaded.systems) == list(damped.systems)
+    _assert_same_run(loaded, damped)
+    for x, y in zip(loaded.drift, damped.drift):
+        assert x.tobytes() == y.tobytes()
+    assert loaded.drift.kept == damped.drift.kept
+    assert loaded[1].parts["damper"].tobytes() == damped[1].parts["damper"].tobytes()
+
+
+def test_save_load_a_deployment_sweep(tmp_path):
+    deployments = [dz.Deployment([1.0, 2.0], [(1.0, 2.0, 3.0), (1.0, 3.0, r)])
+                   for r in (2.0, 4.0)] + [dz.Deployment([0.5, 1.0, 2.0], [(1.0, 2.0, 3.0)] * 3)]
+    s = dz.sweep(deployments, (0.01, 0.01, 1.0), t_end=3.0, frames=2, dt=1e-2)
+    back = dz.load(dz.save(s, tmp_path / "dsweep.nc"))
+    assert isinstance(back, dz.DeploymentSweep) and back.deployments == s.deployments
+    _assert_same_arrays(back, s, ["omega0", "q0", "inertia", "omega_deployed", "flip_period",
+                                  "tumbles", "energy_change", "dt", "n_steps", "nfev"])
+    assert list(back.status) == list(s.status) and back.t_end == s.t_end
+    assert back.drift.kept == s.drift.kept
+    for x, y in zip(back.drift, s.drift):
+        assert x.tobytes() == y.tobytes()
+
+
+@pytest.mark.parametrize("mutation, field", [
+    ("energy edited", "`energy` is not what the file's own system and frames give"),
+    ("momentum_world edited", "`momentum_world` is not what"),
+    ("inertia not the system's", "`inertia` is not the principal moments of the file's own"),
+    ("body_tensor missing", "the system's body must be given once"),
+    ("knots beside the body", "the system's body must be given once"),
+    ("parts names a damper", "the attribute `parts` names the damper, but its state"),
+    ("drift_kept unknown", "the attribute `drift_kept` must be one of"),
+])
+def test_load_refuses_a_system_a_save_never_writes(traj, tmp_path, mutation, field):
+    path = _spoilt(traj, "Trajectory", mutation, tmp_path)
+    with pytest.raises(dz.ReadError, match=rf"bad\.nc holds a Trajectory that dz\.save never "
+                                           rf"writes: {field}"):
+        dz.load(path)
+
+
+def test_load_refuses_a_body_the_core_refuses(traj, tmp_path):
+    path = _spoilt(traj, "Trajectory", "body_tensor not positive definite", tmp_path)
+    with pytest.raises(dz.ReadError, match=r"bad\.nc holds a Trajectory whose system dz cannot "
+                                           r"build: .*positive definite"):
+        dz.load(path)
+
+
+def test_load_refuses_a_damper_state_without_its_parameters(tmp_path):
+    traj = dz.simulate(_damped(), (0.3, 0.2, 1.0), t_end=5.0, frames=6)
+    ds = traj.to_xarray().drop_vars("damper_damping")
+    ds.attrs["dzhanibekov_result"] = "Trajectory"
+    path = tmp_path / "bad.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(dz.ReadError, match=r"`damper_inertia`, `damper_damping` and "
+                                           r"`damper_sigma0` must be there exactly"):
+        dz.load(path)
 
 
 # -- units (issue 24) ------------------------------------------------------------------------
