@@ -187,28 +187,50 @@ impl Inertia {
                 tensor.as_slice(),
             ));
         }
-        // the eigen-decomposition of the tensor over its largest entry: no square overflows
-        let unit = (tensor + tensor.transpose()) * (0.5 / largest);
-        let diagonal = (0..3).all(|i| (0..3).all(|j| i == j || unit[(i, j)] == 0.0));
-        let (moments, axes) = match diagonal {
-            // the diagonal itself, not scaled there and back (which rounds)
-            true => (tensor.diagonal() / largest, None),
-            false => {
-                let (m, r) = principal_frame(&unit);
-                (m, Some(r))
-            }
-        };
-        if moments.min().is_nan() || moments.min() <= 0.0 {
-            return Err(Error::invalid(
-                "tensor",
-                "must be positive definite",
-                tensor.as_slice(),
-            ));
+        let diagonal = (0..3).all(|i| (0..3).all(|j| i == j || tensor[(i, j)] == 0.0));
+        if diagonal {
+            // the diagonal itself, not scaled there and back (which rounds): any scale float64
+            // holds, 1e308 included
+            let principal = RigidBody::try_new(tensor.diagonal().into()).map_err(|_| {
+                Error::invalid(
+                    "tensor",
+                    "must be positive definite, with moments whose ratio of largest to smallest \
+                     is at most 1e150",
+                    tensor.as_slice(),
+                )
+            })?;
+            return Ok(Self {
+                tensor,
+                principal,
+                axes: None,
+            });
         }
-        let moments = match axes {
-            None => tensor.diagonal(),
-            Some(_) => moments * largest,
-        };
+        // scaled by a power of two (exact) so that neither the mean with the transpose nor the
+        // eigensolver overflows or underflows, whatever the tensor's scale
+        let exponent = largest.log2().floor() as i32;
+        let unit = ldexp(&tensor, -exponent);
+        let unit = (unit + unit.transpose()) * 0.5;
+        let (moments, axes) = principal_frame(&unit);
+        let factored = unit.cholesky().is_some();
+        if !(factored && moments.min() > 0.0) {
+            // with products of inertia an eigenvalue is found to about ε × the largest
+            let resolution = 4.0 * f64::EPSILON * moments.max();
+            let least = moments.min();
+            let allowed = if least.is_nan() || least < -resolution {
+                "must be positive definite".into()
+            } else {
+                format!(
+                    "must be positive definite, but it is singular to round-off: its smallest \
+                     eigenvalue ({:.3e}) is within what float64 resolves beside the largest, \
+                     about {:.3e} (ε × the largest) for a tensor with products of inertia; give \
+                     principal moments (a Body, or a diagonal tensor) to go below",
+                    scale(least, exponent),
+                    scale(resolution, exponent)
+                )
+            };
+            return Err(Error::invalid("tensor", allowed, tensor.as_slice()));
+        }
+        let moments = moments.map(|m| scale(m, exponent));
         let principal = RigidBody::try_new(moments.into()).map_err(|_| {
             Error::invalid(
                 "tensor",
@@ -218,9 +240,9 @@ impl Inertia {
             )
         })?;
         Ok(Self {
-            tensor: (tensor + tensor.transpose()) * 0.5,
+            tensor: ldexp(&unit, exponent),
             principal,
-            axes,
+            axes: Some(axes),
         })
     }
 
@@ -252,6 +274,18 @@ impl Inertia {
     pub fn is_principal(&self) -> bool {
         self.axes.is_none()
     }
+}
+
+/// `x · 2^exponent`, exact unless the result overflows or underflows (two factors, so that any
+/// exponent a float64's scale gives, −1074 to 1023, is reached).
+fn scale(x: f64, exponent: i32) -> f64 {
+    let half = exponent / 2;
+    x * 2f64.powi(half) * 2f64.powi(exponent - half)
+}
+
+/// [`scale`] of every entry.
+fn ldexp(m: &Matrix3<f64>, exponent: i32) -> Matrix3<f64> {
+    m.map(|x| scale(x, exponent))
 }
 
 /// The eigen-decomposition of a symmetric positive definite `m`, ordered and signed as
@@ -300,4 +334,55 @@ fn principal_frame(m: &Matrix3<f64>) -> (Vector3<f64>, Matrix3<f64>) {
         axes.set_column(k, &flipped);
     }
     (moments, axes)
+}
+
+#[cfg(test)]
+mod edges {
+    use super::*;
+
+    fn rotation() -> Matrix3<f64> {
+        nalgebra::Rotation3::from_euler_angles(0.3, -0.7, 1.1).into_inner()
+    }
+
+    #[test]
+    fn a_diagonal_tensor_is_taken_as_it_is_at_any_scale() {
+        for d in [
+            [1e308, 1e308, 1e308],
+            [3e-300, 2e-300, 1e-300],
+            [1.0, 1e-15, 1.0],
+        ] {
+            let t = Matrix3::from_diagonal(&Vector3::from(d));
+            let body = Inertia::try_new(t).unwrap();
+            assert_eq!(body.tensor(), &t);
+            assert_eq!(body.principal().inertia_body(), Vector3::from(d));
+            assert!(body.is_principal());
+        }
+    }
+
+    #[test]
+    fn a_tensor_with_products_of_inertia_near_float64s_limits() {
+        let r = rotation();
+        for s in [1e300, 1e-300] {
+            let t = r * Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)) * r.transpose() * s;
+            let body = Inertia::try_new(t).unwrap();
+            let mut m: Vec<f64> = body.principal().inertia_body().iter().copied().collect();
+            m.sort_by(f64::total_cmp);
+            for (got, want) in m.iter().zip([1.0, 2.0, 3.0]) {
+                assert!((got / s - want).abs() < 1e-13, "{got} at scale {s}");
+            }
+            assert!(body.tensor().iter().all(|v| v.is_finite()));
+        }
+    }
+
+    #[test]
+    fn a_singular_tensor_is_refused_naming_the_resolution() {
+        let r = rotation();
+        let t = r * Matrix3::from_diagonal(&Vector3::new(0.0, 1.0, 2.0)) * r.transpose();
+        let text = Inertia::try_new(t).unwrap_err().to_string();
+        assert!(text.contains("singular to round-off"), "{text}");
+        assert!(text.contains("ε × the largest"), "{text}");
+        let t = r * Matrix3::from_diagonal(&Vector3::new(-0.5, 1.0, 2.0)) * r.transpose();
+        let text = Inertia::try_new(t).unwrap_err().to_string();
+        assert!(text.contains("must be positive definite") && !text.contains("round-off"));
+    }
 }

@@ -21,7 +21,8 @@ pub enum Error {
         hint: &'static str,
     },
     /// The state stopped being finite: the step is far beyond the method's stability limit.
-    #[error("the run diverged (non-finite state) at t = {t}: {hint}")]
+    /// (`t` is shown as Debug shows an `f64`: `1e-280`, not 280 zeros.)
+    #[error("the run diverged (non-finite state) at t = {t:?}: {hint}")]
     Diverged { t: f64, hint: &'static str },
     /// A method asked to run a model it cannot run.
     #[error("method '{method}' cannot run model '{model}'; use one of {supported}")]
@@ -61,6 +62,20 @@ impl Error {
             name,
             allowed: allowed.into(),
             got: format!("{got:?}"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod display {
+    use super::*;
+
+    #[test]
+    fn a_divergence_time_is_short_at_any_scale() {
+        for (t, shown) in [(1e-280, "1e-280"), (15.5, "15.5"), (1e300, "1e300")] {
+            let text = Error::Diverged { t, hint: "h" }.to_string();
+            assert!(text.contains(&format!("t = {shown}:")), "{text}");
+            assert!(text.len() < 80, "{text}");
         }
     }
 }

@@ -26,7 +26,7 @@ from .system import System
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
-from .io import load, save
+from .io import ReadError, load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
 from .scenes import (
@@ -96,6 +96,7 @@ __all__ = [
     "grid",
     "save",
     "load",
+    "ReadError",
     "io",
 ]
 

@@ -31,8 +31,20 @@ def _short(value: Any, limit: int = 60) -> str:
     return text if len(text) <= limit else f"{text[: limit - 5]}…{text[-4:]}"
 
 
+def _not_a_duration(name: str, value: Any, expected: str) -> None:
+    """Refuses a NumPy time span or date (a ``np.timedelta64`` is registered as a NumPy
+    integer): the package's times are plain numbers in the user's own unit."""
+    if isinstance(value, (np.timedelta64, np.datetime64)):
+        kind = "a time span" if isinstance(value, np.timedelta64) else "a date"
+        raise TypeError(f"`{name}` must be {expected}, got {kind}, numpy."
+                        f"{type(value).__name__} {_short(value)}; the package's times are "
+                        "plain numbers in the user's own unit (for seconds: "
+                        "`span / np.timedelta64(1, 's')`)")
+
+
 def as_float(name: str, value: Any, *, positive: bool = False) -> float:
     """A finite real number (positive if asked)."""
+    _not_a_duration(name, value, "a real number")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} "
                         f"{_short(value)}")
@@ -48,6 +60,7 @@ def as_float(name: str, value: Any, *, positive: bool = False) -> float:
 
 def as_int(name: str, value: Any, *, minimum: int, maximum: int = MAX_INT) -> int:
     """An integer in ``[minimum, maximum]`` (Python or NumPy integer; no floats, no bools)."""
+    _not_a_duration(name, value, "an integer")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer, got {type(value).__name__} "
                         f"{_short(value)}")

@@ -4,7 +4,9 @@ A leaf: it reads the results' attributes and imports none of the package, so the
 classes can offer ``to_xarray()`` and ``to_dataframe()`` by calling in here. xarray and
 pandas are imported on first use, with an error naming the extra when they are missing.
 
-Layout (names follow the package; units are the user's own, consistent set):
+Layout (names follow the package; units are the user's own, consistent set, so variables in
+them carry no CF ``units`` and the attribute ``unit_system`` says so; quaternions carry
+``"1"`` and angles ``"rad"``):
 
 - ``Trajectory``: dims ``time``, ``axis`` (x, y, z), ``quaternion`` (Q, U, V, W);
   ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``; each part's state
@@ -43,7 +45,11 @@ EXTRA = 'the `io` extra: pip install ".[io]" from a checkout (xarray, pandas, h5
 
 Q_DOC = ("attitude world-from-body, unit quaternion scalar first (Q, U, V, W): "
          "x_world = M(q) x_body")
-UNITS = "consistent units"
+UNIT_SYSTEM = ("the user's own consistent units, not named in the file: times in a time unit T "
+               "(time, flip_times, periods), angular velocities in rad/T, moments of inertia "
+               "in M L^2; quaternions and angles (rad) carry CF units")
+"""The global attribute ``unit_system``: the runs' units are the user's own, so the variables
+measured in them carry no CF ``units`` (a CF reader would misread any invented one)."""
 
 
 def require(module: str, what: str, extra: str = EXTRA) -> Any:
@@ -56,19 +62,20 @@ def require(module: str, what: str, extra: str = EXTRA) -> Any:
 
 
 def _attrs(run: Any) -> dict[str, Any]:
-    return {"method": run.method, "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+    return {"method": run.method, "dzhanibekov_conventions": Q_DOC + "; omega in body axes",
+            "unit_system": UNIT_SYSTEM}
 
 
 def _vars(prefix: tuple[str, ...], omega: np.ndarray, q: np.ndarray) -> dict[str, Any]:
     return {
         "omega": (prefix + ("time", "axis"), omega,
-                  {"long_name": "body-frame angular velocity (u, v, w)", "units": UNITS}),
+                  {"long_name": "body-frame angular velocity (u, v, w)"}),
         "q": (prefix + ("time", "quaternion"), q, {"long_name": Q_DOC, "units": "1"}),
     }
 
 
 def _coords(t: np.ndarray) -> dict[str, Any]:
-    return {"time": ("time", t, {"long_name": "time", "units": UNITS}),
+    return {"time": ("time", t, {"long_name": "time"}),
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
@@ -104,7 +111,7 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
                                  {"long_name": "damper's viscous coefficient"})
         out["damper_sigma0"] = (lead + ("axis",), squeeze(sigma0),
                                 {"long_name": "damper sphere's initial rate, body axes (NaN: "
-                                 "co-rotating)", "units": UNITS})
+                                 "co-rotating)"})
     return out
 
 
@@ -124,7 +131,7 @@ def knot_vars(deployments: Any, lead: tuple[str, ...]) -> dict[str, Any]:
         times[i, : len(d.times)] = d.times
         tensors[i, : len(d.times)] = d.tensors
     return {"knot_times": (lead + ("knot",), squeeze(times),
-                           {"long_name": "deployment knot times (NaN-padded)", "units": UNITS}),
+                           {"long_name": "deployment knot times (NaN-padded)"}),
             "knot_tensors": (lead + ("knot", "axis", "axis_"), squeeze(tensors),
                              {"long_name": "deployment knot tensors, body axes"})}
 
@@ -134,15 +141,14 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for name, state in run.parts.items():
         out[name] = (prefix + ("time", "axis"), state,
-                     {"long_name": f"the {name}'s state (its sphere's rates, body axes)",
-                      "units": UNITS})
+                     {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})
     inv = run.invariants()
     out["energy"] = (prefix + ("time",), inv["energy"],
-                     {"long_name": "total kinetic energy", "units": UNITS})
+                     {"long_name": "total kinetic energy"})
     out["momentum_body"] = (prefix + ("time", "axis"), inv["momentum_body"],
-                            {"long_name": "total angular momentum, body axes", "units": UNITS})
+                            {"long_name": "total angular momentum, body axes"})
     out["momentum_world"] = (prefix + ("time", "axis"), inv["momentum_world"],
-                             {"long_name": "total angular momentum in space", "units": UNITS})
+                             {"long_name": "total angular momentum in space"})
     return out
 
 
@@ -166,8 +172,7 @@ def trajectory_dataset(traj: Any) -> Any:
         "parts": list(traj.system.part_names),
     } | _drift_attrs(traj.drift)
     if traj.flip_times is not None:
-        data["flip_times"] = ("flip", traj.flip_times, {"long_name": "flip times",
-                                                        "units": UNITS})
+        data["flip_times"] = ("flip", traj.flip_times, {"long_name": "flip times"})
     return xr.Dataset(data, coords=_coords(traj.t), attrs=attrs)
 
 
@@ -192,8 +197,7 @@ def batch_dataset(batch: Any) -> Any:
             padded[i, : len(times)] = times
         data["flips"] = ("run", counts, {"long_name": "flips counted"})
         data["flip_times"] = (("run", "flip"), padded,
-                              {"long_name": "flip times, NaN beyond each run's flips",
-                               "units": UNITS})
+                              {"long_name": "flip times, NaN beyond each run's flips"})
     coords = _coords(batch.t) | {"run": ("run", np.arange(m))}
     attrs = _attrs(batch) | {"drift_kept": list(batch.drift.kept),
                              "parts": list(batch.parts)}
@@ -205,15 +209,14 @@ def deployment_sweep_dataset(sweep: Any) -> Any:
     xr = require("xarray", "`to_xarray`")
     data: dict[str, Any] = {
         "omega0": (("run", "axis"), sweep.omega0,
-                   {"long_name": "initial body-frame angular velocity", "units": UNITS}),
+                   {"long_name": "initial body-frame angular velocity"}),
         "q0": (("run", "quaternion"), sweep.q0, {"long_name": "initial " + Q_DOC}),
         "inertia": (("run", "axis"), sweep.inertia,
                     {"long_name": "the deployed body's principal moments"}),
         "omega_deployed": (("run", "axis"), sweep.omega_deployed,
-                           {"long_name": "rates at t_end, the deployed body's principal axes",
-                            "units": UNITS}),
+                           {"long_name": "rates at t_end, the deployed body's principal axes"}),
         "flip_period": ("run", sweep.flip_period,
-                        {"long_name": "the deployed motion's flip period", "units": UNITS}),
+                        {"long_name": "the deployed motion's flip period"}),
         "tumbles": ("run", sweep.tumbles.astype(np.int8), {"long_name": "1: tumbles"}),
         "energy_change": ("run", sweep.energy_change,
                           {"long_name": "relative change of the kinetic energy"}),
@@ -230,7 +233,8 @@ def deployment_sweep_dataset(sweep: Any) -> Any:
               "quaternion": ("quaternion", list(QUATERNION))}
     attrs = {"method": sweep.method, "t_end": sweep.t_end,
              "drift_kept": list(sweep.drift.kept),
-             "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+             "dzhanibekov_conventions": Q_DOC + "; omega in body axes",
+             "unit_system": UNIT_SYSTEM}
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
@@ -264,14 +268,13 @@ def sweep_dataset(sweep: Any) -> Any:
     data: dict[str, Any] = {
         "inertia": (dims + ("axis",), sweep.inertia, {"long_name": "principal moments"}),
         "omega0": (dims + ("axis",), sweep.omega0,
-                   {"long_name": "initial body-frame angular velocity", "units": UNITS}),
+                   {"long_name": "initial body-frame angular velocity"}),
         "q0": (dims + ("quaternion",), sweep.q0, {"long_name": "initial " + Q_DOC}),
         "flips": (dims, sweep.flips, {"long_name": "flips counted"}),
-        "first_flip": (dims, sweep.first_flip, {"long_name": "time of the first flip",
-                                                "units": UNITS}),
-        "period": (dims, sweep.period, {"long_name": "measured flip period", "units": UNITS}),
+        "first_flip": (dims, sweep.first_flip, {"long_name": "time of the first flip"}),
+        "period": (dims, sweep.period, {"long_name": "measured flip period"}),
         "exact_period": (dims, sweep.exact_period,
-                         {"long_name": "exact flip period 2K(m)/lambda", "units": UNITS}),
+                         {"long_name": "exact flip period 2K(m)/lambda"}),
         "tilt": (dims, sweep.tilt, {"long_name": "largest tilt of the spin axis",
                                     "units": "rad"}),
         "dt": (dims, sweep.dt), "n_steps": (dims, sweep.n_steps), "nfev": (dims, sweep.nfev),
@@ -286,7 +289,8 @@ def sweep_dataset(sweep: Any) -> Any:
         if values is not None:
             coords[name] = (name, values)
     attrs = {"method": sweep.method, "t_end": sweep.t_end,
-             "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+             "dzhanibekov_conventions": Q_DOC + "; omega in body axes",
+             "unit_system": UNIT_SYSTEM}
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

@@ -20,14 +20,15 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._args import as_array, as_float
+from ._args import as_array, as_float, check_size
+from ._files import ReadError, as_path, open_regular, size_of
 from .mass import (
     MeshError,
     apply,
+    mesh_moments,
     box_tensor,
     cylinder_tensor,
     ellipsoid_tensor,
-    mesh_properties,
     parallel_axis,
     quaternion_of,
     quaternion_product,
@@ -42,6 +43,11 @@ TENSOR_HINT = ("for one body's 3×3 inertia tensor use `dz.Body.from_tensor(T)`;
                "bodies' principal moments pass a list of Bodies, `[dz.Body(m) for m in "
                "moments]`")
 """What to say to a user whose 3×3 array could be a tensor or three bodies."""
+
+
+MAX_MESH_BYTES = 1 << 30
+"""The largest mesh file :meth:`Body.load` reads (1 GiB, some 20 million triangles in a
+binary STL)."""
 
 
 PAPER_INERTIA = (52.0833, 27.0833, 41.6666)
@@ -211,7 +217,10 @@ class Body:
         ----------
         tensor : array_like, shape (3, 3)
             Symmetric (to 1e-10 of its largest entry; the mean of it and its transpose is
-            used) and positive definite.
+            used) and positive definite, at any scale float64 holds. A diagonal tensor's
+            moments are taken exactly; with products of inertia the eigensolver finds each
+            moment to about ε (2.2e-16) times the largest, so a moment far smaller than the
+            largest (a thin rod's, 1e-15 of it) keeps few digits.
         mass : float, optional
             The body's mass, needed only to :meth:`compose` it with others.
 
@@ -237,6 +246,9 @@ class Body:
     @classmethod
     def _of_tensor(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray | None,
                    shape: Shape | None, parts: tuple[Any, ...], name: str) -> Body:
+        if not np.isfinite(tensor).all():
+            raise ValueError(f"`{name}` is not finite in float64 (its moments, mass × "
+                             f"length², exceed {np.finfo(np.float64).max:.3g}); scale it down")
         try:
             core = _core.RigidBody.from_tensor(np.asarray(tensor, dtype=np.float64).tolist())
         except ValueError as exc:
@@ -301,10 +313,11 @@ class Body:
                                  "from_tensor(..., mass=m))")
             p = as_array(f"parts[{k}] position", position, "(3,)", last=3, ndim=(1,))
             qa = as_array(f"parts[{k}] q", q, "(4,)", last=4, ndim=(1,))
-            norm = float(np.linalg.norm(qa))
-            if not norm > 0:
+            biggest = float(np.abs(qa).max())
+            if not biggest > 0:
                 raise ValueError(f"`parts[{k}] q` must be a non-zero quaternion")
-            turn = rotation_matrix(qa / norm)
+            qa = qa / biggest  # then its norm neither underflows (1e-300) nor overflows
+            turn = rotation_matrix(qa / float(np.linalg.norm(qa)))
             masses.append(part.mass)
             positions.append(p)
             tensors.append(turn @ part.tensor @ turn.T)
@@ -329,6 +342,13 @@ class Body:
         over the faces of signed tetrahedra, exact for polyhedra (Mirtich 1996; Eberly,
         *Polyhedral Mass Properties*; see :mod:`dzhanibekov.mass`).
 
+        A mesh of several closed parts is the sum of the parts: they must not overlap (the
+        overlap would count twice). Parts whose surfaces cross, or one inside another, are
+        refused; parts that touch, a cavity (a part wound inward inside another) and an
+        island in a cavity are kept (see :func:`dzhanibekov.mass.check_parts_apart` for what
+        the check sees). Coordinates of any size float64 holds are taken (the integrals are
+        scaled to unit size); the moments, mass × size², must be representable.
+
         Parameters
         ----------
         vertices : array_like, shape (V, 3)
@@ -342,7 +362,9 @@ class Body:
         ------
         MeshError
             (a ValueError) An open, non-manifold, inconsistently oriented or inward-wound
-            mesh, or one without volume.
+            mesh, one without volume, or one of overlapping parts.
+        ValueError
+            A mass (``density`` × volume) or moments beyond float64, naming the limit.
 
         Examples
         --------
@@ -362,15 +384,30 @@ class Body:
         f = f.astype(np.int64)
         if mass is not None and density is not None:
             raise ValueError("give `mass` or `density`, not both")
-        volume, centroid, unit_tensor = mesh_properties(v, f)
-        if mass is not None:
-            m = as_float("mass", mass, positive=True)
-        else:
-            m = volume * (1.0 if density is None else as_float("density", density,
-                                                               positive=True))
+        m = None if mass is None else as_float("mass", mass, positive=True)
+        rho = 1.0 if density is None else as_float("density", density, positive=True)
+        volume, centroid, gyration = mesh_moments(v, f)
+        if m is None:
+            m = rho * volume
+            if not 0 < m < np.inf:
+                raise ValueError(
+                    f"the mesh's mass, `density` × its volume = {rho:.3g} × {volume:.3g}, is "
+                    f"{'beyond' if m else 'below'} what float64 holds (up to "
+                    f"{np.finfo(np.float64).max:.3g}); give `mass` instead, or scale the "
+                    "mesh")
+        with np.errstate(over="ignore", under="ignore"):
+            tensor = gyration * m
+        info = np.finfo(np.float64)
+        if not np.isfinite(tensor).all() or not (np.diag(tensor) >= info.tiny).all():
+            big = not np.isfinite(tensor).all()
+            raise ValueError(
+                f"the mesh's moments of inertia, its mass ({m:.3g}, from `mass` or "
+                f"`density`) × its size² ({float(np.abs(gyration).max()):.3g}), "
+                + (f"exceed float64's {info.max:.3g}; give a smaller" if big else
+                   f"fall below float64's {info.tiny:.3g}; give a larger")
+                + " `mass` or `density`, or scale the mesh")
         shape = mesh_shape(v - centroid, f)
-        return cls._of_tensor(unit_tensor * (m / volume), m, centroid, shape, (),
-                              "the mesh's tensor")
+        return cls._of_tensor(tensor, m, centroid, shape, (), "the mesh's tensor")
 
     @classmethod
     def load(cls, path: str | os.PathLike[str], mass: float | None = None,
@@ -378,12 +415,17 @@ class Body:
         """A uniform solid from a mesh file (STL, OBJ, PLY, … anything trimesh reads), as
         :meth:`from_mesh`. Needs the optional ``mesh`` extra: ``pip install ".[mesh]"``.
 
+        The file must be a regular file (a FIFO or a device is refused at once) of at most
+        :data:`MAX_MESH_BYTES`.
+
         Raises
         ------
         ImportError
             trimesh is not installed.
-        ValueError
-            The file cannot be read as one triangle mesh, or the mesh is not closed (see
+        MeshError
+            (a ValueError) The file is missing, not a regular file, too large, cannot be read
+            as one triangle mesh (whatever trimesh raised, named; a format that needs a
+            module trimesh lacks names that module), or the mesh is not closed (see
             :meth:`from_mesh`).
         """
         try:
@@ -392,13 +434,34 @@ class Body:
             raise ImportError("`Body.load` reads mesh files with trimesh, an optional "
                               "dependency: pip install \".[mesh]\" (or pip install "
                               "trimesh)") from None
+        p = as_path(path)
+        what = "a mesh file (STL, OBJ, PLY, … that trimesh reads)"
         try:
-            mesh: Any = trimesh.load(os.fspath(path), force="mesh", process=True)
-        except (OSError, ValueError) as exc:
-            raise ValueError(f"`path` {os.fspath(path)!r} cannot be read as a mesh: "
-                             f"{exc}") from None
-        return cls.from_mesh(np.asarray(mesh.vertices), np.asarray(mesh.faces), mass=mass,
-                             density=density)
+            with open_regular(p, what) as f:
+                size = size_of(f)
+        except ReadError as exc:
+            raise MeshError(f"`path` {str(p)!r} cannot be read as a mesh ({exc.why})") \
+                from None
+        if size > MAX_MESH_BYTES:
+            raise MeshError(f"`path` {str(p)!r} holds {size} bytes, more than the "
+                            f"{MAX_MESH_BYTES} (MAX_MESH_BYTES) Body.load reads")
+        check_size(4 * size, f"reading the mesh {p}", "simplify the mesh")
+        try:
+            mesh: Any = trimesh.load(os.fspath(p), force="mesh", process=True)
+            vertices, faces = np.asarray(mesh.vertices), np.asarray(mesh.faces)
+        except (MemoryError, KeyboardInterrupt):
+            raise
+        except ModuleNotFoundError as exc:
+            raise MeshError(f"`path` {str(p)!r} cannot be read as a mesh: reading "
+                            f"{p.suffix or 'this'} files needs the module {exc.name!r}, "
+                            "which is not installed") from None
+        except Exception as exc:  # trimesh raises all kinds (IndexError, KeyError, …)
+            raise MeshError(f"`path` {str(p)!r} cannot be read as a mesh "
+                            f"({type(exc).__name__}: {str(exc)[:200]})") from None
+        try:
+            return cls.from_mesh(vertices, faces, mass=mass, density=density)
+        except MeshError as exc:
+            raise MeshError(f"`path` {str(p)!r} is no closed mesh: {exc}") from None
 
     @classmethod
     def wing_nut(cls) -> Body:

@@ -38,11 +38,18 @@ class Damper:
         The sphere's moment of inertia ``j`` about its centre, positive. The body's own
         tensor counts the sphere's mass as a point at its centre.
     damping : float
-        The viscous coefficient ``c`` (torque per unit relative rate), non-negative.
+        The viscous coefficient ``c`` (torque per unit relative rate), non-negative, with
+        ``c / j`` (the sphere's relaxation rate) finite in float64.
     sigma0 : array_like, shape (3,), optional
         The sphere's absolute angular velocity at the start, in the body's own axes;
         co-rotating with the body (its ``omega0``) if None. A run shows the sphere's rates
         as ``traj.parts["damper"]``.
+
+    Raises
+    ------
+    TypeError, ValueError
+        A moment that is not positive and finite, a negative damping, or a relaxation rate
+        ``c / j`` beyond float64 (checked by the core).
 
     Examples
     --------
@@ -131,7 +138,12 @@ def damper_rate(body: Any, damper: Damper) -> float:
     if not isinstance(damper, Damper):
         raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
     least = min(as_body(body).inertia)
-    return float(damper._core.slip_rate(least))
+    rate = float(damper._core.slip_rate(least))  # c/j + c/I_min: no 1/j that overflows
+    if not math.isfinite(rate):
+        raise ValueError(f"the damper's rate c(1/j + 1/I_min) for `body` (I_min = {least!r}) "
+                         f"and `damper` ({damper!r}) exceeds float64's "
+                         f"{np.finfo(np.float64).max:.3g}")
+    return rate
 
 
 def warn_stiff(plan: Any, method: str, *, stacklevel: int, where: str = "") -> None:

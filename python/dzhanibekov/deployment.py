@@ -32,30 +32,44 @@ def _as_tensor(k: int, value: Any) -> np.ndarray:
                      f"tensor, got shape {a.shape}")
 
 
+BYTES_PER_KNOT = 8 * (1 + 4 * 9)
+"""Memory a knot takes while a deployment is built: its time and a few copies of its tensor
+(the stacked input, the core's, the arrays it returns), checked against the machine's memory
+before anything is allocated."""
+
+
 def _tensors(inertia: Any, n: int) -> np.ndarray:
-    """The knots' tensors (n, 3, 3): an array of moments (n, 3) or tensors (n, 3, 3) at
-    once, else item by item."""
-    if isinstance(inertia, np.ndarray) and inertia.dtype.kind in "iuf" and \
-            inertia.shape in ((n, 3), (n, 3, 3)):
-        a = np.asarray(inertia, dtype=np.float64)
-        if a.ndim == 2:
-            out = np.zeros((n, 3, 3))
-            out[:, [0, 1, 2], [0, 1, 2]] = a
-            return out
-        return np.ascontiguousarray(a)
+    """The knots' tensors (n, 3, 3): an array (or a sequence) of moments (n, 3) or tensors
+    (n, 3, 3) stacked at once, else item by item (Bodies, mixed kinds). The core checks them
+    (symmetric, positive definite, finite) and names the first bad knot."""
     try:
         if isinstance(inertia, (str, bytes)):
             raise TypeError
-        items = list(inertia)
-    except TypeError:
+        items = inertia if isinstance(inertia, np.ndarray) else list(inertia)
+        knots = len(items)
+    except TypeError:  # not a sequence: a number, a 0-d array
         raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
                         f"{type(inertia).__name__}") from None
-    if len(items) != n:
+    if knots != n:
         raise ValueError(f"`inertia` must give one body per knot time of `times` ({n}), got "
-                         f"{len(items)}")
-    if not items:
+                         f"{knots}")
+    if not knots:
         raise ValueError("`times` must hold at least one knot time")
-    return np.ascontiguousarray(np.stack([_as_tensor(k, v) for k, v in enumerate(items)]))
+    stacked = None
+    if isinstance(items, np.ndarray) or not any(isinstance(v, Body) for v in items):
+        try:
+            arr = np.asarray(items)
+        except (ValueError, TypeError):  # ragged: item by item says which
+            arr = None
+        if arr is not None and arr.dtype.kind in "iuf" and arr.shape[1:] in ((3,), (3, 3)):
+            stacked = np.require(arr, dtype=np.float64, requirements=["C", "A"])
+    if stacked is None:
+        return np.ascontiguousarray(np.stack([_as_tensor(k, v) for k, v in enumerate(items)]))
+    if stacked.ndim == 2:  # principal moments
+        out = np.zeros((n, 3, 3))
+        out[:, [0, 1, 2], [0, 1, 2]] = stacked
+        return out
+    return stacked
 
 
 class Deployment:
@@ -106,8 +120,8 @@ class Deployment:
         except TypeError:
             raise TypeError(f"`times` must be a sequence of knot times, got "
                             f"{type(times).__name__}") from None
+        check_size(n * BYTES_PER_KNOT, f"a deployment of {n} knots", "give fewer knots")
         t = as_array("times", times, "(K,)", last=n, ndim=(1,))
-        check_size(n * 80, f"a deployment of {n} knots", "give fewer knots")
         tensors = _tensors(inertia, len(t))
         self._core = _core.Deployment(np.ascontiguousarray(t, dtype=np.float64), tensors)
         self.times = np.ascontiguousarray(self._core.times)

@@ -37,6 +37,8 @@ __all__ = [
     "ellipsoid_tensor",
     "parallel_axis",
     "mesh_properties",
+    "mesh_moments",
+    "check_parts_apart",
     "principal",
     "quaternion_of",
     "MeshError",
@@ -106,25 +108,164 @@ def check_mesh(faces: np.ndarray, n_vertices: int) -> None:
             "face on its other side; give a closed, watertight mesh")
 
 
-def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray,
-                                                                         np.ndarray]:
-    """Volume, centroid and the tensor about the centroid of unit density, of a closed,
-    consistently oriented triangle mesh (faces counter-clockwise seen from outside), exact
-    for polyhedra up to round-off.
+MAX_OVERLAP_WORK = 20_000_000
+"""The most edge-against-triangle tests :func:`check_parts_apart` makes (after the parts'
+bounding boxes have pruned them): meshes of several parts that would need more are not
+checked for overlap (the docs of :meth:`~dzhanibekov.Body.from_mesh` say so)."""
 
-    The integrals are taken about the mean vertex (so that a mesh far from the origin loses
-    no digits) as the sum of the signed tetrahedra (mean, a, b, c) over the faces, and moved
-    to the centroid by the parallel-axis theorem.
+
+def mesh_parts(faces: np.ndarray, n_vertices: int) -> list[np.ndarray]:
+    """The connected parts of a closed mesh: the faces of each, as index arrays."""
+    from scipy.sparse import coo_matrix  # type: ignore[import-untyped, unused-ignore]
+    from scipy.sparse.csgraph import (  # type: ignore[import-untyped, unused-ignore]
+        connected_components,
+    )
+
+    rows = np.repeat(np.arange(len(faces)), 3)
+    graph = coo_matrix((np.ones(rows.size), (rows, faces.reshape(-1))),
+                       shape=(len(faces), n_vertices)).tocsr()
+    n, labels = connected_components(graph @ graph.T, directed=False)
+    return [np.flatnonzero(labels == k) for k in range(n)]
+
+
+def _winding_numbers(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """How often a closed surface of `triangles` (T, 3, 3) winds around each of `points`
+    (P, 3): 1 inside an outward surface, −1 inside an inward one (a cavity), 0 outside (the
+    solid angles' sum over 4π; Van Oosterom & Strackee, IEEE Trans. Biomed. Eng. 30, 1983)."""
+    total = np.zeros(len(points))
+    step = max(1, 2_000_000 // max(len(triangles), 1))
+    for k in range(0, len(points), step):
+        a, b, c = (triangles[None, :, j] - points[k: k + step, None] for j in range(3))
+        la, lb, lc = (np.linalg.norm(x, axis=-1) for x in (a, b, c))
+        numerator = np.einsum("...i,...i->...", a, np.cross(b, c))
+        denominator = (la * lb * lc + np.einsum("...i,...i->...", a, b) * lc
+                       + np.einsum("...i,...i->...", b, c) * la
+                       + np.einsum("...i,...i->...", c, a) * lb)
+        total[k: k + step] = 2.0 * np.arctan2(numerator, denominator).sum(axis=1) / (4 * np.pi)
+    return total
+
+
+def _material_points(triangles: np.ndarray) -> np.ndarray:
+    """Four points just behind each face (on the side of the solid, against its outward
+    normal): its centroid and the midpoints toward its corners, 1e-6 of the unit size in."""
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    normal = np.cross(b - a, c - a)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1, keepdims=True), 1e-300)
+    centroid = (a + b + c) / 3
+    points = [centroid] + [(centroid + corner) / 2 for corner in (a, b, c)]
+    return np.concatenate([x - 1e-6 * normal for x in points])
+
+
+def _crossings(starts: np.ndarray, ends: np.ndarray, triangles: np.ndarray) -> bool:
+    """Whether a segment (starts[i], ends[i]) passes through the inside of a triangle, not
+    merely touching it (Möller & Trumbore, J. Graphics Tools 2(1), 1997, for segments)."""
+    tol = 1e-9
+    for chunk in range(0, len(starts), max(1, 2_000_000 // max(len(triangles), 1))):
+        p0 = starts[chunk: chunk + 2_000_000 // max(len(triangles), 1)][:, None, :]
+        d = ends[chunk: chunk + 2_000_000 // max(len(triangles), 1)][:, None, :] - p0
+        v0, e1, e2 = triangles[None, :, 0], triangles[None, :, 1] - triangles[None, :, 0], \
+            triangles[None, :, 2] - triangles[None, :, 0]
+        h = np.cross(d, e2)
+        det = np.einsum("...i,...i->...", e1, h)
+        scale = np.linalg.norm(e1, axis=-1) * np.linalg.norm(h, axis=-1)
+        ok = np.abs(det) > tol * scale  # not parallel to the triangle's plane
+        with np.errstate(divide="ignore", invalid="ignore"):
+            inv = np.where(ok, 1.0 / det, 0.0)
+            s = p0 - v0
+            u = np.einsum("...i,...i->...", s, h) * inv
+            q = np.cross(s, e1)
+            v = np.einsum("...i,...i->...", d, q) * inv
+            t = np.einsum("...i,...i->...", e2, q) * inv
+        hit = ok & (u > tol) & (v > tol) & (u + v < 1 - tol) & (t > tol) & (t < 1 - tol)
+        if hit.any():
+            return True
+    return False
+
+
+def check_parts_apart(vertices: np.ndarray, faces: np.ndarray) -> None:
+    """Refuses a mesh of several closed parts that overlap: the divergence theorem adds each
+    part's volume, so an overlap would count twice (two unit-density boxes of volume 6
+    overlapping by half weighed 12).
+
+    Two tests, on parts whose bounding boxes overlap: an edge of one part passes through a
+    face of another (the surfaces cross), or a point just inside the solid behind a face (four
+    per face) is wound around twice by the mesh as a whole (a part inside another, or faces
+    of one inside the other: the winding number of a solid point is 1, of a point in a
+    cavity 0). Parts that touch (a shared face, a vertex on a face), a cavity (a part wound
+    inward inside another) and an island in a cavity are allowed. An overlap whose region
+    holds no sampled point and no crossing edge (faces coplanar along thin strips) escapes;
+    meshes needing more than :data:`MAX_OVERLAP_WORK` tests are not checked.
 
     Raises
     ------
     MeshError
-        An open, non-manifold or inconsistently oriented mesh, or one wound inward
-        (negative volume) or with no volume.
+        Two parts overlap (each named by its first face).
+    """
+    parts = mesh_parts(faces, len(vertices))
+    if len(parts) < 2:
+        return
+    size = float(np.abs(vertices - vertices.mean(axis=0)).max())
+    p = (vertices - vertices.mean(axis=0)) / (size if size > 0 else 1.0)
+    tris = [p[faces[f]] for f in parts]
+    lows = [t.reshape(-1, 3).min(axis=0) for t in tris]
+    highs = [t.reshape(-1, 3).max(axis=0) for t in tris]
+    pairs = [(i, j) for i in range(len(parts)) for j in range(len(parts)) if i != j
+             and np.all(lows[i] <= highs[j]) and np.all(lows[j] <= highs[i])]
+    if 7 * sum(len(tris[i]) * len(tris[j]) for i, j in pairs) > MAX_OVERLAP_WORK:
+        return
+
+    def name(i: int, j: int) -> str:
+        return f"the parts of faces {int(parts[min(i, j)][0])} and {int(parts[max(i, j)][0])}"
+
+    for i, j in pairs:
+        edges = tris[i][:, [[0, 1], [1, 2], [2, 0]]].reshape(-1, 2, 3)
+        if _crossings(edges[:, 0], edges[:, 1], tris[j]):
+            raise MeshError(f"`faces` make {name(i, j)}, whose surfaces cross: the overlap "
+                            "would count twice in the mass and the moments; join the parts "
+                            "into one surface (a boolean union) first")
+    for i in range(len(parts)):
+        points = _material_points(tris[i])
+        winding = _winding_numbers(points, tris[i])
+        others = [j for a, j in pairs if a == i]
+        for j in others:
+            winding += _winding_numbers(points, tris[j])
+        if others and (winding > 1.5).any():
+            j = next(j for j in others
+                     if (_winding_numbers(points, tris[j]) > 0.5).any())
+            raise MeshError(f"`faces` make {name(i, j)}, one inside the other (in part or "
+                            "whole): the overlap would count twice in the mass and the "
+                            "moments; join them into one surface (a boolean union), or wind "
+                            "an inner part inward for a cavity")
+
+
+def mesh_moments(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray,
+                                                                    np.ndarray]:
+    """Volume, centroid and the tensor per unit mass about the centroid (``T / m``, a
+    length²) of a closed, consistently oriented triangle mesh (faces counter-clockwise seen
+    from outside), exact for polyhedra up to round-off, at any scale float64 holds.
+
+    The integrals are taken about the mean vertex (so that a mesh far from the origin loses
+    no digits), with the coordinates scaled by a power of two to unit size (so that volumes
+    and second moments, lengths³ and lengths⁵, neither overflow nor underflow), as the sum
+    of the signed tetrahedra (mean, a, b, c) over the faces, and moved to the centroid by the
+    parallel-axis theorem. The volume alone is scaled back and may overflow to ``inf`` or
+    underflow to 0 for meshes of size beyond about 1e102 or below 1e-102.
+
+    Raises
+    ------
+    MeshError
+        An open, non-manifold or inconsistently oriented mesh, one wound inward (negative
+        volume) or with no volume, or one of parts that overlap (:func:`check_parts_apart`).
     """
     check_mesh(faces, len(vertices))
     origin = vertices.mean(axis=0)
     p = vertices - origin
+    size = float(np.abs(p).max())
+    if not size > 0:
+        raise MeshError("`vertices` are all one point: the mesh encloses no volume")
+    exponent = int(np.frexp(size)[1])
+    p = np.ldexp(p, -exponent)
+    check_parts_apart(p, faces)
     a, b, c = p[faces[:, 0]], p[faces[:, 1]], p[faces[:, 2]]
     six_v = np.einsum("ij,ij->i", a, np.cross(b, c))  # 6 × signed volume of each tetrahedron
     volume = float(six_v.sum() / 6.0)
@@ -132,9 +273,11 @@ def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.
     if not volume > 1e-12 * scale or not volume > 0:
         if volume < 0:
             raise MeshError(
-                f"`faces` are wound inward (signed volume {volume:.6g} < 0): its faces must "
-                "run counter-clockwise seen from outside; reverse each face's vertex order")
-        raise MeshError(f"`faces` enclose no volume (signed volume {volume:.3g})")
+                f"`faces` are wound inward (signed volume {np.ldexp(volume, 3 * exponent):.6g}"
+                " < 0): its faces must run counter-clockwise seen from outside; reverse each "
+                "face's vertex order")
+        raise MeshError(f"`faces` enclose no volume (signed volume "
+                        f"{np.ldexp(volume, 3 * exponent):.3g})")
     s = a + b + c
     centroid_rel = (six_v[:, None] * s).sum(axis=0) / (24.0 * volume)
     # ∫ r rᵀ dV over each tetrahedron: V/20 (a aᵀ + b bᵀ + c cᵀ + s sᵀ)
@@ -146,7 +289,25 @@ def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.
     # about the centroid: C_G = C_O − V g gᵀ
     second_g = second - volume * np.outer(centroid_rel, centroid_rel)
     tensor = np.trace(second_g) * np.eye(3) - second_g
-    return volume, origin + centroid_rel, tensor
+    gyration = np.ldexp(tensor / volume, 2 * exponent)
+    with np.errstate(over="ignore", under="ignore"):
+        volume_out = float(np.ldexp(volume, 3 * exponent))
+    return volume_out, origin + np.ldexp(centroid_rel, exponent), gyration
+
+
+def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.ndarray,
+                                                                         np.ndarray]:
+    """Volume, centroid and the tensor about the centroid of unit density of a closed,
+    consistently oriented triangle mesh (see :func:`mesh_moments`; the tensor, a length⁵,
+    overflows for meshes larger than about 1e61).
+
+    Raises
+    ------
+    MeshError
+        As :func:`mesh_moments`.
+    """
+    volume, centroid, gyration = mesh_moments(vertices, faces)
+    return volume, centroid, gyration * volume
 
 
 def quaternion_of(rotation: np.ndarray) -> np.ndarray:

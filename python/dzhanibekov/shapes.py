@@ -102,7 +102,9 @@ def mesh_shape(vertices: np.ndarray, faces: np.ndarray, crease_deg: float = 40.0
     at more than `crease_deg` (the outline of a polyhedron, not the triangulation)."""
     v = np.asarray(vertices, dtype=np.float64)
     f = np.asarray(faces, dtype=np.int64)
-    normals = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    size = float(np.abs(v).max(initial=0.0))
+    unit = np.ldexp(v, -int(np.frexp(size)[1])) if size > 0 else v  # no overflow at 1e100
+    normals = np.cross(unit[f[:, 1]] - unit[f[:, 0]], unit[f[:, 2]] - unit[f[:, 0]])
     normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
     tail, head = f.reshape(-1), np.roll(f, -1, axis=1).reshape(-1)
     owner = np.repeat(np.arange(len(f)), 3)

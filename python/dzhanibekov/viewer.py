@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from ._args import as_float, as_int
+from ._files import as_path, replacing
 from ._tables import require
 from .results import Batch, Trajectory
 from .scenes.plan import SceneResult, execute, make_plan
@@ -28,27 +29,71 @@ __all__ = ["write_html", "figure"]
 EXTRA = 'the `viewer` extra: pip install ".[viewer]" from a checkout (plotly)'
 DEFAULT_FRAMES = 201
 """Frames shown at most by default: each is a copy of every drawn point in the page."""
+MAX_FRAMES = 1000
+"""The most frames the viewer shows (`frames`): each shown frame holds a copy of every drawn
+point, and the signal point's trail up to it, in the page (about 0.1 MB a frame)."""
+PATH_POINTS = 1000
+"""The most points of the signal point's path in the page: a run of more frames is drawn
+through that many of them, evenly spread (the shown frames among them)."""
 
 
 Drawable = Scene | SceneResult | Trajectory | Batch
 """What the viewer draws: a scene (run here), a scene's result, a run, or rows of a batch."""
 
 
-def _result(scene: Scene | SceneResult | Trajectory) -> SceneResult:
-    """What the viewer draws of one scene or run, every object at every frame (one call to
-    `rotate`): the objects the scene draws (the body at least), animated."""
+def _subsampled(traj: Trajectory, count: int) -> Trajectory:
+    """`traj` at `count` of its frames evenly spread (the first and last among them)."""
+    n = len(traj.t)
+    if count >= n:
+        return traj
+    kept = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
+    return dataclasses.replace(traj, t=traj.t[kept], omega=traj.omega[kept], q=traj.q[kept],
+                               parts={k: v[kept] for k, v in traj.parts.items()},
+                               _observed={})
+
+
+def _frames(frames: int | None, n: int) -> int:
+    """The frames shown, of a run of `n`: `frames`, checked against the viewer's bound."""
+    if frames is None:
+        return min(n, DEFAULT_FRAMES)
+    count = as_int("frames", frames, minimum=1)
+    if count > MAX_FRAMES:
+        raise ValueError(f"`frames` must be at most {MAX_FRAMES} (the viewer's MAX_FRAMES: each "
+                         f"shown frame is a copy of the drawn points in the page), got {count}")
+    if count > n:
+        raise ValueError(f"`frames` must be at most the run's {n} frames, got {count}")
+    return count
+
+
+def _result(scene: Scene | SceneResult | Trajectory,
+            frames: int | None) -> tuple[SceneResult, int]:
+    """What the viewer draws of one scene or run, every object at each of at most
+    `PATH_POINTS` frames of the run (one call to `rotate`): the objects the scene draws (the
+    body at least), animated; and how many frames are shown (`frames`, checked)."""
     if isinstance(scene, Trajectory):
-        return result_for(scene, animation=True)
+        count = _frames(frames, len(scene.t))
+        sub = _subsampled(scene, max(count, min(len(scene.t), PATH_POINTS)))
+        return result_for(sub, animation=True), count
+    traj = None
     if isinstance(scene, SceneResult):
+        traj = scene.trajectory
         scene = scene.scene
     if not isinstance(scene, Scene):
         raise TypeError(f"`scene` must be a Scene, a Trajectory or a Batch, got "
                         f"{type(scene).__name__}")
+    count = _frames(frames, scene.frames)
     draw = scene.draw
     if not draw.objects:  # a scene that draws nothing in 3-D: its body and path
         draw = dataclasses.replace(draw, box=_drawable_body(scene), signal_point=True,
                                    path=True)
-    return execute(make_plan(scene.replace(draw=dataclasses.replace(draw, animation=True))))
+    draw = dataclasses.replace(draw, animation=True, phases=())
+    if traj is None:
+        traj = scene.run(flips=scene.flips)
+    # the scene's plan on the frames drawn: a long run is not refused by the bounds of an
+    # animation file (a GIF's frames), which the page does not have
+    sub = _subsampled(traj, max(count, min(len(traj.t), PATH_POINTS)))
+    staged = scene.replace(draw=draw, frames=len(sub.t))
+    return execute(make_plan(staged), trajectory=sub), count
 
 
 def _drawable_body(scene: Scene) -> bool:
@@ -95,14 +140,14 @@ def figure(scene: Drawable, *, frames: int | None = None, fps: float = 20.0,
     with one animation frame per shown frame, play/pause buttons and a time slider."""
     go = require("plotly.graph_objects", "the viewer", EXTRA)
     fps = as_float("fps", fps, positive=True)
-    results = [_result(r) for r in _rows(scene, rows)]
+    items = [_result(r, frames) for r in _rows(scene, rows)]
+    results = [r for r, _ in items]
+    count = items[0][1]
     result = results[0]
     traj = result.trajectory
     assert traj is not None
     n = len(traj.t)
-    count = min(n, DEFAULT_FRAMES) if frames is None else as_int("frames", frames, minimum=1,
-                                                                  maximum=n)
-    shown = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
+    shown = np.unique(np.round(np.linspace(0, n - 1, min(count, n))).astype(int))
     drawn = result.scene.draw
     shape = result.scene.drawn_shape if "box" in result.world else None
     points = [w.points for r in results for w in r.world.values() if w.points.size]
@@ -212,7 +257,9 @@ def write_html(scene: Drawable, path: str | Path, *, frames: int | None = None,
     path : str or Path
         The HTML file to write.
     frames : int, optional
-        Frames shown, evenly spread over the run (default: every frame, at most 201).
+        Frames shown, evenly spread over the run (default: every frame, at most 201; at
+        most :data:`MAX_FRAMES`). The path is drawn through at most :data:`PATH_POINTS`
+        frames of the run, evenly spread, whatever its length.
     fps : float
         Frames per second when playing.
     rows : int or sequence of int, optional
@@ -227,6 +274,11 @@ def write_html(scene: Drawable, path: str | Path, *, frames: int | None = None,
     ------
     ImportError
         plotly is missing: install the ``viewer`` extra.
+    ValueError
+        `frames` beyond the run's frames or :data:`MAX_FRAMES`.
+    OSError
+        The file cannot be written (its folder is missing, the disk is full): the previous
+        file is as it was (it is replaced only once the new one is complete).
 
     Examples
     --------
@@ -234,7 +286,8 @@ def write_html(scene: Drawable, path: str | Path, *, frames: int | None = None,
     >>> dz.viewer.write_html(dz.SCENES["example"], "flip.html")    # doctest: +SKIP
     PosixPath('flip.html')
     """
+    destination = as_path(path)
     fig = figure(scene, frames=frames, fps=fps, rows=rows)
-    path = Path(path)
-    fig.write_html(path, include_plotlyjs=True, full_html=True, auto_play=False)
-    return path
+    with replacing(destination) as tmp:  # all or nothing: the previous file kept on failure
+        fig.write_html(tmp, include_plotlyjs=True, full_html=True, auto_play=False)
+    return destination

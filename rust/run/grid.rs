@@ -43,11 +43,25 @@ impl FrameGrid {
         let substeps = (t_end / intervals / dt).ceil().max(1.0);
         let total = substeps * intervals;
         if total.is_nan() || total > max_steps as f64 {
+            let (needed, hint) = match total.is_finite() {
+                true => (
+                    format!("{total:.3e} steps (t_end / dt)"),
+                    "raise max_steps, or take a larger dt",
+                ),
+                // t_end / dt beyond float64: say so, not "inf steps" (no max_steps helps)
+                false => (
+                    format!(
+                        "more steps than float64 counts (t_end / dt = {t_end:e} / {dt:e} \
+                         overflows)"
+                    ),
+                    "take a shorter t_end or a larger dt",
+                ),
+            };
             return Err(Error::TooLarge {
                 what: "the run",
-                needed: format!("{total:.3e} steps (t_end / dt)"),
+                needed,
                 limit: max_steps_limit(max_steps),
-                hint: "raise max_steps, or take a larger dt",
+                hint,
             });
         }
         Ok(Self {
@@ -150,6 +164,17 @@ pub(crate) fn max_steps_limit(max_steps: u64) -> String {
 #[cfg(test)]
 mod limits {
     use super::*;
+
+    #[test]
+    fn a_step_count_beyond_float64_is_not_shown_as_inf() {
+        let err = FrameGrid::try_new(1e300, 201, 1e-10, u64::MAX).unwrap_err();
+        let text = err.to_string();
+        assert!(!text.contains("inf steps"), "{text}");
+        assert!(
+            text.contains("t_end / dt = 1e300 / 1e-10 overflows"),
+            "{text}"
+        );
+    }
 
     #[test]
     fn an_unlimited_max_steps_is_not_shown_as_a_number() {

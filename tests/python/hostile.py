@@ -14,9 +14,13 @@ Two kinds of strategy, kept apart so that a test knows which outcome to demand:
 
 from __future__ import annotations
 
+import io
 import math
+import os
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from fractions import Fraction
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -370,3 +374,345 @@ def hostile_name(allowed: Sequence[str]) -> st.SearchStrategy[Any]:
         st.just(allowed[0].encode()),
         st.integers(),
     )
+
+
+# -- files ------------------------------------------------------------------------------------
+#
+# A corpus of files for every reader of the package: each valid file of each format, every
+# one given to every reader (each other format), cut short, grown past the reader's bound,
+# spoilt in its content, and paths that are no regular file (a FIFO, /dev/zero, a folder, a
+# missing file). `test_hostile.py::test_every_reader_on_every_file` runs them all.
+
+READERS = ("load", "read_aem", "load_scene", "Body.load")
+"""The package's readers of files, by name (see `read_with`)."""
+
+
+@dataclass(frozen=True)
+class HostileFile:
+    """One file (or path) of the corpus."""
+
+    name: str
+    path: Path
+    category: str
+    """valid, other format, truncated, oversized, bad content, or special (no regular file)."""
+    valid_for: frozenset[str] = frozenset()
+    """The readers that must return a result for it (none for a hostile file)."""
+
+
+def read_with(reader: str, path: Path) -> Any:
+    """Calls `reader` (one of `READERS`) on `path`."""
+    import dzhanibekov as dz
+
+    calls: dict[str, Callable[[Path], Any]] = {
+        "load": dz.load, "read_aem": dz.io.read_aem, "load_scene": dz.load_scene,
+        "Body.load": dz.Body.load}
+    return calls[reader](path)
+
+
+BOX_FACES = np.array([(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4),
+                      (2, 6, 7), (2, 7, 3), (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5)])
+"""The 12 outward triangles of the box whose vertex k is ((k >> j) & 1 for j = 0, 1, 2)."""
+
+
+def box_vertices(size: tuple[float, float, float] = (1.0, 2.0, 3.0)) -> np.ndarray:
+    k = np.arange(8)
+    return (np.stack([(k >> j) & 1 for j in range(3)], axis=1) - 0.5) * np.asarray(size)
+
+
+def ascii_stl(vertices: np.ndarray, faces: np.ndarray) -> str:
+    lines = ["solid box"]
+    for f in faces:
+        a, b, c = vertices[f]
+        n = np.cross(b - a, c - a)
+        n = n / np.linalg.norm(n)
+        lines += [f"facet normal {n[0]:.9g} {n[1]:.9g} {n[2]:.9g}", "outer loop"]
+        lines += [f"vertex {p[0]:.17g} {p[1]:.17g} {p[2]:.17g}" for p in (a, b, c)]
+        lines += ["endloop", "endfacet"]
+    return "\n".join(lines + ["endsolid box"]) + "\n"
+
+
+def _aem_mutations(text: str) -> dict[str, str]:
+    """Spoilt copies of a valid AEM (version 2.0, one segment) of the package's writer."""
+    lines = text.splitlines()
+    data = lines.index("DATA_START")
+    first = lines[data + 1].split()
+    second = lines[data + 2].split()
+
+    def row(k: int, fields: list[str]) -> str:
+        out = list(lines)
+        out[data + 1 + k] = " ".join(fields)
+        return "\n".join(out) + "\n"
+
+    def replace(old: str, new: str) -> str:
+        assert old in text, old
+        return text.replace(old, new, 1)
+
+    def drop(prefix: str) -> str:
+        return "\n".join(ln for ln in lines if not ln.startswith(prefix)) + "\n"
+
+    epoch = first[0]
+    day = epoch[:10]
+    return {
+        "nan quaternion": row(0, [epoch, "nan", *first[2:]]),
+        "inf quaternion": row(0, [epoch, "inf", *first[2:]]),
+        "1e999 quaternion": row(0, [epoch, "1e999", *first[2:]]),
+        "non-unit quaternion": row(0, [epoch, "0.9", "0.9", "0.9", "0.9"]),
+        "zero quaternion": row(0, [epoch, "0", "0", "0", "0"]),
+        "time backwards": row(1, [epoch, *second[1:]]),
+        "month 13": replace(day, day[:5] + "13" + day[7:]),
+        "february 30": text.replace(day, day[:5] + "02-30"),
+        "day of year 366 in 2026": text.replace(day, "2026-366"),
+        "hour 25": text.replace(epoch, epoch[:11] + "25" + epoch[13:], 1),
+        "second 61": text.replace(epoch, epoch[:17] + "61" + epoch[19:], 1),
+        "year 10000": text.replace(day, "1" + day),
+        "year 9999 day 400": text.replace(day, "9999-400"),
+        "year 0000": text.replace(day, "0000" + day[4:]),
+        "missing DATA_START": drop("DATA_START"),
+        "missing DATA_STOP": drop("DATA_STOP"),
+        "missing META_STOP": drop("META_STOP"),
+        "missing META_START": drop("META_START"),
+        "missing CCSDS_AEM_VERS": drop("CCSDS_AEM_VERS"),
+        "missing REF_FRAME_A": drop("REF_FRAME_A"),
+        "version 3.0": replace("CCSDS_AEM_VERS = 2.0", "CCSDS_AEM_VERS = 3.0"),
+        "euler angles": replace("ATTITUDE_TYPE = QUATERNION", "ATTITUDE_TYPE = EULER_ANGLE"),
+        "a field short": row(0, first[:-1]),
+        "a field too many": row(0, first + ["0.0"]),
+        "not a number": row(0, [epoch, "x", *first[2:]]),
+        "underscore in a number": row(0, [epoch, "1_0", *first[2:]]),
+        "non-ASCII byte": replace("OBJECT_NAME = BOX", "OBJECT_NAME = B\u00d6X"),
+        "keyword twice": replace("REF_FRAME_B", "REF_FRAME_A = ICRF\nREF_FRAME_B"),
+        "no data lines": "\n".join(lines[: data + 1] + [ln for ln in lines[data + 1:]
+                                                         if not ln[:1].isdigit()]) + "\n",
+        "epochs after STOP_TIME": replace("STOP_TIME", "STOP_TIME = " + epoch + "\nCOMMENT"),
+        "data after DATA_STOP": text + "garbage\n",
+        "keyword without value": replace("ORIGINATOR = DZHANIBEKOV", "ORIGINATOR ="),
+        "a line with no keyword": replace("OBJECT_NAME = BOX", "OBJECT_NAME BOX"),
+    }
+
+
+def _netcdf_mutations(kind: str, ds: Any) -> dict[str, Any]:
+    """Spoilt copies of a file that `dz.save` writes (of `kind`, whose dataset is `ds`): an
+    edit of the file in place (a function of the open h5py file: fast), or a whole dataset
+    (for changes of shape and layout)."""
+    out: dict[str, Any] = {}
+
+    def values(name: str, f: Callable[[np.ndarray], np.ndarray]) -> Callable[[Any], None]:
+        def edit(h5: Any) -> None:
+            data = h5[name][...]
+            if data.dtype.kind == "O":
+                data = np.array([v.decode() if isinstance(v, bytes) else v for v in data.ravel()],
+                                dtype=object).reshape(data.shape)
+            h5[name][...] = f(data)
+        return edit
+
+    def attr(name: str, value: Any) -> Callable[[Any], None]:
+        def edit(h5: Any) -> None:
+            if value is None:
+                del h5.attrs[name]
+            else:
+                h5.attrs[name] = value
+        return edit
+
+    def spoil_q(q: np.ndarray) -> np.ndarray:
+        q[..., 1, 0] = np.nan
+        return q
+
+    if kind in ("Trajectory", "Batch"):
+        out["NaN in q"] = values("q", spoil_q)
+        out["q of norm 1.5"] = values("q", lambda q: q * 1.5)
+        out["NaN in omega"] = values("omega", lambda w: np.where(w == w.flat[0], np.nan, w))
+        out["time reversed"] = values("time", lambda t: t[::-1].copy())
+        out["time not from 0"] = values("time", lambda t: t + 1.0)
+        out["time with NaN"] = values("time", lambda t: np.where(np.arange(len(t)) == 1,
+                                                                 np.nan, t))
+        out["method unknown"] = attr("method", "rk5")
+        out["method missing"] = attr("method", None)
+        out["quaternion labels reversed"] = values("quaternion", lambda a: a[::-1].copy())
+        out["q as float32"] = ds.assign(q=ds.q.astype(np.float32))
+        out["q with axis dims"] = ds.drop_vars("q").assign(
+            q=(ds.omega.dims, ds.omega.values.copy()))
+        out["omega missing"] = ds.drop_vars("omega")
+        out["an unknown variable"] = ds.assign(extra=("time", ds.time.values.copy()))
+    if kind == "Trajectory":
+        out["(11, 3) q"] = ds.drop_vars("q").isel(time=slice(0, 11)).assign(
+            q=(("time", "axis"), np.ones((11, 3))))
+        out["flip time beyond t_end"] = values("flip_times", lambda t: t + 1e6)
+        out["flip times decreasing"] = values("flip_times", lambda t: t[::-1].copy())
+        out["flips_located without flip_times"] = ds.drop_vars("flip_times")
+        out["flips_located 2"] = attr("flips_located", 2)
+        out["inertia negative"] = attr("inertia", np.array([-1.0, 2.0, 3.0]))
+        out["inertia of two"] = attr("inertia", np.array([1.0, 2.0]))
+        out["n_steps negative"] = attr("n_steps", -1)
+        out["drift negative"] = attr("drift_energy", -1.0)
+        out["drift NaN"] = attr("drift_q_norm", np.nan)
+        out["dt a string"] = attr("dt", "0.1")
+        out["one frame"] = ds.isel(time=slice(0, 1))
+        # the run's system and what it derives (issue 20's fields)
+        out["energy edited"] = values("energy", lambda e: e * (1 + 1e-6))
+        out["momentum_world edited"] = values("momentum_world", lambda m: m + 1e-3)
+        out["inertia not the system's"] = attr("inertia", np.array([1.0, 2.0, 3.0]))
+        out["body_tensor not positive definite"] = values("body_tensor", lambda t: -t)
+        out["body_tensor missing"] = ds.drop_vars("body_tensor")
+        out["knots beside the body"] = ds.assign(
+            knot_times=("knot", np.array([0.0])),
+            knot_tensors=(("knot", "axis", "axis_"), np.eye(3)[None]))
+        out["parts names a damper"] = ds.assign_attrs(parts=["damper"])
+        out["drift_kept unknown"] = ds.assign_attrs(drift_kept=["energy", "spin"])
+    if kind == "Batch":
+        out["flips one more"] = values("flips", lambda c: c + 1)
+        out["flips one fewer"] = values("flips", lambda c: c - 1)
+        out["flip_times without flips"] = ds.drop_vars("flips")
+        out["run numbers shuffled"] = values("run", lambda r: r[::-1].copy())
+        out["inertia NaN"] = values("inertia", lambda i: i * np.nan)
+        out["energy edited"] = values("energy", lambda e: e * (1 + 1e-6))
+        out["body_mass negative"] = values("body_mass", lambda m: np.full_like(m, -1.0))
+    if kind == "Sweep":
+        out["status unknown"] = values("status", lambda st: np.full(st.shape, "maybe",
+                                                                    dtype=object))
+        out["flips mismatch first_flip"] = values("first_flip", lambda f: f * np.nan)
+        out["tilt beyond pi"] = values("tilt", lambda t: t + 4.0)
+        out["q0 NaN"] = values("q0", lambda q: q * np.nan)
+        out["flips negative"] = values("flips", lambda c: c - 5)
+        out["t_end missing"] = attr("t_end", None)
+    out["kind unknown"] = attr("dzhanibekov_result", "Movie")
+    out["kind missing"] = attr("dzhanibekov_result", None)
+    return out
+
+
+def _spoilt(image: bytes, mutation: Any) -> bytes:
+    """The netCDF file `image` with `mutation` (see `_netcdf_mutations`) applied."""
+    buffer = io.BytesIO()
+    if callable(mutation):
+        import h5py
+
+        buffer.write(image)
+        with h5py.File(buffer, "r+") as h5:
+            mutation(h5)
+    else:
+        mutation.to_netcdf(buffer, engine="h5netcdf")
+    return buffer.getvalue()
+
+
+def file_corpus(folder: Path) -> list[HostileFile]:
+    """Writes the corpus into `folder` and lists it (a few hundred files, ~2 s)."""
+    import warnings
+
+    import xarray as xr
+    from PIL import Image
+
+    import dzhanibekov as dz
+
+    folder.mkdir(parents=True, exist_ok=True)
+    files: list[HostileFile] = []
+
+    def add(name: str, data: bytes | str, category: str, suffix: str,
+            valid_for: tuple[str, ...] = ()) -> Path:
+        path = folder / f"{len(files):03d}-{name.replace(' ', '-').replace('/', '_')}{suffix}"
+        if isinstance(data, str):
+            path.write_text(data, encoding="utf-8", newline="")
+        else:
+            path.write_bytes(data)
+        files.append(HostileFile(name, path, category, frozenset(valid_for)))
+        return path
+
+    traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=100.0, frames=41, dt=1e-2)
+    batch = dz.simulate(dz.PAPER_INERTIA, [(0.01, 0.01, 1.0), (0.0, 1.0, 0.01)], t_end=100.0,
+                        frames=21, dt=1e-2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sweep = dz.sweep(dz.PAPER_INERTIA, [[0.01, 0.01, 1.0], [0.0, 1e3, 1.0],
+                                            [0.2, 0.0, 1.0]], t_end=100.0, dt=0.5)
+    valid: dict[str, tuple[bytes, str, tuple[str, ...]]] = {}
+    for kind, result in (("Trajectory", traj), ("Batch", batch), ("Sweep", sweep)):
+        path = dz.save(result, folder / f"valid-{kind}.nc")
+        valid[f"netCDF {kind}"] = (path.read_bytes(), ".nc", ("load",))
+        path.unlink()
+    for version, rates in (("2.0", False), ("1.0", True)):
+        path = dz.io.write_aem(traj, folder / "valid.aem", "BOX", "2026-001A",
+                               "2026-01-01T00:00:00", ref_frame_a="EME2000", rates=rates,
+                               version=version)
+        valid[f"AEM {version}"] = (path.read_bytes(), ".aem", ("read_aem",))
+    path = dz.io.write_aem(batch, folder / "valid.aem", "BOX", "2026-001A",
+                           "2026-01-01T00:00:00", ref_frame_a="EME2000")
+    valid["AEM of a batch (segments)"] = (path.read_bytes(), ".aem", ("read_aem",))
+    path.unlink()
+    valid["scene"] = (dz.SCENES["fig3a"].to_toml().encode(), ".toml", ("load_scene",))
+    valid["ASCII STL box"] = (ascii_stl(box_vertices(), BOX_FACES).encode(), ".stl",
+                              ("Body.load",))
+    for name, (data, suffix, readers) in valid.items():
+        add(name, data, "valid", suffix, readers)
+
+    # other formats: each reader gets every one of them
+    image = io.BytesIO()
+    Image.new("RGB", (4, 4)).save(image, format="PNG")
+    gif = io.BytesIO()
+    Image.new("P", (4, 4)).save(gif, format="GIF")
+    npy = io.BytesIO()
+    np.save(npy, np.arange(4.0))
+    nc3 = folder / "nc3.nc"
+    xr.Dataset({"a": ("x", np.arange(3.0))}).to_netcdf(nc3, engine="scipy")
+    plain_nc = folder / "plain.nc"
+    xr.Dataset({"a": ("x", np.arange(3.0))}).to_netcdf(plain_nc, engine="h5netcdf")
+    others = {
+        "PNG image": (image.getvalue(), ".png"),
+        "GIF image": (gif.getvalue(), ".gif"),
+        "NumPy .npy": (npy.getvalue(), ".npy"),
+        "netCDF-3 file": (nc3.read_bytes(), ".nc"),
+        "netCDF-4 not from save": (plain_nc.read_bytes(), ".nc"),
+        "HTML page": ("<!DOCTYPE html><html><body>viewer</body></html>\n", ".html"),
+        "JSON summary": ('{"scene": "fig3a", "flips": 3}\n', ".json"),
+        "empty file": (b"", ".nc"),
+        "random bytes": (np.random.default_rng(7).bytes(4096), ".bin"),
+        "NUL bytes": (b"\0" * 1024, ".aem"),
+        "UTF-16 text": ("title = 'x'\n".encode("utf-16"), ".toml"),
+        "plain text": ("hello\nworld\n", ".txt"),
+        "CSV table": ("t,u,v,w\n0,0.01,0.01,1\n", ".csv"),
+        "ZIP archive": (b"PK\x03\x04" + b"\0" * 60, ".zip"),
+    }
+    nc3.unlink()
+    plain_nc.unlink()
+    for name, (data, suffix) in others.items():
+        add(name, data, "other format", suffix)
+    # each valid file under the suffix of every other reader's format
+    for name, (data, _, readers) in valid.items():
+        for suffix in (".nc", ".aem", ".toml", ".stl"):
+            # the readers go by content; trimesh alone by the suffix
+            kept = tuple(r for r in readers if r != "Body.load" or suffix == ".stl")
+            add(f"{name} named {suffix}", data, "other format", suffix, kept)
+    # cut short: at half, at 100 bytes, at 1 byte
+    for name, (data, suffix, _) in valid.items():
+        for cut in (len(data) // 2, 100, 1):
+            add(f"{name} cut to {cut} bytes", data[:cut], "truncated", suffix)
+    # spoilt content
+    aem_text = valid["AEM 2.0"][0].decode("ascii")
+    for name, text in _aem_mutations(aem_text).items():
+        add(f"AEM: {name}", text.encode("utf-8"), "bad content", ".aem")
+    for kind, result in (("Trajectory", traj), ("Batch", batch), ("Sweep", sweep)):
+        ds = result.to_xarray()
+        ds.attrs["dzhanibekov_result"] = kind
+        for name, mutation in _netcdf_mutations(kind, ds).items():
+            add(f"netCDF {kind}: {name}", _spoilt(valid[f"netCDF {kind}"][0], mutation),
+                "bad content", ".nc")
+    # grown past the readers' bounds (sparse: no disk taken)
+    for suffix, size in ((".aem", dz.io.MAX_AEM_BYTES + 1), (".toml", (1 << 20) + 1),
+                         (".stl", (1 << 30) + 1), (".nc", 1 << 40)):
+        path = add(f"{size} bytes {suffix}", b"", "oversized", suffix)
+        with open(path, "r+b") as f:
+            f.truncate(size)
+    # paths that are no regular file
+    for suffix in (".nc", ".aem", ".toml", ".stl"):
+        fifo = folder / f"fifo{suffix}"
+        if hasattr(os, "mkfifo"):
+            os.mkfifo(fifo)
+            files.append(HostileFile(f"FIFO {suffix}", fifo, "special"))
+        files.append(HostileFile(f"missing {suffix}", folder / f"missing{suffix}", "special"))
+        sub = folder / f"folder{suffix}"
+        sub.mkdir()
+        files.append(HostileFile(f"folder {suffix}", sub, "special"))
+    if os.path.exists("/dev/zero"):
+        files.append(HostileFile("/dev/zero", Path("/dev/zero"), "special"))
+        for suffix in (".nc", ".aem", ".toml", ".stl"):
+            link = folder / f"zero{suffix}"
+            os.symlink("/dev/zero", link)
+            files.append(HostileFile(f"link to /dev/zero {suffix}", link, "special"))
+    return files

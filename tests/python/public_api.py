@@ -440,7 +440,14 @@ def box_args() -> st.SearchStrategy[dict[str, Any]]:
 @st.composite
 def tensor_args(draw: st.DrawFn) -> dict[str, Any]:
     """R diag(I) Rᵀ for moments within a ratio of 1e4 (the eigenvalues of a tensor are known
-    to its largest times the round-off) at any scale, and a random rotation R."""
+    to its largest times the round-off) at any scale, and a random rotation R; or a diagonal
+    tensor (exact) of moments within the core's ratio at the ends of float64 (1e308, a rod's
+    1e-15)."""
+    if draw(st.integers(0, 3)) == 0:
+        diagonal = draw(st.sampled_from([(1e308, 1e308, 1e308), (1e-15, 1.0, 1.0),
+                                         (1.0, 1e-15, 1.0), (LARGEST, 1e200, 1e250),
+                                         (3e-300, 2e-300, 1e-300), (1e-140, 1.0, 2.0)]))
+        return {"tensor": np.diag(diagonal)}
     moments = np.array([10.0 ** draw(st.floats(-2, 2)) for _ in range(3)])
     moments *= draw(st.sampled_from([1.0, 1e-150, 1e150, 1e-300, 1e300]))
     r = Rotation.from_quat(draw(directions(4)) + [1e-3, 0, 0, 0]).as_matrix()
@@ -477,7 +484,8 @@ def check_box_mesh(kwargs: dict[str, Any], body: Any, caught: list[warnings.Warn
     v = np.asarray(kwargs["vertices"], dtype=float)
     a, b, c = v.max(axis=0) - v.min(axis=0)  # a box mesh: the box's moments
     m = body.mass
-    want = np.diag([b * b + c * c, a * a + c * c, a * a + b * b]) * m / 12
+    want = np.diag([b * b * m / 12 + c * c * m / 12, a * a * m / 12 + c * c * m / 12,
+                    a * a * m / 12 + b * b * m / 12])
     np.testing.assert_allclose(body.tensor, want, atol=1e-9 * np.abs(want).max())
     np.testing.assert_allclose(body.center_of_mass, v.mean(axis=0), atol=1e-9 * np.abs(v).max())
 
@@ -488,14 +496,21 @@ BOX_MESH_FACES = np.array([(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5)
 
 @st.composite
 def box_mesh_args(draw: st.DrawFn) -> dict[str, Any]:
-    size = np.array([10.0 ** draw(st.floats(-3, 3)) for _ in range(3)])
-    offset = np.array([draw(st.floats(-1e3, 1e3)) for _ in range(3)])
+    """A box mesh off the origin; at moderate sizes with a density, or at any size float64
+    holds (1e±150) with a mass (its moments, mass × size², representable)."""
+    far = draw(st.booleans())
+    scale = draw(st.sampled_from([1e-150, 1e-100, 1e100, 1e150])) if far else 1.0
+    size = np.array([10.0 ** draw(st.floats(-3, 3)) for _ in range(3)]) * scale
+    offset = np.array([draw(st.floats(-1e3, 1e3)) for _ in range(3)]) * scale
     k = np.arange(8)
     v = (np.stack([(k >> j) & 1 for j in range(3)], axis=1) - 0.5) * size + offset
     out: dict[str, Any] = {"vertices": v, "faces": BOX_MESH_FACES.copy()}
-    if draw(st.booleans()):
+    if far:
+        out["mass"] = draw(valid_positive(1e-10, 1e10))
+    elif draw(st.booleans()):
         out["density"] = draw(valid_positive(1e-10, 1e10))
     return out
+
 
 
 # -- the flip period ----------------------------------------------------------------------------
@@ -644,13 +659,23 @@ def scene_hostile() -> dict[str, st.SearchStrategy[Any]]:
     return {
         "name": st.one_of(st.sampled_from(["", "a b", "../x", "-x", "x/y", ".x", "é"]),
                           JUNK.filter(lambda v: not isinstance(v, str))),
-        "title": st.one_of(st.sampled_from(["", "   "]), JUNK.filter(lambda v: not isinstance(v, str))),
+        "title": st.one_of(st.sampled_from(["", "   ", "$" + "{" * 40 + "x" + "}" * 40 + "$",
+                                            "$" + r"\frac{" * 30 + "x" + "}{2}" * 30 + "$",
+                                            r"$\notacommand{x}$", "$x^$"]),
+                           JUNK.filter(lambda v: not isinstance(v, str))),
+        # a table of the draw's or the ellipsoid's keys (`scene.replace(draw={...})`), or not
+        "draw": st.one_of(st.sampled_from([3, "box", [1], {"boxx": True}, {"figures": ["nope"]},
+                                           {"phases": "x"}, {"fps": 0}, {"a": 1}]),
+                          JUNK.filter(lambda v: not isinstance(v, dict))),
+        "ellipsoid": st.one_of(st.sampled_from([3, "poinsot", {"convention": "x"},
+                                                {"mesh": [1]}, {"meshes": [3, 2]}]),
+                               JUNK.filter(lambda v: not isinstance(v, dict))),
         "inertia": hostile_vector3(positive=True, moments=True),
         "omega0": vec3,
         "t_end": hostile_real(positive=True),
         "frames": hostile_int(2, huge=False),
         "q0": hostile_quaternion(),
-        "dt": hostile_real(positive=True),
+        "dt": hostile_real(positive=True).filter(lambda v: v is not None),  # None: "none"
         "method": hostile_name(tuple(dz.METHODS)),
         "box": hostile_vector3(positive=True).filter(lambda v: v is not None),
         "signal_point": vec3.filter(lambda v: v is not None),
@@ -958,8 +983,8 @@ def estimate_args(draw: st.DrawFn) -> dict[str, Any]:
 def check_damper_rate(kwargs: dict[str, Any], rate: Any, caught: list[warnings.WarningMessage]) -> None:
     # c (1/j + 1/I_min): at least c / j, at most c (1/j + 1/I) for every moment I
     d = kwargs["damper"]
-    assert isinstance(rate, float) and rate >= 0
-    assert rate >= d.damping / d.inertia * (1 - 1e-15) or math.isinf(rate)
+    assert isinstance(rate, float) and math.isfinite(rate) and rate >= 0
+    assert rate >= d.damping / d.inertia * (1 - 1e-15)
 
 
 def check_estimate(kwargs: dict[str, Any], t: Any, caught: list[warnings.WarningMessage]) -> None:
@@ -1007,6 +1032,94 @@ def check_deployments(kwargs: dict[str, Any], batch: Any, caught: list[warnings.
     assert isinstance(batch, dz.Batch) and len(batch) == len(kwargs["system"])
     for i in range(len(batch)):
         check_model_run(kwargs, batch[i], caught)
+
+
+# -- composites and mesh files -------------------------------------------------------------------------
+
+@st.composite
+def compose_args(draw: st.DrawFn) -> dict[str, Any]:
+    """One to three boxes with masses, at positions and turned by quaternions of any norm
+    float64 holds (5e-324 … 1e300: non-zero, so normalisable), or left unturned."""
+    parts = []
+    for _ in range(draw(st.integers(1, 3))):
+        edges = [10.0 ** draw(st.floats(-2, 2)) for _ in range(3)]
+        box = dz.Body.box(*edges, mass=10.0 ** draw(st.floats(-3, 3)))
+        position = tuple(draw(st.floats(-10, 10)) for _ in range(3))
+        if draw(st.booleans()):
+            parts.append((box, draw(layouts(np.array(position)))))
+        else:
+            parts.append((box, position, draw(quaternions().flatmap(layouts))))
+    return {"parts": parts}
+
+
+def check_compose(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    """The mass is the sum; the tensor about the composite centre of mass is each part's
+    tensor turned (scipy's Rotation of the normalised quaternion) plus its parallel-axis
+    term (Huygens–Steiner, written out here)."""
+    parts = kwargs["parts"]
+    masses = [p[0].mass for p in parts]
+    positions = [np.asarray(p[1], dtype=float) for p in parts]
+    com = sum(m * x for m, x in zip(masses, positions)) / sum(masses)
+    want = np.zeros((3, 3))
+    for part, m, x in zip(parts, masses, positions):
+        q = np.asarray(part[2], dtype=float) if len(part) == 3 else np.array([1.0, 0, 0, 0])
+        q = q / np.abs(q).max()
+        turn = Rotation.from_quat(np.roll(q / np.linalg.norm(q), -1)).as_matrix()
+        d = x - com
+        want += turn @ part[0].tensor @ turn.T + m * (d @ d * np.eye(3) - np.outer(d, d))
+    assert body.mass == pytest_approx(sum(masses))
+    np.testing.assert_allclose(body.tensor, want, atol=1e-12 * np.abs(want).max())
+
+
+def pytest_approx(x: float) -> Any:
+    import pytest
+
+    return pytest.approx(x, rel=1e-14)
+
+
+def hostile_parts() -> st.SearchStrategy[Any]:
+    box = dz.Body.box(1.0, 2.0, 3.0, mass=2.0)
+    return st.one_of(
+        JUNK, st.just([]), st.just(()), st.just("box"), st.just([box]), st.just(box),
+        st.just([(dz.Body((1.0, 2.0, 3.0)), (0.0, 0.0, 0.0))]),  # no mass
+        st.just([(box,)]), st.just([(box, (0.0, 0.0, 0.0), (1, 0, 0, 0), 1.0)]),
+        st.just([((1.0, 2.0, 3.0), (0.0, 0.0, 0.0))]),  # moments where a Body belongs
+        hostile_vector3().map(lambda p: [(box, p)]),
+        hostile_quaternion().map(lambda q: [(box, (0.0, 0.0, 0.0), q)]),
+    )
+
+
+BOX_STL = _file("", ".stl")
+
+
+def _write_box_stl() -> Path:
+    from hostile import BOX_FACES, ascii_stl, box_vertices
+
+    BOX_STL.write_text(ascii_stl(box_vertices((1.0, 2.0, 3.0)), BOX_FACES))
+    return BOX_STL
+
+
+def load_args() -> st.SearchStrategy[dict[str, Any]]:
+    return st.fixed_dictionaries({"path": st.sampled_from([_write_box_stl(), str(BOX_STL)])},
+                                 optional={"mass": valid_positive(1e-100, 1e100)})
+
+
+def check_load(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
+    m = float(kwargs.get("mass", 6.0))  # unit density: the volume, 1 × 2 × 3
+    want = np.diag([4.0 * m / 12 + 9.0 * m / 12, 1.0 * m / 12 + 9.0 * m / 12,
+                    1.0 * m / 12 + 4.0 * m / 12])
+    np.testing.assert_allclose(body.tensor, want, atol=1e-12 * want.max())
+
+
+def hostile_mesh_paths() -> st.SearchStrategy[Any]:
+    return st.one_of(
+        st.sampled_from([str(_TMP / "missing.stl"), str(_TMP), "", "a\x00b.stl",
+                         "/dev/zero", "README.md"]),
+        st.binary(max_size=200).map(lambda b: _file(b, ".stl")),
+        st.sampled_from([".obj", ".ply", ".off", ".3mf", ".glb", ".xyz"]).map(
+            lambda suffix: _file(b"solid x\nfacet normal 0 0 1\n", suffix)),
+        st.sampled_from([None, 3, 2.5, b"box.stl", ["box.stl"]]),
+    )
 
 
 # -- the table -----------------------------------------------------------------------------------------
@@ -1071,9 +1184,31 @@ ENTRIES: dict[str, Entry] = {
                  "faces": st.one_of(JUNK, st.just(BOX_MESH_FACES[:-1]),
                                     st.just(BOX_MESH_FACES[:, ::-1]),
                                     st.just(BOX_MESH_FACES + 8), st.just(BOX_MESH_FACES * 1.0)),
-                 "density": hostile_real(positive=True).filter(lambda x: x is not None)},
+                 "density": hostile_real(positive=True).filter(lambda x: x is not None),
+                 "mass": hostile_real(positive=True).filter(lambda x: x is not None)},
         check=check_box_mesh,
         covers=(dz.Body, dz.MeshError),
+        min_success=0.9,
+    ),
+    "Body.compose": Entry(
+        call=dz.Body.compose,
+        valid=compose_args(),
+        hostile={"parts": hostile_parts()},
+        check=check_compose,
+        covers=(dz.Body,),
+        aliases={"parts": ("parts[0]",)},
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
+    ),
+    "Body.load": Entry(
+        call=dz.Body.load,
+        valid=load_args(),
+        hostile={"path": hostile_mesh_paths(),
+                 "mass": hostile_real(positive=True).filter(lambda x: x is not None)},
+        check=check_load,
+        covers=(dz.Body, dz.MeshError),
+        named_by_value=("path",),
+        examples=60,
         min_success=0.9,
     ),
     **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
@@ -1139,7 +1274,10 @@ ENTRIES: dict[str, Entry] = {
     "damper_rate": Entry(
         call=dz.damper_rate,
         valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
-            {"body": bodies(i), "damper": dampers()})),
+            {"body": bodies(i), "damper": dampers().filter(
+                # a rate c (1/j + 1/I_min) float64 holds (else it is refused, naming both)
+                lambda d, i=i: float(d.damping) / float(d.inertia)
+                + float(d.damping) / float(min(i)) < LARGEST)})),
         hostile={"body": hostile_vector3(positive=True, moments=True),
                  "damper": st.sampled_from([0.5, "d", None, (0.1, 0.2)])},
         check=check_damper_rate,
@@ -1303,7 +1441,9 @@ NOT_CALLED = {
     "DzhanibekovError": "an exception class, raised by the core (test_errors.py)",
     "DivergedError": "an exception class, raised by the core (test_errors.py)",
     "TooLargeError": "an exception class, raised by the core (test_errors.py)",
-    "io": "a module: its functions' bad input is tested in test_io.py",
-    "save": "writes a file: its bad input is tested in test_io.py",
-    "load": "reads a file: its bad input is tested in test_io.py",
+    "io": "a module: its functions' bad input is tested in test_io.py and by the file corpus",
+    "save": "writes a file: test_io.py and test_files.py (all or nothing)",
+    "load": "reads a file: every file of the corpus (test_hostile.py::"
+            "test_every_reader_on_every_file) and test_io.py",
+    "ReadError": "an exception class, raised by the readers (the file corpus)",
 }

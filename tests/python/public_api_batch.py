@@ -105,7 +105,7 @@ def batch_hostile(*, flips: bool = True, max_ndim: int = 1) -> dict[str, st.Sear
     hostile["q0"] = st.one_of(hostile["q0"], hostile_array((None, 4), rows4),
                               st.just(np.zeros((2, 4)))).filter(
         lambda v: not looks_valid(v, 4, max_ndim))
-    hostile["threads"] = hostile_int(1)
+    hostile["threads"] = hostile_int(1).filter(lambda v: v is not None)  # None: the default
     return hostile
 
 

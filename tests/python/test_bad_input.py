@@ -59,7 +59,7 @@ def test_bad_box_mass():
     (dict(frames=True), TypeError, "`frames` must be an integer"),
     (dict(method="euler"), ValueError, "`method` must be one of"),
     (dict(frames=10**13), ValueError, "more than this machine's"),
-    (dict(t_end=1e300), ValueError, "max_steps"),
+    (dict(t_end=1e300), ValueError, r"t_end / dt = 1e300 / .* overflows"),
     (dict(max_steps=0), ValueError, "`max_steps` must be at least 1"),
 ])
 def test_bad_simulate_arguments(paper_body, kwargs, error, match):
@@ -101,3 +101,31 @@ def test_strided_and_integer_input_is_accepted():
     q[:, ::2] = [1, 0, 0, 1]
     points = np.arange(12).reshape(4, 3)
     np.testing.assert_allclose(dz.rotate(q[:, ::2], points), dz.rotate(np.tile([1.0, 0, 0, 1], (4, 1)), points.astype(float)))
+
+
+@pytest.mark.parametrize("name, value", [("t_end", np.timedelta64(5, "s")),
+                                         ("dt", np.timedelta64(5, "ms")),
+                                         ("frames", np.timedelta64(5, "s")),
+                                         ("t_end", np.datetime64("2026-01-01"))])
+def test_numpy_times_are_refused_clearly(paper_body, name, value):
+    """`t_end=np.timedelta64(5, "s")` (a NumPy integer to `numbers`) was not refused clearly:
+    float() of it failed on a `datetime.timedelta`."""
+    with pytest.raises(TypeError, match=rf"`{name}` must be .*numpy\.(timedelta64|datetime64)"
+                                        r".*plain numbers in the user's own unit"):
+        dz.simulate(paper_body, (0.01, 0.01, 1.0), **{name: value})
+
+
+def test_messages_of_huge_spans_and_tiny_times_are_short_and_true(paper_body):
+    """`t_end=1e300` said "needs inf steps"; a divergence time was printed as a 300-digit
+    decimal (Rust's Display of f64)."""
+    import warnings
+
+    with pytest.raises(dz.TooLargeError, match=r"more steps than float64 counts \(t_end / dt "
+                                               r"= 1e300 / .* overflows\)") as caught:
+        dz.simulate(paper_body, (0.01, 0.01, 1.0), t_end=1e300)
+    assert "inf steps" not in str(caught.value) and "raise max_steps" not in str(caught.value)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", dz.StepSizeWarning)
+        with pytest.raises(dz.DivergedError, match=r"at t = 1e-28\d:") as caught:
+            dz.simulate(paper_body, (1e290, 1e290, 1e290), t_end=1e-280, dt=1e-280)
+    assert len(str(caught.value)) < 200

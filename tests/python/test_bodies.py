@@ -434,3 +434,139 @@ def test_bodies_of_every_kind_pickle_with_their_axes_and_shapes():
         np.testing.assert_array_equal(again.principal_axes, body.principal_axes)
         w = np.array([0.1, 1.0, 0.2])
         assert dz.flip_period(again, w) == dz.flip_period(body, w)
+
+
+# -- valid inputs at the edges of float64 (issue 25) ------------------------------------------
+
+
+@pytest.mark.parametrize("moments", [(1e308, 1e308, 1e308), (1e-15, 1.0, 1.0),
+                                     (1.0, 1e-15, 1.0), (3e-300, 2e-300, 1e-300),
+                                     (1e-140, 1.0, 1.0)])
+def test_a_diagonal_tensor_is_taken_exactly_at_any_scale(moments):
+    """`from_tensor(diag(1e308))` was refused although `Body((1e308,) * 3)` is accepted (the
+    tensor plus its transpose overflowed), and `diag(1e-15, 1, 1)`, positive definite, was
+    refused as "not positive definite"."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", dz.InertiaWarning)
+        body = dz.Body.from_tensor(np.diag(moments))
+    assert body.inertia == tuple(sorted(moments))
+    assert np.array_equal(body.tensor, np.diag(moments))
+
+
+def test_a_tensor_singular_to_round_off_is_refused_naming_the_resolution():
+    r = random_rotation(3).as_matrix()
+    with pytest.raises(ValueError, match=r"singular to round-off.*ε × the largest"):
+        dz.Body.from_tensor(r @ np.diag([0.0, 1.0, 2.0]) @ r.T)
+    # a small moment within float64's resolution beside the largest is kept, to ~ε of it
+    body = dz.Body.from_tensor(r @ np.diag([1e-12, 1.0, 1.0 + 1e-12]) @ r.T)
+    assert body.inertia[0] == pytest.approx(1e-12, abs=4 * np.finfo(float).eps)
+
+
+def test_compose_takes_a_tiny_quaternion():
+    """q = (1e-300, 0, 0, 0) is non-zero and normalisable; its norm underflowed to 0."""
+    box = dz.Body.box(1.0, 2.0, 3.0)
+    for q in ((1e-300, 0.0, 0.0, 0.0), (5e-324, 0.0, 0.0, 0.0), (1e300, 0.0, 0.0, 1e300)):
+        composite = dz.Body.compose([(box, (0.0, 0.0, 0.0), q)])
+        turn = Rotation.from_quat(np.roll(np.array(q) / np.abs(q).max(), -1)).as_matrix()
+        np.testing.assert_allclose(composite.tensor, turn @ box.tensor @ turn.T, atol=1e-15)
+    with pytest.raises(ValueError, match=r"`parts\[0\] q` must be a non-zero quaternion"):
+        dz.Body.compose([(box, (0.0, 0.0, 0.0), (0.0, 0.0, 0.0, 0.0))])
+
+
+@pytest.mark.parametrize("scale", [1e100, 1e-100, 1e150, 1e-150])
+def test_a_mesh_at_any_scale_with_a_mass(scale):
+    """A box mesh scaled by 1e100 was refused: its volume integrals (length⁵) overflowed."""
+    v, f = box_mesh(1.0, 2.0, 3.0)
+    body = dz.Body.from_mesh(v * scale, f, mass=1.0)
+    want = box_tensor(scale, 2 * scale, 3 * scale, 1.0)
+    np.testing.assert_allclose(body.tensor, want, rtol=0, atol=1e-14 * want.max())
+
+
+def test_a_mesh_whose_mass_or_moments_float64_cannot_hold_names_the_limit():
+    v, f = box_mesh(1.0, 2.0, 3.0)
+    with pytest.raises(ValueError, match=r"exceed float64's 1.8e\+308; give a smaller `mass` "
+                                         r"or `density`"):
+        dz.Body.from_mesh(v * 1e100, f)  # density 1: a mass of 6e300, moments of 1e500
+    with pytest.raises(ValueError, match=r"fall below float64's .*larger `mass` or `density`"):
+        dz.Body.from_mesh(v * 1e-100, f)
+    with pytest.raises(ValueError, match=r"`density` × its volume .* is beyond"):
+        dz.Body.from_mesh(v * 1e105, f)
+
+
+def _two_boxes(offset, *, inward=False, scale=1.0):
+    v, f = box_mesh(1.0, 2.0, 3.0)
+    w, g = box_mesh(scale, 2.0 * scale, 3.0 * scale, offset=offset)
+    return np.concatenate([v, w]), np.concatenate([f, (g[:, ::-1] if inward else g) + 8])
+
+
+@pytest.mark.parametrize("offset, scale, why", [
+    ((0.5, 0.0, 0.0), 1.0, "one inside the other"),   # the issue's: overlapping by half
+    ((0.5, 1.0, 1.5), 1.0, "one inside the other"),   # at a corner
+    ((0.0, 0.0, 0.0), 0.5, "one inside the other"),   # nested
+])
+def test_a_mesh_of_overlapping_parts_is_refused(offset, scale, why):
+    """Two overlapping unit-density boxes of volume 6 weighed 12: the overlap counted twice."""
+    v, f = _two_boxes(offset, scale=scale)
+    with pytest.raises(dz.MeshError, match=why):
+        dz.Body.from_mesh(v, f)
+
+
+def test_crossing_parts_are_refused_and_touching_parts_a_cavity_and_an_island_kept():
+    v, f = box_mesh(1.0, 2.0, 3.0)
+    w, g = box_mesh(3.0, 0.5, 0.5)  # through the box like a plus sign
+    with pytest.raises(dz.MeshError, match="surfaces cross"):
+        dz.Body.from_mesh(np.concatenate([v, w]), np.concatenate([f, g + 8]))
+    assert dz.Body.from_mesh(*_two_boxes((1.0, 0.0, 0.0))).mass == pytest.approx(12.0)
+    assert dz.Body.from_mesh(*_two_boxes((1.0, 0.5, 0.5))).mass == pytest.approx(12.0)
+    hollow = dz.Body.from_mesh(*_two_boxes((0.0, 0.0, 0.0), inward=True, scale=0.5))
+    assert hollow.mass == pytest.approx(6.0 - 6.0 / 8)
+    v, f = _two_boxes((0.0, 0.0, 0.0), inward=True, scale=0.5)
+    u, h = box_mesh(0.2, 0.4, 0.6)  # an island inside the cavity
+    island = dz.Body.from_mesh(np.concatenate([v, u]), np.concatenate([f, h + 16]))
+    assert island.mass == pytest.approx(6.0 - 6.0 / 8 + 6.0 * 0.2**3)
+
+
+@pytest.mark.parametrize("error", [IndexError("index 7 is out of bounds"),
+                                   NotImplementedError("file_type 'x' not supported"),
+                                   ModuleNotFoundError("No module named 'networkx'",
+                                                       name="networkx"),
+                                   KeyError("vertex"), AttributeError("no faces")])
+def test_load_turns_whatever_trimesh_raises_into_a_mesh_error(error, tmp_path, monkeypatch):
+    """trimesh's IndexError, NotImplementedError and ModuleNotFoundError escaped `Body.load`,
+    and `dzhanibekov run` printed a traceback (exit 1)."""
+    trimesh = pytest.importorskip("trimesh")
+    path = tmp_path / "part.3mf"
+    path.write_bytes(b"PK\x03\x04 not really")
+
+    def fail(*args, **kwargs):
+        raise error
+
+    monkeypatch.setattr(trimesh, "load", fail)
+    with pytest.raises(dz.MeshError, match=r"`path` '.*part\.3mf' cannot be read as a mesh") \
+            as caught:
+        dz.Body.load(path)
+    if isinstance(error, ModuleNotFoundError):
+        assert "needs the module 'networkx'" in str(caught.value)
+
+
+def test_a_scene_whose_mesh_trimesh_cannot_read_exits_2_with_one_line(tmp_path):
+    """A mesh file of a kind trimesh does not read (its NotImplementedError escaped the
+    scene's checks): `dzhanibekov run` printed a traceback and exited 1."""
+    pytest.importorskip("trimesh")
+    import subprocess
+
+    import tomli_w
+
+    (tmp_path / "part.dat").write_text("solid x\nfacet normal 0 0 1\n")
+    scene = dz.SCENES["fig3a"].to_dict()
+    scene["body"] = {"mesh": "part.dat", "signal_point": [0.0, 0.0, 2.0]}
+    (tmp_path / "s.toml").write_text(tomli_w.dumps(scene))
+    done = subprocess.run([sys.executable, "-m", "dzhanibekov", "run", str(tmp_path / "s.toml"),
+                           "--out", str(tmp_path / "out")], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2, done.stderr
+    assert "Traceback" not in done.stderr and "body.mesh" in done.stderr
+    assert "cannot be read as a mesh (NotImplementedError" in done.stderr
+    assert len(done.stderr.strip().splitlines()) == 1, done.stderr

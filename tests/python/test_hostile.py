@@ -176,3 +176,94 @@ def test_box_edges_takes_nothing_and_gives_the_twelve_edges() -> None:
     assert edges.shape == (12, 2) and edges.min() == 0 and edges.max() == 7
     with pytest.raises(TypeError):
         dz.box_edges(1)  # type: ignore[call-arg]
+
+
+# -- files ------------------------------------------------------------------------------------
+
+FILE_OUTCOMES: dict[str, Counter[str]] = {}
+
+
+@pytest.fixture(scope="module")
+def corpus(tmp_path_factory: pytest.TempPathFactory) -> list[Any]:
+    pytest.importorskip("xarray", reason="the `io` extra (xarray) is not installed")
+    pytest.importorskip("h5netcdf", reason="the `io` extra (h5netcdf) is not installed")
+    from hostile import file_corpus
+
+    return file_corpus(tmp_path_factory.mktemp("corpus"))
+
+
+def _read(reader: str, path: Any) -> tuple[str, Any, float]:
+    """Calls `reader` on `path` in a daemon thread (a reader that blocks on a FIFO or reads
+    /dev/zero for ever fails the test instead of hanging it); returns the outcome, the value
+    or exception, and the seconds taken."""
+    import threading
+    import time
+
+    from hostile import read_with
+
+    box: dict[str, Any] = {}
+
+    def run() -> None:
+        start = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", dz.InertiaWarning)
+                box["value"] = ("ok", read_with(reader, path))
+        except BaseException as exc:  # noqa: BLE001 - sorted by the test
+            box["value"] = ("error", exc)
+        box["seconds"] = time.perf_counter() - start
+
+    thread = threading.Thread(target=run, daemon=True)
+    thread.start()
+    thread.join(30.0)
+    assert not thread.is_alive(), f"{reader}({path}) blocked for 30 s"
+    outcome, value = box["value"]
+    return outcome, value, box["seconds"]
+
+
+@pytest.mark.parametrize("reader", ["load", "read_aem", "load_scene", "Body.load"])
+def test_every_reader_on_every_file(reader: str, corpus: list[Any]) -> None:
+    """Each reader given every file of the corpus (see `hostile.file_corpus`): its own valid
+    files return a result; every other file — each other format, cut short, grown past the
+    bound, spoilt, a FIFO, /dev/zero, a folder, a missing path — ends in a ValueError subclass
+    (the reader's documented one) naming the file, never another exception, a hang or a
+    crash. Files that are no regular file, too large or of another format are refused before
+    their content is read (at once: /dev/zero would never end)."""
+    if reader == "Body.load":
+        pytest.importorskip("trimesh", reason="the `mesh` extra (trimesh) is not installed")
+    documented = {"load": dz.ReadError, "read_aem": dz.ReadError,
+                  "load_scene": dz.SceneError, "Body.load": dz.MeshError}[reader]
+    counts: Counter[str] = Counter()
+    failures = []
+    for item in corpus:
+        outcome, value, seconds = _read(reader, item.path)
+        if reader in item.valid_for:
+            if outcome != "ok":
+                failures.append(f"{item.name}: valid, but {type(value).__name__}: {value}")
+            counts[f"{item.category}: result"] += 1
+            continue
+        if outcome == "ok":
+            failures.append(f"{item.name} ({item.category}): accepted, returned {value!r}")
+            continue
+        if not isinstance(value, documented):
+            failures.append(f"{item.name} ({item.category}): {type(value).__name__} (not "
+                            f"{documented.__name__}): {value}")
+            continue
+        if str(item.path) not in str(value) and item.path.name not in str(value):
+            failures.append(f"{item.name}: the message does not name the file: {value}")
+        up_front = item.category in ("special", "oversized")
+        if up_front and seconds > 2.0:
+            failures.append(f"{item.name}: refused after {seconds:.1f} s, not up front")
+        counts[f"{item.category}: {'refused up front' if up_front else 'clear error'}"] += 1
+    FILE_OUTCOMES[reader] = counts
+    if path := os.environ.get("DZ_HOSTILE_REPORT"):
+        try:
+            with open(path, encoding="utf-8") as f:
+                report = json.load(f)
+        except (OSError, ValueError):
+            report = {}
+        report[f"files: {reader}"] = dict(counts)
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(report, f, indent=1, sort_keys=True)
+    assert not failures, "\n".join(failures)
+    assert sum(counts.values()) == len(corpus)

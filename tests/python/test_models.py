@@ -311,3 +311,60 @@ def test_flips_are_located_for_tensors_off_their_axes():
     b = dz.simulate(turned, r @ w0, **kw)
     assert len(a.flip_times) >= 3 and a.flip_times[0] > 20.0
     np.testing.assert_allclose(b.flip_times, a.flip_times, rtol=0, atol=1e-5)
+
+
+@pytest.mark.parametrize("method", ["dopri5", "dop853", "rk4"])
+def test_an_undamped_damper_at_rest_runs(method):
+    """A body at rest with `Damper(0.1, 0.0)` and dopri5 or dop853 raised ZeroDivisionError
+    in the stiffness check (`step = 1.0 / rate` with a rate of 0)."""
+    system = dz.System(BODY, parts=[dz.Damper(0.1, 0.0)])
+    traj = dz.simulate(system, (0.0, 0.0, 0.0), method=method, t_end=1.0, frames=3)
+    assert not traj.omega.any() and not traj.parts["damper"].any()
+
+
+def test_the_damper_rate_is_finite_or_the_damper_refused():
+    """`damper_rate` returned inf for `Damper(5e-324, c)`: 1/j overflowed though c/j need
+    not. The rate is c/j + c/I_min; a relaxation rate c/j beyond float64 is refused when the
+    damper is built, naming both arguments."""
+    tiny = dz.Damper(5e-324, 1e-310)
+    rate = dz.damper_rate((1.0, 2.0, 3.0), tiny)
+    assert rate == pytest.approx(1e-310 / 5e-324 + 1e-310, rel=1e-12)
+    with pytest.raises(ValueError, match=r"`damping` over the damper's inertia must be finite"):
+        dz.Damper(5e-324, 0.02)
+    with pytest.raises(ValueError, match=r"`body` .* and `damper` .* exceeds float64"):
+        dz.damper_rate((1e-300, 1e-300, 1e-300), dz.Damper(1.0, 1e10))
+
+
+def test_a_deployment_of_many_knots_is_checked_all_at_once(monkeypatch):
+    """10⁶ knots took ~40 s, checked one by one in Python: an array of moments or tensors is
+    checked in one pass (the per-knot path is not taken), and the first bad knot named."""
+    from dzhanibekov import deployment
+
+    def per_knot(*args):
+        raise AssertionError("checked knot by knot")
+
+    monkeypatch.setattr(deployment, "_as_tensor", per_knot)
+    k = 100_000
+    times = np.arange(k, dtype=float)
+    moments = np.tile([1.0, 2.0, 3.0], (k, 1))
+    d = dz.Deployment(times, moments)
+    assert d.tensors.shape == (k, 3, 3) and np.array_equal(d.tensors[7], np.diag([1, 2, 3]))
+    listed = dz.Deployment(times.tolist(), moments.tolist())  # lists are stacked at once too
+    assert np.array_equal(listed.tensors, d.tensors)
+    tensors = np.tile(np.diag([1.0, 2.0, 3.0]), (k, 1, 1))
+    tensors[k - 3, 0, 1] = tensors[k - 3, 1, 0] = 5.0
+    with pytest.raises(ValueError, match=rf"`inertia` must hold symmetric, positive definite.* "
+                                         rf"got inertia\[{k - 3}\] = "):
+        dz.Deployment(times, tensors)
+    times[k - 2] = times[k - 3]
+    with pytest.raises(ValueError, match=rf"times\[{k - 3}\] = {k - 3} then "
+                                         rf"times\[{k - 2}\] = {k - 3}\b"):
+        dz.Deployment(times, moments)
+
+
+def test_a_deployment_too_large_for_memory_is_refused_before_it_is_built(monkeypatch):
+    from dzhanibekov import _args
+
+    monkeypatch.setattr(_args, "memory_available", lambda: (10 << 20, "available memory"))
+    with pytest.raises(dz.TooLargeError, match="a deployment of 1000000 knots"):
+        dz.Deployment(range(10**6), [(1.0, 2.0, 3.0)] * 10**6)

@@ -44,7 +44,7 @@ def test_a_device_is_refused_not_read():
             print(exc)
     """)
     assert done.returncode == 0, done.stderr
-    assert "/dev/zero: cannot be read (not a regular file)" in done.stdout
+    assert "/dev/zero: cannot be read (a device, not a regular file)" in done.stdout
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="needs FIFOs")
@@ -180,3 +180,41 @@ def test_a_pool_worker_raising_a_scene_error_returns_it():
 def test_the_bounds_are_documented_in_the_module():
     for name in ("MAX_SCENE_BYTES", "MAX_ANIMATION_FRAMES", "MAX_PHASES", "MAX_DRAWN_SIZE"):
         assert name in scene_module.__all__
+
+
+@pytest.mark.parametrize("draw", [{}, {"box": True, "figures": ["path"]}, Draw(path=True)])
+def test_replace_takes_a_draw_table(draw):
+    """`Scene.replace(draw={})` failed with a TypeError inside `dataclasses.asdict`."""
+    scene = dz.SCENES["fig3a"].replace(draw=draw)
+    want = draw if isinstance(draw, Draw) else Draw(**{k: tuple(v) if isinstance(v, list)
+                                                       else v for k, v in draw.items()})
+    assert scene.draw == want
+
+
+@pytest.mark.parametrize("draw, key", [({"boxx": True}, "draw.boxx"), (3, "draw"),
+                                       ({"figures": ["nope"]}, "draw.figures")])
+def test_replace_refuses_a_draw_that_is_no_table_of_draw_keys(draw, key):
+    with pytest.raises(SceneError, match=rf"`{key}`"):
+        dz.SCENES["fig3a"].replace(draw=draw)
+
+
+@pytest.mark.parametrize("title, why", [
+    ("$" + "{" * 60 + "x" + "}" * 60 + "$", "nests its mathtext .* 60 levels deep"),
+    ("$" + r"\frac{" * 40 + "x" + "}{2}" * 40 + "$", "nests its mathtext .* 40 levels deep"),
+    (r"$\notacommand{x}$", "is mathtext .* that matplotlib cannot draw: .*notacommand"),
+])
+def test_a_title_matplotlib_cannot_draw_is_refused_when_the_scene_loads(tmp_path, title, why):
+    """A title of deeply nested mathtext loaded, then `dzhanibekov run` died in matplotlib's
+    parser with a ~3000-line RecursionError traceback."""
+    table = dz.SCENES["fig3a"].to_dict() | {"title": title}
+    path = tmp_path / "deep.toml"
+    path.write_text(tomli_w.dumps(table))
+    with pytest.raises(SceneError, match=rf"deep\.toml: `title` {why}"):
+        dz.load_scene(path)
+
+
+def test_a_title_with_mathtext_or_dollars_loads_and_draws():
+    for title in (r"$\omega_0 = (0.01, 0.01, 1)$: $x^{2^{y}}$", "costs $5, or $6",
+                  "a lone $ sign"):
+        scene = dz.SCENES["fig3a"].replace(title=title, t_end=10.0, frames=11)
+        dz.plotting.path_figure(scene).canvas.draw()

@@ -106,3 +106,25 @@ def test_the_cli_writes_the_viewer(tmp_path):
 
     assert main(["view", "fig3a", "--out", str(out)]) == 0
     assert out.exists() and "Plotly" in out.read_text(encoding="utf-8")[:5_000_000]
+
+
+def test_a_long_run_is_shown_within_the_viewers_own_bound(tmp_path):
+    """A Trajectory of more than 2000 frames was refused with a SceneError about a scene's
+    `run.frames` and a GIF (the animation's bound), although the viewer shows 201 frames."""
+    from dzhanibekov.viewer import MAX_FRAMES, PATH_POINTS
+
+    traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=100.0, frames=2501)
+    fig = dz.viewer.figure(traj)
+    assert len(fig.frames) == 201
+    whole_path = fig.data[-2]  # the static trace of the whole path
+    assert len(whole_path.x) == PATH_POINTS
+    # the last frame shows the run's last attitude
+    point = fig.frames[-1].data[-1]
+    expected = dz.rotate(traj.q[-1], (0.0, 0.0, 13.0))
+    assert np.allclose([point.x[0], point.y[0], point.z[0]], expected, atol=1e-12)
+    assert len(dz.viewer.figure(traj, frames=300).frames) == 300  # more than a GIF's 201
+    with pytest.raises(ValueError, match=r"`frames` must be at most 1000 \(the viewer's "
+                                         r"MAX_FRAMES"):
+        dz.viewer.figure(traj, frames=MAX_FRAMES + 1)
+    scene = dz.SCENES["fig3a"].replace(frames=3001)  # a scene's run of many frames too
+    assert len(dz.viewer.figure(scene).frames) == 201

@@ -35,6 +35,7 @@ from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
     Poly3DCollection,
 )
 
+from .._files import save_figure
 from .._args import as_float, as_int
 from ..body import InertiaWarning, as_body
 from ..damper import axis_shares, flat_spin_time
@@ -119,8 +120,7 @@ def _figure_of(ax: Axes) -> Figure:
 
 
 def _saved(fig: Figure, save: str | Path | None) -> Figure:
-    if save is not None:
-        fig.savefig(save, dpi=DPI)
+    save_figure(fig, save, dpi=DPI)  # all or nothing: the previous file kept on failure
     return fig
 
 

@@ -27,6 +27,7 @@ from matplotlib.colors import LogNorm, Normalize, TwoSlopeNorm
 from matplotlib.figure import Figure
 
 from .._args import as_array, as_int, check_size
+from .._files import save_figure
 from ..body import PAPER_INERTIA
 from ..ensemble import Sweep, grid, sweep
 from .figures import _figure_of
@@ -191,8 +192,7 @@ def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool =
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(_title(result, (x_name, y_name)), fontsize=9)
-    if save is not None:
-        fig.savefig(save, dpi=100)
+    save_figure(fig, save, dpi=100)
     return fig
 
 
@@ -277,8 +277,7 @@ def map_figure(result: Sweep, *, save: str | Path | None = None) -> Figure:
     fig = Figure(figsize=(12.0, 4.8), layout="constrained")
     for k, quantity in enumerate(("period", "tilt")):
         stability_map(result, quantity=quantity, ax=fig.add_subplot(1, 2, k + 1))
-    if save is not None:
-        fig.savefig(save, dpi=100)
+    save_figure(fig, save, dpi=100)
     return fig
 
 

@@ -61,6 +61,7 @@ import numpy as np
 import tomli_w
 
 from .._args import as_array, as_float, as_int, run_options
+from .._files import ReadError, open_regular, write_text
 from ..body import Body
 from .bodies import BODY_KEYS, build_body, default_signal_point
 from ..damper import Damper
@@ -374,10 +375,9 @@ class Scene:
         return tomli_w.dumps(self.to_dict())
 
     def save(self, path: str | Path) -> Path:
-        """Writes the scene to `path` (its stem should be the scene's name)."""
-        path = Path(path)
-        path.write_text(self.to_toml(), encoding="utf-8")
-        return path
+        """Writes the scene to `path` (its stem should be the scene's name), all or nothing:
+        the previous file is replaced only once the new one is complete."""
+        return write_text(path, self.to_toml(), encoding="utf-8")
 
     @classmethod
     def from_toml(cls, text: str, name: str, source: str = "",
@@ -612,6 +612,7 @@ def _validate(s: Scene) -> None:
         raise SceneError(src, "name", "must be letters, digits, '_', '-' or '.' (it names the "
                          f"output files), got {s.name!r}")
     _set(s, "title", _text(src, "title", s.title, required=True))
+    _drawable_text(src, "title", s.title)
     _set(s, "about", _text(src, "about", s.about, required=False))
     if s.body_spec is not None:
         if not isinstance(s.body_spec, Mapping):
@@ -670,9 +671,7 @@ def _validate(s: Scene) -> None:
         _drawable(src, "body.box", max(s.box))
     _set(s, "flips", _flag(src, "ask.flips", s.flips))
 
-    draw = s.draw.table if isinstance(s.draw, _Raw) else dataclasses.asdict(s.draw)
-    if not isinstance(draw, Mapping):
-        raise SceneError(src, "draw", f"must be a table, got {draw!r}")
+    draw = _table(src, "draw", s.draw, Draw)
     flags = {n: _flag(src, f"draw.{n}", draw.get(n, False))
              for n in ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum",
                        "animation")}
@@ -692,10 +691,7 @@ def _validate(s: Scene) -> None:
     _set(s, "draw", Draw(**flags, figures=figures, phases=times, fps=movie["fps"],
                          animation_size=movie["animation_size"]))
 
-    style = s.ellipsoid.table if isinstance(s.ellipsoid, _Raw) else \
-        dataclasses.asdict(s.ellipsoid)
-    if not isinstance(style, Mapping):
-        raise SceneError(src, "ellipsoid", f"must be a table, got {style!r}")
+    style = _table(src, "ellipsoid", s.ellipsoid, EllipsoidStyle)
     convention = style.get("convention", "gyration")
     if convention not in CONVENTIONS:
         raise SceneError(src, "ellipsoid.convention",
@@ -723,6 +719,55 @@ def _validate(s: Scene) -> None:
         raise SceneError(src, "run.frames", f"must be at most {MAX_ANIMATION_FRAMES} for an "
                          f"animation (each frame is drawn and kept until the GIF is written), "
                          f"got {s.frames}; store fewer frames or set `draw.animation = false`")
+
+
+def _table(source: str, key: str, value: Any, kind: type) -> Mapping[str, Any]:
+    """A scene's sub-table (`draw`, `ellipsoid`) as a mapping of its keys: from a file, from
+    its dataclass, or from a mapping given in Python (``scene.replace(draw={...})``)."""
+    if isinstance(value, _Raw):
+        return value.table
+    if isinstance(value, kind):
+        table: dict[str, Any] = dataclasses.asdict(value)  # type: ignore[call-overload]
+        return table
+    if isinstance(value, Mapping):
+        known = [f.name for f in dataclasses.fields(kind)]
+        unknown = [k for k in value if k not in known]
+        if unknown:
+            raise SceneError(source, f"{key}.{unknown[0]}", f"is not a known key; allowed in "
+                             f"[{key}]: {', '.join(known)}")
+        return value
+    raise SceneError(source, key, f"must be a {kind.__name__} or a table of its keys, got "
+                     f"{type(value).__name__}")
+
+
+MAX_TEXT_NESTING = 10
+"""The deepest nesting of braces (``{…}``, ``\\left…\\right``) in a title's mathtext
+(``$…$``): matplotlib's parser recurses once per level, and runs out of stack at some 30
+levels, fewer the deeper the drawing call."""
+
+
+def _drawable_text(source: str, key: str, text: str) -> None:
+    """Refuses text that matplotlib cannot draw as its title: mathtext (an even number of
+    unescaped ``$``) nested too deeply for its parser, or that its parser refuses."""
+    dollars = text.count("$") - text.count(r"\$")
+    if dollars <= 0 or dollars % 2:
+        return  # plain text: drawn as it is
+    depth = deepest = 0
+    for token in re.finditer(r"\\left|\\right|(?<!\\)[{}]", text):
+        depth += 1 if token.group() in ("{", "\\left") else -1
+        deepest = max(deepest, depth)
+    if deepest > MAX_TEXT_NESTING:
+        raise SceneError(source, key, f"nests its mathtext ($…$) {deepest} levels deep, more "
+                         f"than the {MAX_TEXT_NESTING} a figure draws (matplotlib's parser "
+                         "recurses once per level)")
+    from matplotlib.mathtext import MathTextParser  # only for a title with mathtext
+
+    try:
+        MathTextParser("path").parse(text)
+    except (ValueError, RecursionError) as exc:
+        first = str(exc).strip().splitlines()
+        raise SceneError(source, key, "is mathtext ($…$) that matplotlib cannot draw: "
+                         f"{first[-1] if first else type(exc).__name__}") from None
 
 
 def _drawable(source: str, key: str, size: float, what: str = "") -> None:
@@ -819,12 +864,13 @@ def load_scene(path: str | Path) -> Scene:
 
 def _read_scene_file(path: Path) -> str:
     """The text of a scene file: a regular file of at most :data:`MAX_SCENE_BYTES`, read
-    without ever holding more (a device or a FIFO could give bytes for ever)."""
-    # non-blocking: opening a FIFO must not wait for a writer (no effect on regular files)
-    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
-    with os.fdopen(fd, "rb") as f:
-        if not stat.S_ISREG(os.fstat(fd).st_mode):
-            raise ValueError("not a regular file")
+    without ever holding more (a device or a FIFO could give bytes for ever; a FIFO is not
+    even opened for a writer to come)."""
+    try:
+        f = open_regular(path, "a scene file")
+    except ReadError as exc:
+        raise ValueError(exc.why) from None
+    with f:
         data = f.read(MAX_SCENE_BYTES + 1)
     if len(data) > MAX_SCENE_BYTES:
         raise ValueError(f"larger than {MAX_SCENE_BYTES} bytes, the most a scene file may "

@@ -1,0 +1,1015 @@
+"""Results as netCDF-4 files: :func:`save` (xarray and h5netcdf) and :func:`load` (h5py),
+the ``io`` extra.
+
+A file holds the layout of ``result.to_xarray()`` plus the attribute
+``dzhanibekov_result`` naming the kind. Arrays round-trip bit for bit.
+
+**Writing** is all or nothing: the file is built in memory (h5py never writes to the disk, so
+a full disk cannot leave HDF5 half-closed — h5netcdf closing such a file again crashed the
+interpreter), then written to a temporary file beside `path` and renamed over it
+(:mod:`dzhanibekov._files`). After any failure, Ctrl-C included, the previous file is as it
+was.
+
+**Reading** checks what it reads as strictly as a run checks what it computes, against one
+table per kind (:data:`LAYOUTS`): each variable's dimensions, type and values (finite, unit
+quaternions to the run's own recorded drift, times that start at 0 and increase, flip
+counts that match the flip times …), each attribute, and the rules that tie them together;
+then each run's system is rebuilt (the core checks its body, deployment and parts as when
+the run was made) and what the loaded result derives from it (principal moments, energy,
+angular momentum) must be what the file says. Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
+what is wrong. A new field of a result is one row of its table.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import warnings
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from . import _core, _tables
+from ._args import check_size
+from ._files import HDF5_SIGNATURE, ReadError, as_path, describe, open_regular, replacing
+from .body import Body, InertiaWarning
+from .damper import Damper
+from .deployment import Deployment
+from .methods import METHODS
+from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
+from .system import System, Systems
+
+__all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE", "PART_NAMES"]
+
+KIND_ATTRIBUTE = "dzhanibekov_result"
+"""The attribute naming the kind of result a file holds."""
+
+SUFFIXES = (".nc", ".nc4", ".netcdf", ".h5", ".hdf5")
+"""The suffixes :func:`save` writes (netCDF-4 is HDF5): another suffix is refused rather
+than given a format it does not name."""
+
+_OTHER_FORMATS = {
+    ".aem": "for a CCSDS AEM use dz.io.write_aem",
+    ".csv": "for CSV use result.to_dataframe().to_csv(path)",
+    ".parquet": "for Parquet use result.to_dataframe().to_parquet(path)",
+    ".html": "for the viewer use dz.viewer.write_html",
+    ".json": "for a scene's summary use the CLI (`dzhanibekov run`)",
+    ".toml": "for a scene use Scene.save",
+    ".zarr": "for Zarr use result.to_xarray().to_zarr(path)",
+}
+
+_EPS = float(np.finfo(np.float64).eps)
+
+
+# -- the table -------------------------------------------------------------------------------
+
+Check = Callable[[np.ndarray], "str | None"]
+"""A check of a variable's values: None if they are allowed, else what is wrong."""
+
+
+@dataclass(frozen=True)
+class Var:
+    """A variable of a layout.
+
+    `dims` are dimension names; ``"*"`` stands for the grid dimensions of a sweep (one or
+    more, whatever their names). `kind` is ``"f"`` (float64), ``"i"`` (integers) or ``"U"``
+    (text). `checks` are applied in order to the values."""
+
+    dims: tuple[str, ...]
+    kind: str
+    checks: tuple[Check, ...] = ()
+    optional: bool = False
+
+
+@dataclass(frozen=True)
+class Attr:
+    """An attribute of a layout: `kind` as for :class:`Var` (a scalar, an array of `shape`,
+    or for `shape` None a list of any length: a list of names), and its checks."""
+
+    kind: str
+    checks: tuple[Check, ...] = ()
+    shape: tuple[int, ...] | None = ()
+    optional: bool = False
+
+
+Rule = Callable[["Loaded"], "str | None"]
+"""A rule tying several fields together: None if they agree, else what is wrong."""
+
+
+@dataclass(frozen=True)
+class Layout:
+    """What a file of one kind holds, and how to build the result from it."""
+
+    variables: Mapping[str, Var]
+    attrs: Mapping[str, Attr]
+    rules: tuple[Rule, ...]
+    build: Callable[[Loaded], Any]
+    after: Callable[[Loaded, Any], str | None] | None = None
+    """A check of the built result against the file (what it derives from its own system
+    against what the file says it derived): None if they agree, else what is wrong."""
+    sizes: Mapping[str, int] = field(default_factory=dict)
+    """Dimensions of a fixed length (``axis``: 3, ``quaternion``: 4)."""
+    least: Mapping[str, int] = field(default_factory=dict)
+    """Dimensions of a least length (``time``: 2)."""
+    grid_coordinates: bool = False
+    """Whether 1-D coordinates of the grid dimensions (a sweep's ``u0``, ``Iz`` …, named
+    for their dimension) may be there besides `variables`."""
+
+
+@dataclass
+class Loaded:
+    """A file's variables and attributes, checked one by one, for the rules and the build."""
+
+    values: dict[str, np.ndarray]
+    attrs: dict[str, Any]
+
+    def __getitem__(self, name: str) -> Any:
+        return self.values[name] if name in self.values else self.attrs[name]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.values or name in self.attrs
+
+
+# -- checks of values --------------------------------------------------------------------------
+
+
+def finite(a: np.ndarray) -> str | None:
+    return None if np.isfinite(a).all() else "holds NaN or infinite values"
+
+
+def finite_or_nan(a: np.ndarray) -> str | None:
+    return None if not np.isinf(a).any() else "holds infinite values"
+
+
+def non_negative(a: np.ndarray) -> str | None:
+    return None if not (a < 0).any() else f"holds negative values ({a[a < 0].flat[0].item()!r})"
+
+
+def positive(a: np.ndarray) -> str | None:
+    return None if (a > 0).all() else "must be positive"
+
+
+def positive_or_nan(a: np.ndarray) -> str | None:
+    return None if not (a <= 0).any() else "must be positive (or NaN)"
+
+
+def starts_at_zero_and_increases(t: np.ndarray) -> str | None:
+    if t[0] != 0.0:
+        return f"must start at 0, starts at {t[0]!r}"
+    if not (np.diff(t) > 0).all():
+        k = int(np.argmax(~(np.diff(t) > 0)))
+        return f"must increase, but t[{k + 1}] = {t[k + 1]!r} follows t[{k}] = {t[k]!r}"
+    return None
+
+
+def one_of(allowed: tuple[str, ...]) -> Check:
+    def check(a: np.ndarray) -> str | None:
+        bad = [v for v in np.ravel(a) if str(v) not in allowed]
+        return None if not bad else f"must be one of {list(allowed)}, got {str(bad[0])!r}"
+    return check
+
+
+def flag(a: np.ndarray) -> str | None:
+    return None if np.isin(a, (0, 1)).all() else "must be 0 or 1"
+
+
+def labels(names: tuple[str, ...]) -> Check:
+    def check(a: np.ndarray) -> str | None:
+        got = [str(v) for v in np.ravel(a)]
+        return None if got == list(names) else f"must be {list(names)}, got {got}"
+    return check
+
+
+def moments(a: np.ndarray) -> str | None:
+    """Principal moments a Body takes (each row)."""
+    for row in np.reshape(a, (-1, 3)):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", InertiaWarning)
+                Body(row)
+        except (TypeError, ValueError) as exc:
+            return f"are no body's principal moments: {exc}"
+    return None
+
+
+def _is_unit_enough(q: np.ndarray, drift: np.ndarray) -> str | None:
+    """`q` (..., N, 4) unit to within its run's recorded `drift` of ``|q|`` (...,)."""
+    drift = np.asarray(drift)
+    if not (drift < 1.0).all():
+        return "`drift_q_norm` must be below 1 (|q| between 0 and 2: a rotation)"
+    norm = np.sqrt(np.einsum("...i,...i->...", q, q))
+    off = np.abs(norm - 1.0).max(axis=-1, initial=0.0)
+    excess = off - (drift * (1 + 1e-9) + 8 * _EPS)
+    if (excess > 0).any():
+        k = np.unravel_index(int(np.argmax(excess)), np.shape(excess))
+        where = f" (run {k[0]})" if k else ""
+        return (f"`q` must be unit quaternions to the run's recorded drift of |q|{where}: "
+                f"they depart from unit norm by {float(off[k]):.3g}, the file's "
+                f"`drift_q_norm` says {float(drift[k]):.3g}")
+    return None
+
+
+def _flip_times_within(times: np.ndarray, t_end: float) -> str | None:
+    if not np.isfinite(times).all():
+        return "`flip_times` holds NaN or infinite values"
+    if times.size and (times.min() < 0 or times.max() > t_end):
+        return f"`flip_times` must lie in [0, t_end = {t_end!r}]"
+    if not (np.diff(times) >= 0).all():
+        return "`flip_times` must not decrease"
+    return None
+
+
+# -- rules ------------------------------------------------------------------------------------
+
+
+def trajectory_q_unit(d: Loaded) -> str | None:
+    return _is_unit_enough(d["q"], np.asarray(d["drift_q_norm"]))
+
+
+def trajectory_flips(d: Loaded) -> str | None:
+    located = int(d["flips_located"])
+    if located != ("flip_times" in d.values):
+        return ("`flips_located` says flips were " + ("" if located else "not ")
+                + "located, but `flip_times` is " + ("missing" if located else "there"))
+    if located:
+        return _flip_times_within(d["flip_times"], float(d["time"][-1]))
+    return None
+
+
+def batch_q_unit(d: Loaded) -> str | None:
+    return _is_unit_enough(d["q"], d["drift_q_norm"])
+
+
+def batch_flips(d: Loaded) -> str | None:
+    if ("flips" in d.values) != ("flip_times" in d.values):
+        return "`flips` and `flip_times` must both be there, or neither"
+    if "flips" not in d.values:
+        return None
+    counts, padded = d["flips"], d["flip_times"]
+    if padded.shape[1] != int(counts.max(initial=0)):
+        return (f"`flip_times` must have as many columns as the most `flips` of a run "
+                f"({int(counts.max(initial=0))}), got {padded.shape[1]}")
+    t_end = float(d["time"][-1])
+    for i, c in enumerate(counts):
+        row = padded[i]
+        if not np.isnan(row[c:]).all():
+            return (f"run {i} flipped {c} times by `flips`, but `flip_times` holds more "
+                    "(it must be NaN beyond each run's flips)")
+        problem = _flip_times_within(row[:c], t_end)
+        if problem:
+            return f"run {i}: {problem} ({c} flips by `flips`)"
+    return None
+
+
+def run_numbers(d: Loaded) -> str | None:
+    run = d["run"]
+    return None if np.array_equal(run, np.arange(len(run))) else "`run` must be 0, 1, 2, …"
+
+
+def sweep_outcomes(d: Loaded) -> str | None:
+    """A finished run's numbers are finite and agree with its flip count; an unfinished
+    run's are NaN, with flips −1."""
+    ok = d["status"] == "ok"
+    flips = d["flips"]
+    t_end = float(d["t_end"])
+    drifts = [d[f"drift_{k}"] for k in _tables.DRIFTS]
+    if (flips[~ok] != -1).any():
+        return "`flips` must be -1 for a run that did not finish (`status` not 'ok')"
+    if (flips[ok] < 0).any():
+        return "`flips` must be at least 0 for a run that finished"
+    nan_when_unfinished = [("first_flip", d["first_flip"]), ("period", d["period"]),
+                           ("tilt", d["tilt"]), ("dt", d["dt"])] + \
+        [(f"drift_{k}", v) for k, v in zip(_tables.DRIFTS, drifts)]
+    for name, v in nan_when_unfinished:
+        if not np.isnan(v[~ok]).all():
+            return f"`{name}` must be NaN for a run that did not finish"
+    first, period = d["first_flip"][ok], d["period"][ok]
+    n = flips[ok]
+    if np.isnan(first[n >= 1]).any() or not np.isnan(first[n == 0]).all():
+        return "`first_flip` must be a time exactly for the runs with at least one flip"
+    if np.isnan(period[n >= 2]).any() or not np.isnan(period[n < 2]).all():
+        return "`period` must be a time exactly for the runs with at least two flips"
+    if ((first[n >= 1] < 0) | (first[n >= 1] > t_end)).any():
+        return f"`first_flip` must lie in [0, t_end = {t_end!r}]"
+    if (period[n >= 2] > t_end).any():
+        return f"`period` must be at most t_end = {t_end!r}"
+    tilt = d["tilt"][ok]
+    if ((tilt < 0) | (tilt > math.pi * (1 + 4 * _EPS))).any():
+        return "`tilt` must lie in [0, π]"
+    for name, v in [("dt", d["dt"])] + [(f"drift_{k}", v) for k, v in
+                                        zip(_tables.DRIFTS, drifts)]:
+        if not np.isfinite(v[ok]).all() or (v[ok] < 0).any():
+            return f"`{name}` must be finite and non-negative for a run that finished"
+    q0 = d["q0"]
+    if not (np.abs(q0).max(axis=-1, initial=0.0) > 0).all():
+        return "`q0` must be non-zero quaternions"
+    return None
+
+
+# -- the system a file describes ------------------------------------------------------------------
+
+PART_NAMES = ("damper",)
+"""The parts a file may name (``parts``), each with its state variable of that name."""
+
+_BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
+_KNOT_VARS = ("knot_times", "knot_tensors")
+_DAMPER_VARS = ("damper_inertia", "damper_damping", "damper_sigma0")
+_DERIVED = ("energy", "momentum_body", "momentum_world")
+_KEPT = (*_tables.DRIFTS, "jacobi")
+
+
+def _runs(d: Loaded) -> int | None:
+    """How many runs the file holds: None for one run (no ``run`` dimension)."""
+    return len(d["run"]) if "run" in d.values else None
+
+
+def system_parts(d: Loaded) -> str | None:
+    """The system is described once, completely: a body (tensor, mass, centre of mass) or a
+    deployment's knots, and each named part's parameters and state; none for an empty
+    batch."""
+    runs = _runs(d)
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *PART_NAMES,
+                                 *_DERIVED) if name in d.values]
+    if runs == 0:
+        return None if not present else f"`{present[0]}` must not be there: the batch is empty"
+    body = [name in d.values for name in _BODY_VARS]
+    knots = [name in d.values for name in _KNOT_VARS]
+    if not (all(body) and not any(knots)) and not (all(knots) and not any(body)):
+        return ("the system's body must be given once: `body_tensor`, `body_mass` and "
+                "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
+    parts = tuple(d["parts"]) if "parts" in d.attrs else ()
+    for name in PART_NAMES:
+        if (name in parts) != (name in d.values):
+            return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
+                    f"the {name}, but its state `{name}` is {'missing' if name in parts else 'there'}")
+    damper = [name in d.values for name in _DAMPER_VARS]
+    if any(damper) and not all(damper) or all(damper) != ("damper" in parts):
+        return ("a damper's `damper_inertia`, `damper_damping` and `damper_sigma0` must be "
+                "there exactly when `parts` names the damper")
+    missing = [name for name in _DERIVED if name not in d.values]
+    if missing:
+        return f"`{missing[0]}` is missing"
+    if "damper_sigma0" in d.values:
+        s0 = np.isnan(d["damper_sigma0"]).reshape(-1, 3)
+        if (s0.any(axis=1) != s0.all(axis=1)).any():
+            return "`damper_sigma0` must be three rates, or NaN for each (co-rotating)"
+    if "knot_times" in d.values:
+        return _knots_padded(d["knot_times"], d["knot_tensors"])
+    return None
+
+
+def _knots_padded(times: np.ndarray, tensors: np.ndarray) -> str | None:
+    """Each run's knots first, then NaN to the common length (tensors NaN exactly there)."""
+    times = times.reshape(-1, times.shape[-1])
+    tensors = tensors.reshape(len(times), -1, 9)
+    for i, (t, k) in enumerate(zip(times, tensors)):
+        nan = np.isnan(t)
+        n = int((~nan).sum())
+        if n == 0 or nan[:n].any():
+            return (f"`knot_times` of run {i} must hold its knots first, then NaN (at least "
+                    "one knot)")
+        if not np.isfinite(k[:n]).all() or not np.isnan(k[n:]).all():
+            return (f"`knot_tensors` of run {i} must be finite for its {n} knots and NaN "
+                    "beyond them")
+    return None
+
+
+def _systems(d: Loaded) -> list[System]:
+    """The systems a file describes (see `_tables.system_vars`): one per run (one for a
+    single run). The core checks each value, as when the run was made."""
+    runs = _runs(d)
+    n = 1 if runs is None else runs
+
+    def rows(name: str) -> np.ndarray:
+        a: np.ndarray = d[name]
+        return a[None] if runs is None else a
+
+    bodies: list[Any]
+    if "knot_times" in d.values:
+        bodies = _deployments(rows("knot_times"), rows("knot_tensors"))
+    else:
+        tensor, mass = rows("body_tensor"), rows("body_mass")
+        com = rows("body_center_of_mass")
+        bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
+                                 com[i]) for i in range(n)]
+    parts: list[list[Damper]] = [[] for _ in range(n)]
+    if "damper_inertia" in d.values:
+        j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
+        for i in range(n):
+            parts[i].append(Damper(float(j[i]), float(c[i]),
+                                   None if np.isnan(s0[i]).any() else s0[i]))
+    return [System(b, parts=p) for b, p in zip(bodies, parts)]
+
+
+def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
+    """Deployments from NaN-padded knots, one per row."""
+    return [Deployment(t[~np.isnan(t)], k[~np.isnan(t)]) for t, k in zip(times, tensors)]
+
+
+def _moments(system: System) -> np.ndarray:
+    """A system's principal moments at ``t = 0``, as a file's ``inertia`` gives them."""
+    body = system.body
+    if isinstance(body, Body):
+        return np.array(body.inertia)
+    return np.linalg.eigvalsh(system.tensor_at(0.0))
+
+
+# -- building ---------------------------------------------------------------------------------
+
+
+def _drift_of(d: Loaded, runs: bool) -> BatchDrift:
+    jacobi = d["drift_jacobi"] if "drift_jacobi" in d else None
+    if runs:
+        return BatchDrift.of(lambda k: d[f"drift_{k}"], jacobi, tuple(d["drift_kept"]))
+    return BatchDrift.of(lambda k: np.asarray([float(d[f"drift_{k}"])]),
+                         None if jacobi is None else np.asarray([float(jacobi)]),
+                         tuple(d["drift_kept"]))
+
+
+def build_trajectory(d: Loaded) -> Trajectory:
+    system = _systems(d)[0]
+    state = np.concatenate([d[name] for name in system.part_names], axis=1) \
+        if system.part_names else None
+    return Trajectory(
+        t=d["time"], omega=d["omega"], q=d["q"],
+        flip_times=d["flip_times"] if int(d["flips_located"]) else None,
+        system=system, method=str(d["method"]), dt=float(d["dt"]),
+        n_steps=int(d["n_steps"]), nfev=int(d["nfev"]),
+        drift=_drift_of(d, runs=False).row(0),
+        n_rejected=int(d["n_rejected"]),
+        parts=split_parts(system, state),
+    )
+
+
+def build_batch(d: Loaded) -> Batch:
+    times, offsets = None, None
+    if "flips" in d.values:
+        counts = d["flips"].astype(np.int64)
+        padded = d["flip_times"]
+        times = np.concatenate([padded[i, :c] for i, c in enumerate(counts)] + [np.empty(0)])
+        offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    m = len(d["run"])
+    systems = Systems(m, each=tuple(_systems(d))) if m else Systems(0, each=())
+    return Batch(
+        t=d["time"], omega=d["omega"], q=d["q"], _flip_times=times, _flip_offsets=offsets,
+        systems=systems, method=str(d["method"]), dt=d["dt"],
+        n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
+        n_rejected=d["n_rejected"].astype(np.int64),
+        drift=_drift_of(d, runs=True),
+        parts={name: d[name] for name in d["parts"]},
+    )
+
+
+def build_sweep(d: Loaded) -> Sweep:
+    return Sweep(
+        inertia=d["inertia"], omega0=d["omega0"], q0=d["q0"],
+        flips=d["flips"].astype(np.int64), first_flip=d["first_flip"], period=d["period"],
+        exact_period=d["exact_period"], tilt=d["tilt"],
+        drift=BatchDrift.of(lambda k: d[f"drift_{k}"]),
+        t_end=float(d["t_end"]), method=str(d["method"]), dt=d["dt"],
+        n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
+        status=d["status"].astype(np.asarray(_core.RUN_STATUSES).dtype),
+    )
+
+
+def build_deployment_sweep(d: Loaded) -> DeploymentSweep:
+    m = len(d["run"])
+    deployments = _deployments(d["knot_times"], d["knot_tensors"]) if m else []
+    return DeploymentSweep(
+        deployments=tuple(deployments), omega0=d["omega0"], q0=d["q0"],
+        inertia=d["inertia"], omega_deployed=d["omega_deployed"],
+        flip_period=d["flip_period"], tumbles=d["tumbles"].astype(bool),
+        energy_change=d["energy_change"],
+        drift=BatchDrift.of(lambda k: d[f"drift_{k}"], None, tuple(d["drift_kept"])),
+        t_end=float(d["t_end"]), method=str(d["method"]), dt=d["dt"],
+        n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
+        status=d["status"].astype(np.asarray(_core.RUN_STATUSES).dtype),
+    )
+
+
+# -- what a loaded result derives, against what the file says ------------------------------------
+
+
+def _agrees(stored: np.ndarray, computed: np.ndarray, runs: bool) -> bool:
+    """`stored` equals `computed` to round-off of each run's largest value (they are the same
+    computation on the same numbers, so in practice bit for bit)."""
+    lead = 1 if runs else 0
+    axes = tuple(range(lead, computed.ndim))
+    scale = np.abs(computed).max(axis=axes, keepdims=True, initial=0.0) if axes else \
+        np.abs(computed)
+    return bool((np.abs(stored - computed) <= 1e-12 * scale).all())
+
+
+def _derived_agree(d: Loaded, result: Any, runs: bool) -> str | None:
+    if runs and not len(result):
+        return None
+    moments = result.inertia if runs else _moments(result.system)
+    if not _agrees(d["inertia"], moments, runs):
+        return "`inertia` is not the principal moments of the file's own system"
+    for name in _DERIVED:
+        if not _agrees(d[name], getattr(result, name), runs):
+            return (f"`{name}` is not what the file's own system and frames give (the energy "
+                    "and angular momentum a run of that system has)")
+    return None
+
+
+def trajectory_derived(d: Loaded, traj: Any) -> str | None:
+    return _derived_agree(d, traj, runs=False)
+
+
+def batch_derived(d: Loaded, batch: Any) -> str | None:
+    return _derived_agree(d, batch, runs=True)
+
+
+def deployment_sweep_rules(d: Loaded) -> str | None:
+    """Knots for every run; `tumbles` says whether `flip_period` is finite; a finished run
+    has its deployed rates and period, an unfinished one NaN."""
+    m = len(d["run"])
+    knots = [name in d.values for name in _KNOT_VARS]
+    if any(knots) != bool(m) or any(knots) != all(knots):
+        return ("`knot_times` and `knot_tensors` must be there exactly when there are runs"
+                if m else "`knot_times` must not be there: the sweep is empty")
+    if m:
+        problem = _knots_padded(d["knot_times"], d["knot_tensors"])
+        if problem:
+            return problem
+    period, ok = d["flip_period"], d["status"] == "ok"
+    if (d["tumbles"].astype(bool) != np.isfinite(period)).any():
+        return "`tumbles` must say whether `flip_period` is finite"
+    if np.isnan(period[ok]).any() or not np.isfinite(d["omega_deployed"][ok]).all():
+        return "`flip_period` and `omega_deployed` must be numbers for a run that finished"
+    if not np.isnan(period[~ok]).all() or not np.isnan(d["omega_deployed"][~ok]).all():
+        return "`flip_period` and `omega_deployed` must be NaN for a run that did not finish"
+    return None
+
+
+# -- the layouts --------------------------------------------------------------------------------
+
+_COUNT = Attr("i", (non_negative,))
+_METHOD = Attr("U", (one_of(tuple(METHODS)),))
+_KEPT_NAMES = Attr("U", (one_of(_KEPT),), shape=None)
+_PARTS = Attr("U", (one_of(PART_NAMES),), shape=None)
+_LABELS = {"axis": Var(("axis",), "U", (labels(_tables.AXIS),)),
+           "quaternion": Var(("quaternion",), "U", (labels(_tables.QUATERNION),))}
+_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4}
+_OPT = True
+
+
+def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
+    """The variables of `_tables.system_vars` and `_tables._derived` (all optional here:
+    the rule `system_parts` says which go together)."""
+    return {
+        "body_tensor": Var(lead + ("axis", "axis_"), "f", (finite,), optional=_OPT),
+        "body_mass": Var(lead, "f", (finite_or_nan, positive_or_nan), optional=_OPT),
+        "body_center_of_mass": Var(lead + ("axis",), "f", (finite,), optional=_OPT),
+        "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
+        "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
+                            optional=_OPT),
+        "damper_inertia": Var(lead, "f", (finite, positive), optional=_OPT),
+        "damper_damping": Var(lead, "f", (finite, non_negative), optional=_OPT),
+        "damper_sigma0": Var(lead + ("axis",), "f", (finite_or_nan,), optional=_OPT),
+        "damper": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
+        "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+    }
+
+
+LAYOUTS: Mapping[str, Layout] = {
+    "Trajectory": Layout(
+        variables={
+            "time": Var(("time",), "f", (finite, starts_at_zero_and_increases)),
+            **_LABELS,
+            "omega": Var(("time", "axis"), "f", (finite,)),
+            "q": Var(("time", "quaternion"), "f", (finite,)),
+            "flip_times": Var(("flip",), "f", optional=True),
+            **_system_vars(()),
+        },
+        attrs={
+            "method": _METHOD,
+            "inertia": Attr("f", (finite, positive, moments), shape=(3,)),
+            "dt": Attr("f", (finite, non_negative)),
+            "n_steps": _COUNT, "nfev": _COUNT, "n_rejected": _COUNT,
+            "flips_located": Attr("i", (flag,)),
+            **{f"drift_{k}": Attr("f", (finite, non_negative)) for k in _tables.DRIFTS},
+            "drift_jacobi": Attr("f", (finite, non_negative), optional=True),
+            "drift_kept": _KEPT_NAMES,
+            "parts": _PARTS,
+        },
+        rules=(trajectory_q_unit, trajectory_flips, system_parts),
+        build=build_trajectory,
+        after=trajectory_derived,
+        sizes=_FIXED, least={"time": 2, "knot": 1},
+    ),
+    "Batch": Layout(
+        variables={
+            "time": Var(("time",), "f", (finite, starts_at_zero_and_increases)),
+            "run": Var(("run",), "i"),
+            **_LABELS,
+            "omega": Var(("run", "time", "axis"), "f", (finite,)),
+            "q": Var(("run", "time", "quaternion"), "f", (finite,)),
+            "inertia": Var(("run", "axis"), "f", (finite, positive, moments)),
+            "dt": Var(("run",), "f", (finite, non_negative)),
+            "n_steps": Var(("run",), "i", (non_negative,)),
+            "nfev": Var(("run",), "i", (non_negative,)),
+            "n_rejected": Var(("run",), "i", (non_negative,)),
+            **{f"drift_{k}": Var(("run",), "f", (finite, non_negative))
+               for k in _tables.DRIFTS},
+            "drift_jacobi": Var(("run",), "f", (finite_or_nan, non_negative), optional=True),
+            "flips": Var(("run",), "i", (non_negative,), optional=True),
+            "flip_times": Var(("run", "flip"), "f", (finite_or_nan,), optional=True),
+            **_system_vars(("run",)),
+        },
+        attrs={"method": _METHOD, "drift_kept": _KEPT_NAMES, "parts": _PARTS},
+        rules=(run_numbers, batch_q_unit, batch_flips, system_parts),
+        build=build_batch,
+        after=batch_derived,
+        sizes=_FIXED, least={"time": 2, "knot": 1},
+    ),
+    "Sweep": Layout(
+        variables={
+            **_LABELS,
+            "inertia": Var(("*", "axis"), "f", (finite, positive, moments)),
+            "omega0": Var(("*", "axis"), "f", (finite,)),
+            "q0": Var(("*", "quaternion"), "f", (finite,)),
+            "flips": Var(("*",), "i"),
+            "first_flip": Var(("*",), "f", (finite_or_nan,)),
+            "period": Var(("*",), "f", (finite_or_nan, positive_or_nan)),
+            "exact_period": Var(("*",), "f", (positive_or_nan,)),
+            "tilt": Var(("*",), "f", (finite_or_nan,)),
+            "dt": Var(("*",), "f"),
+            "n_steps": Var(("*",), "i", (non_negative,)),
+            "nfev": Var(("*",), "i", (non_negative,)),
+            "status": Var(("*",), "U", (one_of(tuple(_core.RUN_STATUSES)),)),
+            **{f"drift_{k}": Var(("*",), "f") for k in _tables.DRIFTS},
+        },
+        attrs={"method": _METHOD, "t_end": Attr("f", (finite, positive))},
+        rules=(sweep_outcomes,),
+        build=build_sweep,
+        sizes=_FIXED, grid_coordinates=True,
+    ),
+    "DeploymentSweep": Layout(
+        variables={
+            "run": Var(("run",), "i"),
+            **_LABELS,
+            "omega0": Var(("run", "axis"), "f", (finite,)),
+            "q0": Var(("run", "quaternion"), "f", (finite,)),
+            "inertia": Var(("run", "axis"), "f", (finite, positive, moments)),
+            "omega_deployed": Var(("run", "axis"), "f", (finite_or_nan,)),
+            "flip_period": Var(("run",), "f", (positive_or_nan,)),
+            "tumbles": Var(("run",), "i", (flag,)),
+            "energy_change": Var(("run",), "f", (finite_or_nan,)),
+            "dt": Var(("run",), "f"),
+            "n_steps": Var(("run",), "i", (non_negative,)),
+            "nfev": Var(("run",), "i", (non_negative,)),
+            "status": Var(("run",), "U", (one_of(tuple(_core.RUN_STATUSES)),)),
+            **{f"drift_{k}": Var(("run",), "f") for k in _tables.DRIFTS},
+            "knot_times": Var(("run", "knot"), "f", (finite_or_nan,), optional=True),
+            "knot_tensors": Var(("run", "knot", "axis", "axis_"), "f", (finite_or_nan,),
+                                optional=True),
+        },
+        attrs={"method": _METHOD, "t_end": Attr("f", (finite, positive)),
+               "drift_kept": _KEPT_NAMES},
+        rules=(run_numbers, deployment_sweep_rules),
+        build=build_deployment_sweep,
+        sizes=_FIXED, least={"knot": 1},
+    ),
+}
+"""What a file of each kind holds: its variables (dimensions, type, allowed values), its
+attributes, the rules between them, and what the built result must agree with (its own
+system's moments, energy and angular momentum). The check of a file and the build of its
+result both read this table."""
+
+
+# -- save -------------------------------------------------------------------------------------
+
+
+def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path) -> Path:
+    """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
+    back: arrays bit for bit, and the metadata to rebuild the object (each run's system: the
+    body's tensor, a deployment's knots, the parts with their parameters; every part's
+    state, so that what a loaded run derives is the saved run's, bit for bit). All or nothing: the
+    previous file is replaced only once the new one is complete, and is as it was after
+    any failure (a full disk, Ctrl-C).
+
+    The file is an ordinary netCDF file with the layout of ``result.to_xarray()``: open it
+    with ``xarray.open_dataset(path)``, or any netCDF tool.
+
+    Parameters
+    ----------
+    result : Trajectory, Batch, Sweep or DeploymentSweep
+    path : str or Path
+        The file to write (replaced if it exists), ending in one of :data:`SUFFIXES`
+        (``.nc`` by convention).
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    TypeError
+        `result` is none of these, or `path` not a path.
+    ValueError
+        `path` ends in another suffix (the message says what writes that format).
+    ImportError
+        xarray or h5netcdf is missing: install the ``io`` extra.
+    OSError
+        The file cannot be written (its folder is missing, the disk is full): the error
+        names `path`, which is as it was.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0))
+    >>> path = dz.save(traj, "run.nc")                            # doctest: +SKIP
+    >>> bool((dz.load(path).q == traj.q).all())                   # doctest: +SKIP
+    True
+    """
+    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep",
+             DeploymentSweep: "DeploymentSweep"}
+    kind = kinds.get(type(result))
+    if kind is None:
+        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep or DeploymentSweep, "
+                        f"got {type(result).__name__}")
+    p = as_path(path)
+    suffix = p.suffix.lower()
+    if suffix not in SUFFIXES:
+        other = _OTHER_FORMATS.get(suffix, "")
+        raise ValueError(f"`path` {str(p)!r} must end in one of {', '.join(SUFFIXES)}: "
+                         f"`save` writes netCDF-4 only" + (f"; {other}" if other else ""))
+    _tables.require("h5netcdf", "`save`")
+    _tables.require("h5py", "`save`")
+    ds = result.to_xarray()
+    ds.attrs[KIND_ATTRIBUTE] = kind
+    check_size(2 * int(ds.nbytes), f"the netCDF image of this {kind} (built in memory)",
+               "save fewer frames or runs")
+    with replacing(p) as tmp:
+        image = io.BytesIO()
+        ds.to_netcdf(image, engine="h5netcdf")  # in memory: see the module's docs
+        with open(tmp, "wb") as f:
+            f.write(image.getbuffer())
+        del image
+    return p
+
+
+# -- load -------------------------------------------------------------------------------------
+
+
+def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
+    """Reads a result written by :func:`save`, checking it as strictly as a run checks
+    what it computes (see the module's docs and :data:`LAYOUTS`).
+
+    Parameters
+    ----------
+    path : str or Path
+
+    Returns
+    -------
+    Trajectory, Batch, Sweep or DeploymentSweep
+
+    Raises
+    ------
+    ReadError
+        (a ValueError) The file is missing or not a regular file (a FIFO or a device is
+        refused at once), is of another format (named: an AEM, a netCDF-3 file, …), is a
+        damaged HDF5 file, was not written by :func:`save`, or holds what a save never
+        writes (NaN, quaternions off unit norm, times that run backwards, flip counts that
+        do not match the flip times, a variable of the wrong shape, a system the core refuses,
+        energies or angular momenta its own system does not give); the message names the
+        file and the field.
+    TooLargeError
+        Its arrays would need more memory than the machine has now.
+    ImportError
+        h5py is missing: install the ``io`` extra.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> dz.load("run.nc")                                         # doctest: +SKIP
+    Trajectory(frames=201, t_end=100, method='rk4', n_steps=100000, flips=2)
+    """
+    h5py = _tables.require("h5py", "`load`")
+    p = as_path(path)
+    expected = "a netCDF-4 file written by dzhanibekov.save"
+    with open_regular(p, expected) as f:
+        head = f.read(len(HDF5_SIGNATURE))
+        if head != HDF5_SIGNATURE:
+            head += f.read(56)
+            raise ReadError(f"{p} is {describe(head)}, not {expected}", path=str(p))
+        f.seek(0)
+        try:
+            h5 = h5py.File(f, "r")
+        except (MemoryError, KeyboardInterrupt):
+            raise
+        except Exception as exc:
+            raise ReadError(f"{p} is an HDF5 file that cannot be read (damaged or "
+                            f"truncated?): {type(exc).__name__}: {exc}; expected {expected}",
+                            path=str(p)) from None
+        with h5:
+            kind = "result"
+            try:
+                kind = h5.attrs.get(KIND_ATTRIBUTE)
+                if not isinstance(kind, str) or kind not in LAYOUTS:
+                    raise ReadError(f"{p} is HDF5 but was not written by dzhanibekov.save (its "
+                                    f"`{KIND_ATTRIBUTE}` attribute is {kind!r}, not one of "
+                                    f"{list(LAYOUTS)})", path=str(p))
+                layout = LAYOUTS[kind]
+                handle = _File(h5)
+                shapes = _check_structure(handle, layout)
+                check_size(sum(int(np.prod(shape)) * 8 for shape in shapes.values()),
+                           f"the arrays of {p}", "it is larger than this machine can hold")
+                loaded = _read_values(handle, layout, shapes)
+            except _Bad as bad:
+                raise ReadError(f"{p} holds a {kind} that dz.save never writes: {bad}",
+                                path=str(p)) from None
+            except (MemoryError, KeyboardInterrupt, ReadError):
+                raise
+            except Exception as exc:
+                raise ReadError(f"{p} cannot be read (damaged or truncated?): "
+                                f"{type(exc).__name__}: {exc}", path=str(p)) from None
+    problem = next((msg for rule in layout.rules if (msg := rule(loaded))), None)
+    if problem:
+        raise ReadError(f"{p} holds a {kind} that dz.save never writes: {problem}",
+                        path=str(p))
+    try:
+        result: Trajectory | Batch | Sweep | DeploymentSweep = layout.build(loaded)
+    except (TypeError, ValueError) as exc:  # a body, part or deployment the core refuses
+        raise ReadError(f"{p} holds a {kind} whose system dz cannot build: {exc}",
+                        path=str(p)) from None
+    problem = layout.after(loaded, result) if layout.after is not None else None
+    if problem:
+        raise ReadError(f"{p} holds a {kind} that dz.save never writes: {problem}",
+                        path=str(p))
+    return result
+
+
+class _Bad(Exception):
+    """A field of the file that is not what the layout allows."""
+
+
+_PHONY = b"This is a netCDF dimension but not a netCDF variable"
+"""How netCDF-4 names the HDF5 dataset of a dimension without a coordinate variable."""
+
+
+class _Variable:
+    """A netCDF-4 variable of an open HDF5 file: its dimensions' names and its dataset."""
+
+    def __init__(self, dimensions: tuple[str, ...], dataset: Any) -> None:
+        self.dimensions = dimensions
+        self.dataset = dataset
+        self.dtype = dataset.dtype
+        self.shape = tuple(dataset.shape)
+
+    def __getitem__(self, key: Any) -> Any:
+        return self.dataset[key]
+
+
+class _File:
+    """The netCDF-4 view of an open HDF5 file (h5py, no h5netcdf: ten times faster on a
+    file of a few variables): its variables by name, with their dimensions from the HDF5
+    dimension scales (netCDF-4's own layout), and its global attributes."""
+
+    def __init__(self, h5: Any) -> None:
+        import h5py  # type: ignore[import-untyped, unused-ignore]
+
+        self.attrs = h5.attrs
+        self.variables: dict[str, _Variable] = {}
+        for name in h5:
+            obj = h5.get(name)
+            if not isinstance(obj, h5py.Dataset):
+                raise _Bad(f"`{name}` is an HDF5 group or link, not a netCDF variable")
+            attrs = obj.attrs
+            if attrs.get("CLASS") == b"DIMENSION_SCALE":
+                label = attrs.get("NAME", b"")
+                if isinstance(label, bytes) and label.startswith(_PHONY):
+                    continue  # a dimension without a variable
+                dims: tuple[str, ...] = (name,)
+            elif obj.ndim == 0:
+                dims = ()
+            else:
+                refs = attrs.get("DIMENSION_LIST")
+                if refs is None or len(refs) != obj.ndim:
+                    raise _Bad(f"`{name}` has no named dimensions")
+                dims = tuple(str(h5[r[0]].name).lstrip("/") for r in refs)
+            self.variables[name] = _Variable(dims, obj)
+
+
+def _kind_of(dtype: np.dtype[Any]) -> str:
+    if dtype.kind == "f":
+        return "f"
+    if dtype.kind in "iu":
+        return "i"
+    if dtype.kind in "USO":
+        return "U"
+    return dtype.kind
+
+
+_KIND_WORDS = {"f": "float64", "i": "integers", "U": "text"}
+
+
+def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
+    """Each variable's dimensions and type against the layout, before any value is read;
+    returns the variables' shapes."""
+    grid: tuple[str, ...] | None = None
+    sizes: dict[str, int] = {}
+    shapes: dict[str, tuple[int, ...]] = {}
+    for name, spec in layout.variables.items():
+        if name not in ds.variables:
+            if spec.optional:
+                continue
+            raise _Bad(f"`{name}` is missing")
+        var = ds.variables[name]
+        dims = tuple(var.dimensions)
+        if "*" in spec.dims:
+            lead = len(dims) - (len(spec.dims) - 1)
+            if lead < 0 or dims[lead:] != spec.dims[1:]:
+                raise _Bad(f"`{name}` must have dims (grid…, {', '.join(spec.dims[1:])}), "
+                           f"got {dims}")
+            if grid is None:
+                grid = dims[:lead]
+            elif dims[:lead] != grid:
+                raise _Bad(f"`{name}` has grid dims {dims[:lead]}, others {grid}")
+        elif dims != spec.dims:
+            raise _Bad(f"`{name}` must have dims {spec.dims}, got {dims}")
+        for dim, n in zip(dims, var.shape):
+            if dim in layout.sizes and n != layout.sizes[dim]:
+                raise _Bad(f"`{name}` has {n} along `{dim}`, which must hold "
+                           f"{layout.sizes[dim]}")
+            if dim in layout.least and n < layout.least[dim]:
+                raise _Bad(f"`{name}` has {n} along `{dim}`, which must hold at least "
+                           f"{layout.least[dim]}")
+            if sizes.setdefault(dim, n) != n:
+                raise _Bad(f"`{name}` has {n} along `{dim}`, other variables {sizes[dim]}")
+        kind = _kind_of(var.dtype)
+        if kind != spec.kind or (kind == "f" and var.dtype != np.float64):
+            raise _Bad(f"`{name}` must hold {_KIND_WORDS[spec.kind]}, got {var.dtype}")
+        shapes[name] = tuple(var.shape)
+    for name in sorted(set(ds.variables) - set(layout.variables)):
+        var = ds.variables[name]
+        if not (layout.grid_coordinates and grid is not None and name in grid
+                and tuple(var.dimensions) == (name,) and _kind_of(var.dtype) in "fi"):
+            raise _Bad(f"a variable `{name}` that no save writes (it writes "
+                       f"{', '.join(layout.variables)})")
+    return shapes
+
+
+def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) -> Loaded:
+    values: dict[str, np.ndarray] = {}
+    for name, spec in layout.variables.items():
+        if name not in shapes:
+            continue
+        raw = np.asarray(ds.variables[name][...])
+        a = (np.ascontiguousarray(raw, dtype=np.float64) if spec.kind == "f" else
+             np.ascontiguousarray(raw, dtype=np.int64) if spec.kind == "i" else
+             np.array([v.decode() if isinstance(v, bytes) else str(v) for v in raw.ravel()],
+                      dtype=str).reshape(raw.shape))
+        a = a.reshape(raw.shape)  # ascontiguousarray makes a 0-d variable 1-d
+        for check in spec.checks:
+            if problem := check(a):
+                raise _Bad(f"`{name}` {problem}")
+        values[name] = a
+    attrs: dict[str, Any] = {}
+    for name, attr in layout.attrs.items():
+        _read_attribute(ds, name, attr, attrs)
+    return Loaded(values, attrs)
+
+
+def _read_attribute(ds: Any, name: str, spec: Attr, attrs: dict[str, Any]) -> None:
+    """Attribute `name` of `ds`, checked against `spec`, into `attrs`."""
+    if name not in ds.attrs:
+        if spec.optional:
+            return
+        raise _Bad(f"the attribute `{name}` is missing")
+    raw = np.asarray(ds.attrs[name])
+    if spec.shape is None:  # a list of names: netCDF keeps one as a string, none as []
+        if raw.shape == (0,):
+            raw = np.array([], dtype=str)
+        if raw.ndim == 0:
+            raw = raw.reshape(1)
+        if raw.ndim != 1:
+            raise _Bad(f"the attribute `{name}` must be a list of names, got shape "
+                       f"{raw.shape}")
+    elif raw.shape != spec.shape and not (spec.shape == () and raw.shape == (1,)):
+        raise _Bad(f"the attribute `{name}` must have shape {spec.shape}, got {raw.shape}")
+    kind = _kind_of(raw.dtype)
+    if kind != spec.kind and not (spec.kind == "f" and kind == "i"):
+        raise _Bad(f"the attribute `{name}` must be {_KIND_WORDS[spec.kind]}, got "
+                   f"{raw.dtype}")
+    a = raw.astype(np.float64) if spec.kind == "f" else raw
+    if spec.kind == "U":
+        a = np.asarray([v.decode() if isinstance(v, bytes) else str(v)
+                        for v in np.ravel(raw)], dtype=str).reshape(raw.shape)
+    for check in spec.checks:
+        if a.size and (problem := check(np.atleast_1d(a))):
+            raise _Bad(f"the attribute `{name}` {problem}")
+    if spec.shape is None:
+        names = tuple(str(v) for v in a)
+        if len(set(names)) != len(names):
+            raise _Bad(f"the attribute `{name}` names one twice: {list(names)}")
+        attrs[name] = names
+    else:
+        attrs[name] = a.reshape(spec.shape) if spec.shape else a.reshape(()).item()
