@@ -54,6 +54,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 import dzhanibekov as dz
+from dzhanibekov import _core
 
 ROOT = Path(__file__).resolve().parents[1]
 Array = NDArray[np.float64]
@@ -176,10 +177,13 @@ def constants(args: argparse.Namespace) -> None:
 
 
 def registry_constant(method: str) -> float:
-    """The C of the registry's step rule, recovered from the step `plan_step` takes: h with
+    """The C of the registry's step rule, recovered from the step the core plans (`_core.plan`): h with
     C · ΩT · (hΩ)^p = rtol."""
-    body, omega0, rtol, t_end = dz.Body((1.0, 2.0, 3.0)), (0.3, 0.2, 1.0), 1e-8, 1000.0
-    dt = dz.accuracy.plan_step(body._core, omega0, t_end, 2, None, method, rtol, None)[0]
+    system = dz.System(dz.Body((1.0, 2.0, 3.0)))
+    omega0, rtol, t_end = (0.3, 0.2, 1.0), 1e-8, 1000.0
+    options = _core.RunOptions(t_end, 2, None, method, rtol, None)
+    dt = _core.plan([system._core], np.array([omega0]), np.array([[1.0, 0.0, 0.0, 0.0]]),
+                    options).dt
     assert dt is not None
     rate = rate_bound((1.0, 2.0, 3.0), omega0)
     order = dz.METHODS[method].order

@@ -278,7 +278,12 @@ fn main() {
             "rk4_projected" => record(
                 method,
                 "plain",
-                study(Rk4Projected::new, h, n, s),
+                study(
+                    |b, x| Rk4Projected::new(&FreeRigidBody::new(*b), x),
+                    h,
+                    n,
+                    s,
+                ),
                 t.elapsed().as_secs_f64(),
             ),
             "dmv" => record(

@@ -6,6 +6,7 @@
 
 use std::sync::atomic::AtomicBool;
 
+use dzhanibekov::dynamics::{Conserved, Kinds};
 use dzhanibekov::exact::ExactMotion;
 use dzhanibekov::ode::Stepper;
 use dzhanibekov::rigid::{Dmv, DmvModified, ImplicitMidpoint};
@@ -123,7 +124,7 @@ fn the_symplectic_methods_energy_error_stays_bounded_over_1e5_steps() {
             second <= 1.5 * first,
             "{name}: {first:.2e} then {second:.2e}"
         );
-        if method.info().keeps.contains(&"energy") {
+        if method.keeps(Conserved::FREE).contains(Conserved::ENERGY) {
             // kept exactly but for the arithmetic's round-off, which random-walks: about
             // √n ulps (measured 1.7–1.8e-14)
             assert!(second < 5e-14, "{name}: {first:.2e} then {second:.2e}");
@@ -153,8 +154,8 @@ fn the_lie_group_methods_keep_the_unit_quaternion_and_what_they_declare() {
         let d = out.drift;
         let name = method.name();
         assert!(d.q_norm < 1e-14, "{name}: {d:?}");
-        for kept in method.info().keeps {
-            let drift = match *kept {
+        for kept in method.keeps(Conserved::FREE).names() {
+            let drift = match kept {
                 "energy" => d.energy,
                 "momentum" => d.momentum,
                 "momentum_world" => d.momentum_world,
@@ -249,11 +250,18 @@ fn the_new_methods_refuse_the_models_they_cannot_run_by_name() {
         Method::Rkmk4,
         Method::CrouchGrossman3,
     ] {
-        for model in ["deployment", "damper"] {
-            let err = method.for_model(model).unwrap_err().to_string();
+        for (model, kind) in [("deployment", Kinds::DEPLOYMENT), ("damper", Kinds::DAMPER)] {
+            let err = method.for_kinds(kind).unwrap_err().to_string();
             let want = format!("method '{}' cannot run model '{model}'", method.name());
             assert!(err.starts_with(&want), "{err}");
+            // and names the methods that do, as for the other free-body methods
+            assert!(err.contains("'rk4'") && err.contains("'dop853'"), "{err}");
+            let (_, supported) = err.split_once("use one of").unwrap();
+            assert!(
+                !supported.contains(&format!("'{}'", method.name())),
+                "{err}"
+            );
         }
-        assert!(method.for_model("free").is_ok());
+        assert!(method.for_kinds(Kinds::FREE).is_ok());
     }
 }

@@ -14,6 +14,6 @@ mod splitting;
 pub use crouch_grossman::CrouchGrossman3;
 pub use dmv::{DiscreteMoserVeselov, Dmv, DmvModified};
 pub use implicit_midpoint::ImplicitMidpoint;
-pub use projected::{ModelRk4Projected, Rk4Projected};
+pub use projected::Rk4Projected;
 pub use rkmk::Rkmk4;
 pub use splitting::{Splitting, Splitting2, Splitting4, Splitting6};
