@@ -30,6 +30,12 @@ fn fixed_step(c: &mut Criterion) {
         ("rk4_projected", Method::Rk4Projected),
         ("splitting", Method::Splitting),
         ("splitting4", Method::Splitting4),
+        ("splitting6", Method::Splitting6),
+        ("implicit_midpoint", Method::ImplicitMidpoint),
+        ("dmv", Method::Dmv),
+        ("dmv_modified", Method::DmvModified),
+        ("rkmk4", Method::Rkmk4),
+        ("crouch_grossman3", Method::CrouchGrossman3),
     ] {
         for flips in [false, true] {
             let keep = Keep {

@@ -88,13 +88,22 @@ FIXED_STEPS = {
     "rk4_projected": [2.0**-k for k in range(1, 11)],
     "splitting": [2.0**-k for k in range(1, 13)],
     "splitting4": [2.0**-k for k in range(1, 9)],
+    # the atlas's methods (issue 22; benches/atlas.py draws their own chart)
+    "splitting6": [2.0**-k for k in range(1, 7)],
+    "implicit_midpoint": [2.0**-k for k in range(1, 13)],
+    "dmv": [2.0**-k for k in range(1, 13)],
+    "dmv_modified": [2.0**-k for k in range(1, 9)],
+    "rkmk4": [2.0**-k for k in range(1, 11)],
+    "crouch_grossman3": [2.0**-k for k in range(1, 11)],
 }
 ADAPTIVE_RTOLS = [10.0**-k for k in range(3, 14)]
 DT_NONE_RTOLS = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12]
 SCIPY_RTOLS = [1e-4, 1e-7, 1e-10, 1e-13]
 DT_NONE_MAX_STEPS = 5e6  # dt=None runs predicted to take more steps are left out
 COLORS = {"rk4": "C0", "rk4_projected": "C9", "splitting": "C2", "splitting4": "C3",
-          "dopri5": "C1", "dop853": "C4", "scipy DOP853": "0.55"}
+          "dopri5": "C1", "dop853": "C4", "scipy DOP853": "0.55", "splitting6": "C5",
+          "implicit_midpoint": "C6", "dmv": "C7", "dmv_modified": "C8", "rkmk4": "#8c564b",
+          "crouch_grossman3": "#bcbd22"}
 
 
 @dataclass

@@ -286,10 +286,12 @@ fn splitting_keeps_the_momentum_and_bounds_the_energy_error() {
         assert!(max(&l) < 1e-14, "{method:?} |L| {:e}", max(&l));
         assert!(max(&w) < 1e-12, "{method:?} L_world {:e}", max(&w));
         assert!(out.drift.q_norm < 1e-14);
-        // energy: the error over the first tenth bounds the error over the whole run
+        // energy: the error over the first tenth bounds the error over the whole run, up to
+        // round-off (splitting4's O(h⁴) oscillation at this step is below 1e-15, where the
+        // round-off, which random-walks, takes over: 5e-16 then 1.6e-15 measured)
         let (first, all) = (max(&e[..5]), max(&e));
         assert!(
-            all < 1.5 * first && all > 0.0,
+            all < 1.5 * first + 1e-14 && all > 0.0,
             "{method:?}: {first:e} then {all:e}"
         );
     }

@@ -19,13 +19,19 @@ mod common;
 use common::{grid_for as grid, no_cancel, KEEP_ALL};
 
 /// Every method, the adaptive ones at a tight tolerance.
-fn methods() -> [Method; 7] {
+fn methods() -> [Method; 13] {
     let tight = Adaptive::try_new(1e-11, 1e-13).unwrap();
     [
         Method::Rk4,
         Method::Rk4Projected,
         Method::Splitting,
         Method::Splitting4,
+        Method::Splitting6,
+        Method::ImplicitMidpoint,
+        Method::Dmv,
+        Method::DmvModified,
+        Method::Rkmk4,
+        Method::CrouchGrossman3,
         Method::Dopri5(tight),
         Method::Dop853(tight),
         Method::Exact,
@@ -69,12 +75,13 @@ fn drifts(body: &RigidBody, out: &RunOutput) -> [f64; 4] {
 
 /// What each method keeps, by its documentation, for a step of `hΩ ≤ 0.01` over `n` steps:
 /// `[energy, |L|, L_world, |q|]`. Round-off grows with the rotations composed: one per step,
-/// five per step of `splitting4` (Suzuki's composition of five Strang steps).
+/// five per step of `splitting4` (Suzuki's composition of five Strang steps), nine of
+/// `splitting6`.
 fn promised(method: Method, n: u64) -> [f64; 4] {
-    let stages = if matches!(method, Method::Splitting4) {
-        5.0
-    } else {
-        1.0
+    let stages = match method {
+        Method::Splitting4 => 5.0,
+        Method::Splitting6 => 9.0,
+        _ => 1.0,
     };
     let n = stages * n as f64;
     let roundoff = 1e-14 * (1.0 + n).sqrt() + 1e-15 * n;
@@ -85,6 +92,13 @@ fn promised(method: Method, n: u64) -> [f64; 4] {
         // energy bounded at O(h²) and O(h⁴); |L|, L_world and |q| to round-off
         Method::Splitting => [1e-3, roundoff, roundoff, roundoff],
         Method::Splitting4 => [1e-6, roundoff, roundoff, roundoff],
+        Method::Splitting6 => [1e-9, roundoff, roundoff, roundoff],
+        // energy and |L| kept (to Newton's round-off); L_world turns by (hΩ)³/16 a step
+        Method::ImplicitMidpoint => [roundoff, roundoff, 1e-3, roundoff],
+        Method::Dmv | Method::DmvModified => [roundoff; 4],
+        // the energy drifts at O(h⁴) and O(h³) per radian; the rotations keep the rest
+        Method::Rkmk4 => [1e-8, roundoff, roundoff, roundoff],
+        Method::CrouchGrossman3 => [1e-4, roundoff, roundoff, roundoff],
         Method::Dopri5(_) | Method::Dop853(_) => [1e-8; 4],
         Method::Exact => [1e-11; 4],
     }
@@ -173,7 +187,11 @@ proptest! {
         for method in methods() {
             let out = run(method, &body, omega0, q0, &grid(method, t_end, 5, dt));
             let dw = out.omega.iter().zip(&exact.omega).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            let tol = match method { Method::Splitting => 1e-4, _ => 1e-7 };
+            let tol = match method {
+                Method::Splitting | Method::ImplicitMidpoint | Method::Dmv => 1e-4,
+                Method::CrouchGrossman3 => 1e-5,
+                _ => 1e-7,
+            };
             prop_assert!(dw <= tol * scale, "{:?}: |Δω| = {:e} against the exact solution", method, dw);
         }
     }
@@ -184,7 +202,7 @@ proptest! {
     fn a_run_at_any_rate_is_the_run_at_unit_rate(
         omega0 in prop::array::uniform3(-1.0f64..1.0),
         k in prop_oneof![-1020i32..-70, 70i32..900],
-        method_index in 0usize..7,
+        method_index in 0usize..13,
     ) {
         let body = RigidBody::try_new([52.0833, 27.0833, 41.6666]).unwrap();
         prop_assume!(Vector3::from(omega0).amax() > 1e-3);
@@ -230,7 +248,7 @@ proptest! {
     fn runs_from_any_state_are_finite_or_refused(
         omega0 in prop::array::uniform3(prop::num::f64::ANY),
         q0 in prop::array::uniform4(prop::num::f64::ANY),
-        method_index in 0usize..7,
+        method_index in 0usize..13,
     ) {
         let body = RigidBody::try_new([1.0, 2.0, 3.0]).unwrap();
         let method = methods()[method_index].with_adaptive(
@@ -258,7 +276,7 @@ proptest! {
              prop::array::uniform4(-1.0f64..1.0)),
             1..12),
         k in prop_oneof![Just(0i32), -300i32..300],
-        method_index in 0usize..7,
+        method_index in 0usize..13,
     ) {
         // rates of order 2^k, the span and step in the same units (a few radians)
         let s = 2f64.powi(k);

@@ -1,8 +1,19 @@
-//! Methods made for the free rigid body: RK4 with the invariants projected back, and the
-//! splittings that keep them to round-off.
+//! Methods made for the free rigid body: RK4 with the invariants projected back, the
+//! splittings that keep them to round-off, and the classic geometric integrators of the
+//! atlas: the implicit midpoint rule, the discrete Moser–Veselov algorithm (plain and with
+//! modified moments), Runge–Kutta–Munthe-Kaas and Crouch–Grossman on the unit quaternions.
 
+mod crouch_grossman;
+mod dmv;
+mod implicit_midpoint;
+mod lie;
 mod projected;
+mod rkmk;
 mod splitting;
 
+pub use crouch_grossman::CrouchGrossman3;
+pub use dmv::{DiscreteMoserVeselov, Dmv, DmvModified};
+pub use implicit_midpoint::ImplicitMidpoint;
 pub use projected::Rk4Projected;
-pub use splitting::{Splitting, Splitting2, Splitting4};
+pub use rkmk::Rkmk4;
+pub use splitting::{Splitting, Splitting2, Splitting4, Splitting6};

@@ -68,6 +68,13 @@ CALLS: dict[str, Callable[[], Any]] = {
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),
 }
+# the atlas's methods: a run and a batch of each, 10⁹ steps a run
+ATLAS = ("splitting6", "implicit_midpoint", "dmv", "dmv_modified", "rkmk4", "crouch_grossman3")
+for _m in ATLAS:
+    CALLS[f"simulate-{_m}"] = lambda m=_m: dz.simulate(BODY, OMEGA, t_end=1e6, frames=201,
+                                                        dt=1e-3, method=m)
+    CALLS[f"batch-{_m}"] = lambda m=_m: dz.simulate(BODY, BATCH_OMEGA, t_end=1e6, frames=201,
+                                                     dt=1e-3, method=m)
 
 
 def short_run() -> np.ndarray:

@@ -32,7 +32,9 @@ def assert_same_run(row, one):
     assert row.body == one.body
 
 
-@pytest.mark.parametrize("method", ["rk4", "splitting", "dopri5", "exact"])
+@pytest.mark.parametrize("method", ["rk4", "splitting", "dopri5", "exact", "splitting6",
+                                    "implicit_midpoint", "dmv", "dmv_modified", "rkmk4",
+                                    "crouch_grossman3"])
 def test_rows_equal_single_runs_bit_for_bit(rng, method):
     inertia, omega, q = random_rows(rng, 37)  # two groups of 16 lanes and a part group
     kwargs = dict(t_end=30.0, frames=31, method=method, dt=1e-2)  # dopri5: the first step

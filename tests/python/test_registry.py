@@ -78,7 +78,8 @@ def test_orders_are_what_halving_the_step_shows():
         if info.adaptive or info.order is None:
             continue
         err = []
-        for dt in (0.02, 0.01):
+        # steps whose errors stay well above round-off (order 6 at dt = 0.02 is already there)
+        for dt in (0.02, 0.01) if info.order <= 4 else (0.2, 0.1):
             run = dz.simulate(body, omega0, t_end=10.0, frames=3, dt=dt, method=name)
             err.append(np.abs(run.omega - exact.omega).max())
         observed = np.log2(err[0] / err[1])

@@ -105,6 +105,12 @@ def well_conditioned_orbits(rng, n):
     ("rk4_projected", (1e-6, 1e-9)),
     ("splitting", (1e-5, 1e-6)),
     ("splitting4", (1e-6, 1e-9)),
+    ("splitting6", (1e-6, 1e-9)),
+    ("implicit_midpoint", (1e-5, 1e-6)),
+    ("dmv", (1e-5, 1e-6)),
+    ("dmv_modified", (1e-6, 1e-9)),
+    ("rkmk4", (1e-6, 1e-9)),
+    ("crouch_grossman3", (1e-6, 1e-8)),
 ])
 def test_dt_none_picks_a_step_that_meets_rtol(method, rtols, rng):
     for inertia, omega0 in well_conditioned_orbits(rng, 3):
