@@ -1,6 +1,6 @@
 """Results into files other tools read: netCDF (through xarray) and CCSDS attitude messages.
 
-- :func:`save` / :func:`load`: a `Trajectory`, `Batch` or `Sweep` as a netCDF-4 file
+- :func:`save` / :func:`load`: a `Trajectory`, `Batch`, `Sweep` or `MonteCarlo` study as a netCDF-4 file
   (xarray with the h5netcdf engine; the ``io`` extra). Arrays round-trip bit for bit, and
   the file carries what is needed to rebuild the object.
 - :func:`write_aem` / :func:`read_aem`: a trajectory's attitudes as a CCSDS Attitude
@@ -31,6 +31,7 @@ import numpy as np
 
 from . import _core, _tables
 from .body import Body, InertiaWarning
+from .montecarlo import MonteCarlo
 from .results import Batch, BatchDrift, Drift, Sweep, Trajectory
 
 __all__ = ["save", "load", "write_aem", "read_aem", "AttitudeEphemeris"]
@@ -41,7 +42,7 @@ _KIND = "dzhanibekov_result"
 # -- netCDF ------------------------------------------------------------------------------
 
 
-def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
+def save(result: Trajectory | Batch | Sweep | MonteCarlo, path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
     back: arrays bit for bit, and the metadata to rebuild the object.
 
@@ -50,7 +51,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
 
     Parameters
     ----------
-    result : Trajectory, Batch or Sweep
+    result : Trajectory, Batch, Sweep or MonteCarlo
     path : str or Path
         The file to write (replaced if it exists); ``.nc`` by convention.
 
@@ -61,7 +62,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     Raises
     ------
     TypeError
-        `result` is none of the three.
+        `result` is none of the four.
     ImportError
         xarray or h5netcdf is missing: install the ``io`` extra.
 
@@ -73,10 +74,11 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     >>> bool((dz.load(path).q == traj.q).all())                   # doctest: +SKIP
     True
     """
-    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep"}
+    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep",
+             MonteCarlo: "MonteCarlo"}
     kind = kinds.get(type(result))
     if kind is None:
-        raise TypeError(f"`result` must be a Trajectory, Batch or Sweep, got "
+        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep or MonteCarlo, got "
                         f"{type(result).__name__}")
     _tables.require("h5netcdf", "`save`")
     _tables.require("h5py", "`save`")
@@ -87,8 +89,9 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     return path
 
 
-def load(path: str | Path) -> Trajectory | Batch | Sweep:
-    """Reads a result written by :func:`save`.
+def load(path: str | Path) -> Trajectory | Batch | Sweep | MonteCarlo:
+    """Reads a result written by :func:`save` (a study without its dispersions: it cannot
+    rerun a sample).
 
     Raises
     ------
@@ -109,6 +112,8 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep:
         return _batch(ds)
     if kind == "Sweep":
         return _sweep(ds)
+    if kind == "MonteCarlo":
+        return MonteCarlo.from_xarray(ds)
     raise ValueError(f"{path} was not written by dzhanibekov.save (no `{_KIND}` attribute)")
 
 

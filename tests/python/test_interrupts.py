@@ -14,7 +14,7 @@ CHILD = Path(__file__).with_name("interrupt_child.py")
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
          "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate",
          "summarize-dop853-frames", "summarize-dopri5-frames", "sweep-dop853-frames",
-         "summarize-subnormal-dt"]
+         "summarize-subnormal-dt", "monte-carlo-rk4"]
 
 
 def interrupted(call: str) -> dict:

@@ -161,7 +161,7 @@ def test_save_load_sweep_bit_for_bit(sweep, tmp_path):
 
 
 def test_save_refuses_other_objects(tmp_path):
-    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch or Sweep"):
+    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch, Sweep or MonteCarlo"):
         dz.save({"q": 1}, tmp_path / "x.nc")
 
 
