@@ -58,19 +58,24 @@ def _spread(name: str, value: Any) -> np.ndarray:
 def _physical(moments: np.ndarray) -> bool:
     """Positive moments that keep the triangle inequality (within the core's slack): the
     moments of some mass distribution."""
-    total = float(moments.sum())
-    return bool((moments > 0).all() and 2 * moments.max() <= total + _core.TRIANGLE_SLACK * total)
+    a, b, c = (float(m) for m in moments)
+    total = a + b + c
+    return a > 0 and b > 0 and c > 0 and 2 * max(a, b, c) <= total + _core.TRIANGLE_SLACK * total
 
 
 def _rotation(rotvec: np.ndarray) -> np.ndarray:
     """The rotation matrix of a rotation vector (Rodrigues' formula)."""
-    angle = math.sqrt(float(rotvec @ rotvec))
+    x, y, z = rotvec.tolist()
+    angle = math.sqrt(x * x + y * y + z * z)
     if angle == 0.0:
-        return np.eye(3)
-    x, y, z = rotvec / angle
+        return _EYE.copy()
+    x, y, z = x / angle, y / angle, z / angle
     k = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    turn: np.ndarray = np.eye(3) + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
+    turn: np.ndarray = _EYE + math.sin(angle) * k + (1.0 - math.cos(angle)) * (k @ k)
     return turn
+
+
+_EYE = np.eye(3)
 
 
 class _Moments:

@@ -1372,9 +1372,10 @@ class _Runner:
         self.submit = None if client is None else _dask(client)
         self.progress = progress
 
-    def map(self, pieces: Iterable[np.ndarray], total: int, mode: str,
-            desc: str) -> tuple[list[_Chunk], _Failure | None]:
-        """The chunks `pieces` run in order, up to the first that failed (its part kept)."""
+    def map(self, pieces: Iterable[np.ndarray], total: int, mode: str, desc: str, *,
+            numbered: bool = True) -> tuple[list[_Chunk], _Failure | None]:
+        """The chunks `pieces` run in order, up to the first that failed (its part kept);
+        without their sample numbers unless `numbered` (a plain study's are 0, 1, …)."""
         bar = tqdm(total=total, desc=desc, unit="sample", leave=False,
                    disable=None if self.progress is None else not self.progress,
                    delay=_PROGRESS_DELAY if self.progress is None else 0.0)
@@ -1384,8 +1385,8 @@ class _Runner:
             done: list[_Chunk] = []
             for piece in pieces:
                 part = _chunk(self.spec, piece, mode)
-                done.append(part)
                 bar.update(len(part.samples))
+                done.append(part if numbered else part._replace(samples=part.samples[:0]))
                 if part.failure is not None:
                     return done, part.failure
             return done, None
@@ -1396,7 +1397,7 @@ class _Runner:
             yield np.arange(start, min(start + self.chunk, n), dtype=np.int64)
 
     def plain(self, n: int, level: float, interval: str) -> MonteCarlo:
-        done, failure = self.map(self._range(n), n, "run", "study")
+        done, failure = self.map(self._range(n), n, "run", "study", numbered=False)
         study = self._study(done, n, level, interval)
         if failure is not None:  # the samples before it ran: 0 … failure.sample - 1
             error = _study_error(failure)

@@ -494,7 +494,7 @@ def test_the_figure_draws_plain_rare_and_numeric_studies(known, tmp_path):
 
     fig = study_figure(known[:2000], save=tmp_path / "plain.png")
     assert isinstance(fig, Figure) and (tmp_path / "plain.png").stat().st_size > 0
-    assert fig.axes[0].get_xlabel() == "Iz"
+    assert fig.axes[0].get_xlabel() == "I_z"
     rare = dz.monte_carlo(normal_iz, SPIN, 600, seed=2, t_end=LONG, runs=60)
     assert isinstance(study_figure(rare), Figure)
     counts = dz.monte_carlo((1.0, 2.0, 3.0), dispersed_spin, 30, seed=2, t_end=200.0,

@@ -19,12 +19,22 @@ from matplotlib.figure import Figure
 
 from ..montecarlo import MonteCarlo
 
-__all__ = ["study_figure", "MAX_POINTS"]
+__all__ = ["study_figure", "MAX_POINTS", "LABELS"]
 
 MAX_POINTS = 20_000
 """Samples drawn in the scatter at most (the first that ran)."""
 
 _YES, _NO = "#d62728", "#1f77b4"
+
+LABELS = {
+    "separatrix": "distance to the separatrix, (L²/2E − I_mid) / (I_max − I_min)",
+    "I1": "I₁ (principal moment)", "I2": "I₂ (principal moment)",
+    "I3": "I₃ (principal moment)", "Ix": "I_x", "Iy": "I_y", "Iz": "I_z",
+    "u0": "u₀ (initial rate about x)", "v0": "v₀ (initial rate about y)",
+    "w0": "w₀ (initial rate about z)", "j": "damper sphere inertia j",
+    "c": "damping coefficient c",
+}
+"""Axis labels of the inputs (others are shown by name)."""
 
 
 def study_figure(study: MonteCarlo, *, inputs: tuple[str, str] | None = None,
@@ -97,8 +107,8 @@ def _scatter(ax: Axes, study: MonteCarlo, inputs: tuple[str, str] | None) -> Non
     else:
         points = ax.scatter(x_values, y_values, s=6, c=y, cmap="viridis", linewidths=0)
         ax.get_figure().colorbar(points, ax=ax, label=study.ask)  # type: ignore[union-attr]
-    ax.set_xlabel(names[0])
-    ax.set_ylabel(names[1])
+    ax.set_xlabel(LABELS.get(names[0], names[0]))
+    ax.set_ylabel(LABELS.get(names[1], names[1]))
     shown = f"the first {count} of {study.runs}" if count < study.runs else f"{count}"
     ax.set_title(f"{study.ask}: {shown} samples over the inputs that tell most", fontsize=9)
 
@@ -137,7 +147,8 @@ def _strata(ax: Axes, study: MonteCarlo) -> None:
     distance = np.abs(columns.get("separatrix", np.full(study.runs, np.nan)))
     y = study.outcomes.astype(np.float64)
     stratum = study.stratum if study.stratum is not None else np.zeros(study.runs, np.int8)
-    for h, (colour, name) in enumerate(((_YES, "nearest (all run)"), (_NO, "others (some run)"))):
+    for h, (colour, name) in enumerate((("#ff7f0e", "nearest (all run)"),
+                                        ("#7f7f7f", "others (a random share run)"))):
         pick = stratum == h
         ax.scatter(np.maximum(distance[pick], 1e-16), y[pick], s=8, c=colour, label=name,
                    alpha=0.6, linewidths=0)
@@ -147,5 +158,5 @@ def _strata(ax: Axes, study: MonteCarlo) -> None:
     ax.legend(loc="best", fontsize=8)
     if study.is_boolean:
         lo, hi = study.interval
-        ax.set_title(f"p = {study.p:.3g} [{lo:.3g}, {hi:.3g}] from {study.runs} runs of "
-                     f"{study.n} draws (≈ {study.effective_runs:.3g} plain samples)", fontsize=9)
+        ax.set_title(f"p = {study.p:.3g} [{lo:.3g}, {hi:.3g}]: {study.runs} runs of "
+                     f"{study.n} draws, as {study.effective_runs:.3g} plain runs", fontsize=9)
