@@ -48,7 +48,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from . import _core, _tables
-from ._args import MAX_INT, as_array, as_float, as_int, check_size
+from ._args import as_array, as_float, as_int, check_size
 from .body import Body, principal_body
 from .damper import Damper, flat_spin_time
 from .deployment import Deployment
@@ -924,8 +924,9 @@ class MonteCarlo:
     # -- samples again ---------------------------------------------------------------------
 
     def rng(self, k: int) -> np.random.Generator:
-        """Sample `k`'s generator, fresh (see :func:`sample_rng`)."""
-        k = as_int("k", k, minimum=0, maximum=self.n - 1)
+        """Sample `k`'s generator, fresh (see :func:`sample_rng`): any `k`, run or not (the
+        samples beyond `n` are those a larger study of the same seed draws)."""
+        k = as_int("k", k, minimum=0)
         return _generator(self.seed.entropy, tuple(self.seed.spawn_key), k)
 
     def inputs_of(self, k: int) -> dict[str, np.ndarray]:
@@ -959,7 +960,7 @@ class MonteCarlo:
             raise ValueError("this study was loaded from a file: its dispersions are code, not "
                              "data; run dz.monte_carlo again with the same seed to rerun a "
                              "sample")
-        k = as_int("k", k, minimum=0, maximum=self.n - 1)
+        k = as_int("k", k, minimum=0)
         rows, failure = _draw_rows(self._spec, np.array([k], dtype=np.int64))
         if failure is not None:
             raise _study_error(failure)

@@ -77,6 +77,8 @@ def test_the_interval_covers_the_known_probability_in_about_95_percent_of_studie
     # independent by construction (one SeedSequence child each)
     studies = [known[400 * i:400 * (i + 1)] for i in range(200)]
     assert all(s.runs == 400 for s in studies)
+    assert np.array_equal(studies[3].samples, np.arange(1200, 1600))
+    assert np.array_equal(studies[3].inputs["inertia"], known.inputs["inertia"][1200:1600])
     for method in ("wilson", "clopper-pearson"):
         cover = [lo <= 0.3 <= hi for lo, hi in
                  (s.confidence_interval(method=method) for s in studies)]
@@ -174,6 +176,24 @@ def test_rerun_is_the_single_run_of_the_sample_bit_for_bit():
         assert np.array_equal(traj.q, alone.q) and np.array_equal(traj.omega, alone.omega)
         assert np.array_equal(traj.flip_times, alone.flip_times)
         assert len(traj.flip_times) == study.outcomes[k]
+
+
+def test_memory_grows_with_the_outcomes_only():
+    import tracemalloc
+
+    def peak(n: int, keep: bool) -> int:
+        tracemalloc.start()
+        dz.monte_carlo(uniform_iz, SPIN, n, seed=1, t_end=10.0, chunk=250, keep_inputs=keep,
+                       progress=False)
+        top = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        return top
+
+    peak(1000, False)  # once for what the first call allocates for good
+    # a few bytes per sample (its outcome, twice while they are joined), not the ~300 that
+    # keeping its inputs costs, nor its frames: the chunks come and go
+    assert (peak(4000, False) - peak(1000, False)) / 3000 < 16
+    assert (peak(4000, True) - peak(1000, True)) / 3000 > 150
 
 
 def test_a_callable_ask_sees_the_trajectory_the_rerun_gives():
