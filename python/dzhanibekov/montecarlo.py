@@ -470,6 +470,8 @@ class _Drawn(NamedTuple):
     moments: np.ndarray
     tensor: np.ndarray | None
     """The tensor in the body's own axes, if they are not its principal axes."""
+    axes: np.ndarray | None
+    """Its principal axes (columns, a proper rotation), if they are not the body's own."""
     body: Body | None
     deployment: Deployment | None
     damper: Damper | None
@@ -493,19 +495,21 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
                              f"`t_end` {t_end:g}: the verdict is that of the free motion after "
                              "it, so `t_end` must reach it")
         moments, axes = np.linalg.eigh(d.tensors[-1])
+        if np.linalg.det(axes) < 0:
+            axes[:, 0] = -axes[:, 0]
         # as if deployed at once: L = I_0 ω kept in the body
         after = np.linalg.solve(d.tensors[-1], d.tensors[0] @ omega)
-        return _Drawn(kind, moments, d.tensors[-1], None, d, None, axes.T @ after)
+        return _Drawn(kind, moments, d.tensors[-1], axes, None, d, None, axes.T @ after)
     damper = None
     if kind == "damper":
         value, damper = value
     if isinstance(value, Body):
         moments = np.array(value.inertia)
         if value.is_principal:
-            return _Drawn(kind, moments, None, None, None, damper, omega)
+            return _Drawn(kind, moments, None, None, None, None, damper, omega)
         axes = value.principal_axes
-        return _Drawn(kind, moments, value.tensor, value, None, damper, axes.T @ omega)
-    return _Drawn(kind, _moments_of(value), None, None, None, damper, omega)
+        return _Drawn(kind, moments, value.tensor, axes, value, None, damper, axes.T @ omega)
+    return _Drawn(kind, _moments_of(value), None, None, None, None, damper, omega)
 
 
 class _Failure(NamedTuple):
@@ -572,6 +576,7 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
     inputs: dict[str, np.ndarray] = {
         "inertia": moments,
         "tensor": _tensors(moments, [d.tensor for d in drawn]),
+        "axes": _axes(m, [d.axes for d in drawn]),
         "omega0": omega_rows,
         "q0": q_rows,
         "separatrix": separatrix_distance(moments, principal),
@@ -589,6 +594,16 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
                  [d.deployment for d in drawn if d.deployment is not None],
                  [d.damper for d in drawn if d.damper is not None], omega_rows, q_rows, inputs)
     return rows, failure
+
+
+def _axes(m: int, given: list[np.ndarray | None]) -> np.ndarray:
+    """The principal axes (m, 3, 3): the identity, or as given."""
+    axes = np.zeros((m, 3, 3))
+    axes[:, [0, 1, 2], [0, 1, 2]] = 1.0
+    for i, turn in enumerate(given):
+        if turn is not None:
+            axes[i] = turn
+    return axes
 
 
 def _tensors(moments: np.ndarray, given: list[np.ndarray | None]) -> np.ndarray:
@@ -744,7 +759,9 @@ class MonteCarlo:
     inputs : dict of str to ndarray
         What each sample that ran drew, with a leading axis of length runs: ``inertia``
         (runs, 3) principal moments (for a deployment: of the deployed body, ascending),
-        ``tensor`` (runs, 3, 3) in the body's own axes (the deployed one), ``omega0``,
+        ``tensor`` (runs, 3, 3) in the body's own axes (the deployed one), ``axes`` (runs,
+        3, 3) its principal axes as columns (a proper rotation; the identity for a body given
+        by its principal moments), ``omega0``,
         ``q0``, ``separatrix`` (the distance of :func:`separatrix_distance`; a deployment's as
         if deployed at once), and ``knot_times``, ``knot_tensors`` (deployments),
         ``damper_inertia``, ``damping`` (dampers). Empty if the inputs were not kept.
@@ -1038,11 +1055,13 @@ class MonteCarlo:
         that ran as its coordinate), ``outcome``, ``weight``, the inputs, and the estimate,
         its interval and the settings as attributes. :func:`dzhanibekov.save` writes it."""
         xr = _tables.require("xarray", "`to_xarray`")
-        dims = {"inertia": ("axis",), "tensor": ("axis", "axis2"), "omega0": ("axis",),
+        dims = {"inertia": ("axis",), "tensor": ("axis", "axis2"), "axes": ("axis", "axis2"),
+                "omega0": ("axis",),
                 "q0": ("quaternion",), "separatrix": (), "knot_times": ("knot",),
                 "knot_tensors": ("knot", "axis", "axis2"), "damper_inertia": (),
                 "damping": ()}
         names = {"inertia": "principal moments", "tensor": "inertia tensor in body axes",
+                 "axes": "principal axes (columns) in body axes",
                  "omega0": "initial body rates", "q0": "initial " + _tables.Q_DOC,
                  "separatrix": "(L^2/2E - I_mid) / (I_max - I_min): 0 on the separatrix",
                  "knot_times": "deployment knot times",
@@ -1088,7 +1107,7 @@ class MonteCarlo:
         if a["ask"] in ("tumbles", "flat_spin") or outcomes.dtype == np.bool_:
             outcomes = outcomes.astype(bool)
         inputs = {name: np.ascontiguousarray(ds[name].values) for name in
-                  ("inertia", "tensor", "omega0", "q0", "separatrix", "knot_times",
+                  ("inertia", "tensor", "axes", "omega0", "q0", "separatrix", "knot_times",
                    "knot_tensors", "damper_inertia", "damping") if name in ds}
         stratum = np.asarray(ds["stratum"].values, dtype=np.int8) if "stratum" in ds else None
         strata = (int(a["draws_near"]), int(a["draws_far"])) if "draws_near" in a else None

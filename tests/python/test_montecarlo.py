@@ -171,8 +171,10 @@ def test_rerun_is_the_single_run_of_the_sample_bit_for_bit():
         traj = study.rerun(k)
         # the run made from the study's record of the sample's inputs, by dz.simulate alone
         tensor, omega0, q0 = (study.inputs[n][k] for n in ("tensor", "omega0", "q0"))
-        alone = dz.simulate(dz.Body.from_tensor(tensor), omega0, q0, t_end=60.0, frames=2,
-                            dt=0.02)
+        body = dz.Body.from_tensor(tensor)
+        assert np.array_equal(study.inputs["axes"][k], body.principal_axes)
+        assert np.array_equal(study.inputs["inertia"][k], body.inertia)
+        alone = dz.simulate(body, omega0, q0, t_end=60.0, frames=2, dt=0.02)
         assert np.array_equal(traj.q, alone.q) and np.array_equal(traj.omega, alone.omega)
         assert np.array_equal(traj.flip_times, alone.flip_times)
         assert len(traj.flip_times) == study.outcomes[k]
