@@ -23,7 +23,7 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
                      flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
-from .models import simulate_deployments
+from .system import System
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
@@ -52,7 +52,7 @@ __all__ = [
     "InertiaWarning",
     "MeshError",
     "Deployment",
-    "simulate_deployments",
+    "System",
     "Damper",
     "StiffDamperWarning",
     "damper_rate",

@@ -291,14 +291,14 @@ class DamperDispersion:
     Parameters
     ----------
     damper : Damper
-        The nominal damper.
+        The nominal damper (its sphere's start, ``sigma0``, is every drawn damper's).
     inertia, damping : float
         Relative standard deviations of the sphere's moment of inertia and of the viscous
         coefficient, non-negative.
 
     Returns
     -------
-    A callable ``rng -> Damper``.
+    A callable ``rng -> Damper``: a part of a :class:`~dzhanibekov.System`.
 
     Examples
     --------
@@ -323,7 +323,8 @@ class DamperDispersion:
 
     def __call__(self, rng: np.random.Generator) -> Damper:
         return Damper(_positive(self.damper.inertia, self.inertia, rng, "inertia"),
-                      _positive(self.damper.damping, self.damping, rng, "damping"))
+                      _positive(self.damper.damping, self.damping, rng, "damping"),
+                      self.damper.sigma0)
 
     def __repr__(self) -> str:
         return (f"DamperDispersion({self.damper!r}, inertia={self.inertia!r}, "

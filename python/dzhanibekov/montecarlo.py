@@ -58,6 +58,7 @@ from .methods import DEFAULT_METHOD, METHODS, check_method
 from .results import Trajectory
 from .rotations import quaternions_of
 from .simulate import simulate
+from .system import System
 
 __all__ = ["monte_carlo", "MonteCarlo", "StudyError", "binomial_interval",
            "separatrix_distance", "sample_rng", "ASKS", "INTERVALS", "DEFAULT_LEVEL", "PILOT",
@@ -359,6 +360,10 @@ class _Rows:
         # three rows of moments would read as one body's tensor: Bodies say what they are
         if all(b is None for b in self.bodies) and len(self.moments) != 3:
             return self.moments
+        return self.bodies_of()
+
+    def bodies_of(self) -> list[Body]:
+        """Each sample's Body."""
         return [principal_body(m) if b is None else b for b, m in zip(self.bodies, self.moments)]
 
 
@@ -374,35 +379,49 @@ def _run(rows: _Rows, settings: _Settings, *, keep: str) -> Any:
     s = settings
     options: dict[str, Any] = dict(t_end=s.t_end, frames=s.frames, dt=s.dt, method=s.method,
                                    rtol=s.rtol, atol=s.atol)
+    system: Any
     if rows.kind == "deployment":
-        body: Any = rows.deployments if keep != "single" else rows.deployments[0]
+        system = rows.deployments
+    elif rows.kind == "damper":
+        system = [System(body, parts=[damper]) for body, damper in
+                  zip(rows.bodies_of(), rows.dampers)]
     else:
-        body = rows.body_rows() if keep != "single" else rows.body_rows()[0]
+        system = rows.body_rows()
     if keep == "single":
-        damper = rows.dampers[0] if rows.kind == "damper" else None
-        if not isinstance(body, (Body, Deployment)):
-            body = principal_body(body)
-        return simulate(body, rows.omega[0], rows.q[0], damper=damper, **options)
+        first = system[0]
+        if not isinstance(first, (System, Body, Deployment)):
+            first = principal_body(first)
+        return simulate(first, rows.omega[0], rows.q[0], **options)
     if keep == "summary":
-        return sweep(body, rows.omega, rows.q, block=max(len(rows), 1), progress=False,
+        return sweep(system, rows.omega, rows.q, block=max(len(rows), 1), progress=False,
                      threads=s.threads, **options)
-    damper_rows = list(rows.dampers) if rows.kind == "damper" else None
-    return simulate(body, rows.omega, rows.q, damper=damper_rows, progress=False,
-                    threads=s.threads, **options)
+    return simulate(system, rows.omega, rows.q, progress=False, threads=s.threads, **options)
+
+
+_KINDS: dict[tuple[str, ...], str] = {("free",): "free", ("deployment",): "deployment",
+                                      ("damper",): "damper"}
+"""A study's kinds of system, by the registry's kinds of a :class:`System`."""
 
 
 def _kind(value: Any) -> str:
     """What kind of system a drawn (or given) value is: "free", "deployment" or "damper"."""
     if isinstance(value, Deployment):
         return "deployment"
+    if isinstance(value, System):
+        kind = _KINDS.get(value.kinds)
+        if kind is None:
+            raise ValueError(f"`system` must be a body, a deployment or a body with a damper, "
+                             f"got a system of {value.kinds}")
+        return kind
     if isinstance(value, tuple) and len(value) == 2 and isinstance(value[1], Damper):
-        return "damper"
+        raise TypeError("`system` gave a (body, dz.Damper) pair: a body with a damper is "
+                        "dz.System(body, parts=[damper])")
     return "free"
 
 
 def _is_random(value: Any) -> bool:
     """Whether an input is drawn per sample: a distribution (``.rvs``) or a callable."""
-    if isinstance(value, (Body, Deployment)):
+    if isinstance(value, (System, Body, Deployment)):
         return False
     return hasattr(value, "rvs") or callable(value)
 
@@ -429,13 +448,13 @@ def _moments_of(value: Any) -> np.ndarray:
         arr = np.asarray(value)
     except Exception as exc:  # ragged nesting and the like
         raise TypeError(f"`system` must give a dz.Body, principal moments, a dz.Deployment "
-                        f"or a (body, dz.Damper) pair: {exc}") from None
+                        f"or a dz.System: {exc}") from None
     if arr.shape == (3, 3):
         raise ValueError("`system` gave a 3 × 3 array: for a tensor, return "
                          "dz.Body.from_tensor(tensor)")
     if arr.dtype.kind not in "iuf" or arr.shape != (3,):
         raise TypeError(f"`system` must give a dz.Body, principal moments (3,), a "
-                        f"dz.Deployment or a (body, dz.Damper) pair, got {type(value).__name__}"
+                        f"dz.Deployment or a dz.System, got {type(value).__name__}"
                         f" of shape {arr.shape} and dtype {arr.dtype}")
     return arr.astype(np.float64)
 
@@ -484,6 +503,10 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
     """A drawn system, with what the study records of it (its moments checked later, a
     chunk at once)."""
     kind = _kind(value)
+    damper = None
+    if isinstance(value, System):
+        damper = value.parts[0] if kind == "damper" else None
+        value = value.body
     if kind == "deployment":
         d: Deployment = value
         for j, tensor in enumerate(d.tensors):
@@ -500,9 +523,6 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
         # as if deployed at once: L = I_0 ω kept in the body
         after = np.linalg.solve(d.tensors[-1], d.tensors[0] @ omega)
         return _Drawn(kind, moments, d.tensors[-1], axes, None, d, None, axes.T @ after)
-    damper = None
-    if kind == "damper":
-        value, damper = value
     if isinstance(value, Body):
         moments = np.array(value.inertia)
         if value.is_principal:
@@ -590,6 +610,10 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
     if spec.kind == "damper":
         inputs["damper_inertia"] = np.array([d.damper.inertia for d in drawn])  # type: ignore[union-attr]
         inputs["damping"] = np.array([d.damper.damping for d in drawn])  # type: ignore[union-attr]
+        # the sphere's start: its own, or co-rotating with the body (Damper's sigma0=None)
+        inputs["damper_sigma0"] = np.array(
+            [w if d.damper.sigma0 is None else d.damper.sigma0  # type: ignore[union-attr]
+             for d, w in zip(drawn, omega_rows)], dtype=np.float64).reshape(m, 3)
     rows = _Rows(spec.kind, done, moments, [d.body for d in drawn],
                  [d.deployment for d in drawn if d.deployment is not None],
                  [d.damper for d in drawn if d.damper is not None], omega_rows, q_rows, inputs)
@@ -694,10 +718,7 @@ def _outcome(spec: _Spec, result: Any, i: int) -> Any:
     assert isinstance(result, Batch)
     if ask in ("tumbles", "flips"):
         counts = result.flips
-        if counts is None:
-            raise ValueError("flips are located only where the body's tensors are diagonal "
-                             "(see dz.simulate): disperse the moments without the axes, or ask "
-                             "a callable")
+        assert counts is not None, "a study's runs locate the flips (for any tensor)"
         return bool(counts[i] > 0) if ask == "tumbles" else int(counts[i])
     traj = result[i]
     if ask == "flat_spin":
@@ -764,7 +785,8 @@ class MonteCarlo:
         by its principal moments), ``omega0``,
         ``q0``, ``separatrix`` (the distance of :func:`separatrix_distance`; a deployment's as
         if deployed at once), and ``knot_times``, ``knot_tensors`` (deployments),
-        ``damper_inertia``, ``damping`` (dampers). Empty if the inputs were not kept.
+        ``damper_inertia``, ``damping``, ``damper_sigma0`` (dampers: the sphere's start
+        rates, the body's ``omega0`` when it co-rotates). Empty if the inputs were not kept.
     weights : ndarray, shape (runs,)
         Each outcome's weight in the estimate ``Σ weights · outcomes``: ``1/n`` in a plain
         study, the stratum's share of the draws over its runs in a rare-event one.
@@ -988,7 +1010,7 @@ class MonteCarlo:
         `limit`), by name: ``Ix, Iy, Iz`` (principal moments of bodies in their principal
         axes; ``I1, I2, I3`` as the bodies give them otherwise), ``Ixy, Ixz, Iyz`` (products of
         inertia), ``u0, v0, w0``, ``Q0, U0, V0, W0``, ``t0, t1, …`` (knot times), ``j, c``
-        (damper), and ``separatrix`` (:func:`separatrix_distance`). Drawn again when the
+        and ``su0, sv0, sw0`` (damper: the sphere's inertia, coefficient and start), and ``separatrix`` (:func:`separatrix_distance`). Drawn again when the
         study kept no inputs."""
         inputs = dict(self.inputs)
         count = self.runs if limit is None else min(self.runs, as_int("limit", limit,
@@ -1020,6 +1042,9 @@ class MonteCarlo:
             out[f"t{j}"] = inputs["knot_times"][:, j]
         if "damper_inertia" in inputs:
             out["j"], out["c"] = inputs["damper_inertia"], inputs["damping"]
+        if "damper_sigma0" in inputs:
+            for j, name in enumerate(("su0", "sv0", "sw0")):
+                out[name] = inputs["damper_sigma0"][:, j]
         out["separatrix"] = inputs["separatrix"]
         return {k: v for k, v in out.items() if _varies(v)}
 
@@ -1059,14 +1084,15 @@ class MonteCarlo:
                 "omega0": ("axis",),
                 "q0": ("quaternion",), "separatrix": (), "knot_times": ("knot",),
                 "knot_tensors": ("knot", "axis", "axis2"), "damper_inertia": (),
-                "damping": ()}
+                "damping": (), "damper_sigma0": ("axis",)}
         names = {"inertia": "principal moments", "tensor": "inertia tensor in body axes",
                  "axes": "principal axes (columns) in body axes",
                  "omega0": "initial body rates", "q0": "initial " + _tables.Q_DOC,
                  "separatrix": "(L^2/2E - I_mid) / (I_max - I_min): 0 on the separatrix",
                  "knot_times": "deployment knot times",
                  "knot_tensors": "deployment knot tensors",
-                 "damper_inertia": "damper sphere inertia j", "damping": "damper coefficient c"}
+                 "damper_inertia": "damper sphere inertia j", "damping": "damper coefficient c",
+                 "damper_sigma0": "initial damper sphere rates in body axes"}
         data: dict[str, Any] = {
             "outcome": (("sample",), self.outcomes, {"long_name": f"outcome of {self.ask}"}),
             "weight": (("sample",), self.weights,
@@ -1108,7 +1134,7 @@ class MonteCarlo:
             outcomes = outcomes.astype(bool)
         inputs = {name: np.ascontiguousarray(ds[name].values) for name in
                   ("inertia", "tensor", "axes", "omega0", "q0", "separatrix", "knot_times",
-                   "knot_tensors", "damper_inertia", "damping") if name in ds}
+                   "knot_tensors", "damper_inertia", "damping", "damper_sigma0") if name in ds}
         stratum = np.asarray(ds["stratum"].values, dtype=np.int8) if "stratum" in ds else None
         strata = (int(a["draws_near"]), int(a["draws_far"])) if "draws_near" in a else None
         dt = float(a["dt"])
@@ -1195,9 +1221,9 @@ def monte_carlo(
 
     Parameters
     ----------
-    system : Body, array_like (3,), Deployment, (Body, Damper), or callable ``rng -> system``
+    system : System, Body, array_like (3,), Deployment, or callable ``rng -> system``
         What turns: a body (or its principal moments), a deployment, a body with a damper
-        inside (the pair ``(body, dz.Damper(j, c))``; ``dz.System`` when it lands), or a
+        inside (``dz.System(body, parts=[dz.Damper(j, c)])``), or a
         dispersion drawing one per sample (:class:`~dzhanibekov.InertiaDispersion`,
         :class:`~dzhanibekov.DeploymentDispersion`, or your own). Every sample must be of the
         kind of sample 0.
@@ -1322,8 +1348,9 @@ def monte_carlo(
     # sample 0 says the kind of system (the draw is made again with the others)
     kind, knots = _first_kind(system, entropy, key)
     if ask == "flat_spin" and kind != "damper":
-        raise ValueError("`ask='flat_spin'` needs a damper: pass the system as (body, "
-                         "dz.Damper(j, c)) or a callable giving such pairs")
+        raise ValueError("`ask='flat_spin'` needs a damper: pass the system as "
+                         "dz.System(body, parts=[dz.Damper(j, c)]) or a callable giving such "
+                         "systems")
     method_ = method if method is not None else "exact" if kind == "free" else DEFAULT_METHOD
     check_method(method_)
     if frames_ is None:

@@ -6,6 +6,7 @@ when every one of them is done, so an error or Ctrl-C leaves the destination as 
 
 from __future__ import annotations
 
+import dataclasses
 import contextlib
 import json
 import os
@@ -147,7 +148,7 @@ def summary(result: SceneResult) -> dict[str, Any]:
             "mean_spacing": float((flips[-1] - flips[0]) / (len(flips) - 1))
             if len(flips) > 1 else None,
         },
-        "drift": run.drift._asdict(),
+        "drift": dataclasses.asdict(run.drift),
         "method": run.method,
         "dt": run.dt,
         "n_steps": run.n_steps,

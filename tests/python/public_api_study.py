@@ -38,7 +38,7 @@ def study_args(draw: st.DrawFn) -> dict[str, Any]:
     n = draw(valid_int(1, 8))
     body = draw(st.sampled_from(BODIES))
     system: Any = draw(st.sampled_from([
-        body, dz.Body(body),
+        body, dz.Body(body), dz.System(body),
         dz.InertiaDispersion(body, moments=0.05, axes_deg=draw(st.sampled_from([0.0, 2.0])))]))
     kwargs: dict[str, Any] = dict(
         system=system,

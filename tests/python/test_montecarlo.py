@@ -231,12 +231,15 @@ def test_a_deployment_study_is_the_deployment_sweep_of_its_samples():
 
 
 def test_a_damped_body_goes_flat_as_its_own_run_says():
-    def damped(rng: np.random.Generator) -> tuple[tuple[float, float, float], dz.Damper]:
-        return ((1.0, 10.0, 10.0), dz.DamperDispersion(dz.Damper(0.05, 0.02), damping=0.5)(rng))
+    def damped(rng: np.random.Generator) -> dz.System:
+        return dz.System((1.0, 10.0, 10.0),
+                         parts=[dz.DamperDispersion(dz.Damper(0.05, 0.02), damping=0.5)(rng)])
 
     study = dz.monte_carlo(damped, (2.0, 0.01, 0.0), 6, seed=4, t_end=1500.0, dt=0.01,
                            ask="flat_spin", frames=151)
     assert study.kind == "damper" and study.frames == 151
+    # the spheres co-rotate at the start (the dampers' sigma0 is None)
+    assert np.array_equal(study.inputs["damper_sigma0"], study.inputs["omega0"])
     for k in range(6):
         traj = study.rerun(k)
         assert study.outcomes[k] == (not math.isnan(dz.flat_spin_time(traj)))
@@ -247,6 +250,33 @@ def test_a_damped_body_goes_flat_as_its_own_run_says():
                                          study.inputs["omega0"][k])
         if estimate < 0.7 * 1500.0 or estimate > 1.5 * 1500.0:
             assert study.outcomes[k] == (estimate < 1500.0), (k, estimate)
+
+
+def test_a_fixed_system_runs_its_damper_from_its_own_start():
+    # σ0 belongs to the damper: every sample's sphere starts there, whatever omega0 is drawn
+    system = dz.System((1.0, 10.0, 10.0), parts=[dz.Damper(0.05, 0.02, sigma0=(1.5, 0.0, 0.0))])
+
+    def sphere_start(traj: dz.Trajectory) -> float:
+        return float(traj.parts["damper"][0, 0])
+
+    study = dz.monte_carlo(system, lambda rng: (2.0, rng.normal(0, 0.01), 0.0), 4, seed=5,
+                           t_end=10.0, dt=0.01, ask=sphere_start, frames=3)
+    assert study.kind == "damper" and study.method == dz.methods.DEFAULT_METHOD
+    assert np.array_equal(study.inputs["damper_sigma0"], np.tile([1.5, 0.0, 0.0], (4, 1)))
+    assert np.allclose(study.outcomes, 1.5, rtol=1e-15, atol=0)
+    for k in (0, 3):
+        traj = study.rerun(k)
+        assert traj.system == system
+        alone = dz.simulate(system, study.inputs["omega0"][k], t_end=10.0, frames=3, dt=0.01)
+        assert np.array_equal(traj.omega, alone.omega) and np.array_equal(traj.q, alone.q)
+        assert np.array_equal(traj.parts["damper"], alone.parts["damper"])
+        assert sphere_start(traj) == study.outcomes[k]
+
+
+def test_a_body_and_damper_pair_is_refused_for_a_system():
+    with pytest.raises(TypeError, match=r"dz.System\(body, parts=\[damper\]\)"):
+        dz.monte_carlo(((1.0, 10.0, 10.0), dz.Damper(0.05, 0.02)), (2.0, 0.01, 0.0), 4,
+                       seed=1, t_end=10.0, dt=0.01)
 
 
 # -- rare events ----------------------------------------------------------------------------------

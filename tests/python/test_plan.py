@@ -29,8 +29,8 @@ def core_calls(monkeypatch):
     return calls
 
 
-def keep_frames(call):  # _core.simulate(body, omega0, q0, t_end, frames, dt, method,
-    return call[8]      #               max_steps, keep_frames, keep_flips)
+def keep_frames(call):  # _core.simulate(system, omega0, q0, options, keep_frames)
+    return call[4]
 
 
 def test_a_path_only_scene_rotates_the_signal_point_alone(core_calls):
@@ -128,7 +128,7 @@ def test_flips_are_located_only_when_asked_or_drawn(core_calls):
     scene = dz.SCENES["fig3a"].replace(flips=False, draw=Draw(figures=("path",)))
     assert not dz.make_plan(scene).keep_flips
     result = dz.execute(dz.make_plan(scene))
-    assert core_calls["simulate"][0][9] is False
+    assert core_calls["simulate"][0][3].flips is False
     assert result.flip_times is None and result.verdict is None
 
 

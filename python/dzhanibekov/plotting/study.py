@@ -32,7 +32,8 @@ LABELS = {
     "I3": "I₃ (principal moment)", "Ix": "I_x", "Iy": "I_y", "Iz": "I_z",
     "u0": "u₀ (initial rate about x)", "v0": "v₀ (initial rate about y)",
     "w0": "w₀ (initial rate about z)", "j": "damper sphere inertia j",
-    "c": "damping coefficient c",
+    "c": "damping coefficient c", "su0": "damper sphere's initial rate about x",
+    "sv0": "damper sphere's initial rate about y", "sw0": "damper sphere's initial rate about z",
 }
 """Axis labels of the inputs (others are shown by name)."""
 
