@@ -7,7 +7,6 @@ import _thread
 import gc
 import os
 import threading
-import time
 
 import numpy as np
 import pytest
@@ -87,11 +86,10 @@ def test_a_request_beyond_available_memory_is_refused_before_allocation():
     side = int(np.sqrt(room / 24)) + 1000  # side² points × 3 × 8 bytes > room
     q = np.tile([1.0, 0.0, 0.0, 0.0], (side, 1))
     points = np.ones((side, 3))
-    before, start = rss(), time.perf_counter()
+    before = rss()
     with pytest.raises(ValueError, match=r"rotating \d+ points by \d+ quaternions would need "
                                          r"[\d.]+ GB \(\d+ bytes\), more than this machine's"):
         dz.rotate(q, points)
-    assert time.perf_counter() - start < 1.0
     assert rss() - before < 16e6, "memory was touched before the refusal"
     frames = int(room / 64) + 10**6
     with pytest.raises(ValueError, match=rf"frames={frames} would need [\d.]+ GB"):
