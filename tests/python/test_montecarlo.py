@@ -252,7 +252,7 @@ def test_a_damped_body_goes_flat_as_its_own_run_says():
             assert study.outcomes[k] == (estimate < 1500.0), (k, estimate)
 
 
-def test_a_fixed_system_runs_its_damper_from_its_own_start():
+def test_a_fixed_system_runs_its_damper_from_its_own_start(tmp_path):
     # σ0 belongs to the damper: every sample's sphere starts there, whatever omega0 is drawn
     system = dz.System((1.0, 10.0, 10.0), parts=[dz.Damper(0.05, 0.02, sigma0=(1.5, 0.0, 0.0))])
 
@@ -271,6 +271,11 @@ def test_a_fixed_system_runs_its_damper_from_its_own_start():
         assert np.array_equal(traj.omega, alone.omega) and np.array_equal(traj.q, alone.q)
         assert np.array_equal(traj.parts["damper"], alone.parts["damper"])
         assert sphere_start(traj) == study.outcomes[k]
+    # the file keeps the damper's inputs, its start included
+    back = dz.load(dz.save(study, tmp_path / "damped.nc"))
+    assert back.kind == "damper" and np.array_equal(back.outcomes, study.outcomes)
+    for name in ("damper_inertia", "damping", "damper_sigma0", "omega0", "inertia"):
+        assert np.array_equal(back.inputs[name], study.inputs[name]), name
 
 
 def test_a_body_and_damper_pair_is_refused_for_a_system():
