@@ -22,6 +22,7 @@ from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
 from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper_rate,
                      flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
+from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
@@ -41,6 +42,7 @@ from .scenes import (
     make_plan,
 )
 from .methods import METHODS, MethodInfo
+from .montecarlo import MonteCarlo, StudyError, monte_carlo
 from .simulate import rotate, simulate
 from .summary import Summary, summarize
 
@@ -98,6 +100,12 @@ __all__ = [
     "load",
     "ReadError",
     "io",
+    "monte_carlo",
+    "MonteCarlo",
+    "StudyError",
+    "InertiaDispersion",
+    "DeploymentDispersion",
+    "DamperDispersion",
 ]
 
 _LAZY = {"plotting": ".plotting", "maps": ".plotting.maps", "viewer": ".viewer"}

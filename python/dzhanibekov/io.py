@@ -1,7 +1,7 @@
 """Results into files other tools read, and back.
 
-- :func:`save` / :func:`load`: a `Trajectory`, `Batch`, `Sweep` or `DeploymentSweep` as a
-  netCDF-4 file (xarray with the h5netcdf engine; the ``io`` extra;
+- :func:`save` / :func:`load`: a `Trajectory`, `Batch`, `Sweep`, `DeploymentSweep` or
+  `MonteCarlo` study as a netCDF-4 file (xarray with the h5netcdf engine; the ``io`` extra;
   :mod:`dzhanibekov.netcdf`). Arrays round-trip bit for bit, and the file carries what is
   needed to rebuild the object: each run's system (the body's tensor, a deployment's knots,
   the parts with their parameters), every part's state, so that what a loaded run derives

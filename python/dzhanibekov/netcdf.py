@@ -39,6 +39,7 @@ from .body import Body, InertiaWarning
 from .damper import Damper
 from .deployment import Deployment
 from .methods import METHODS
+from .montecarlo import MonteCarlo
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
 from .system import System, Systems
 
@@ -75,8 +76,8 @@ class Var:
     """A variable of a layout.
 
     `dims` are dimension names; ``"*"`` stands for the grid dimensions of a sweep (one or
-    more, whatever their names). `kind` is ``"f"`` (float64), ``"i"`` (integers) or ``"U"``
-    (text). `checks` are applied in order to the values."""
+    more, whatever their names). `kind` is ``"f"`` (float64), ``"i"`` (integers), ``"n"``
+    (either) or ``"U"`` (text). `checks` are applied in order to the values."""
 
     dims: tuple[str, ...]
     kind: str
@@ -546,6 +547,44 @@ def deployment_sweep_rules(d: Loaded) -> str | None:
     return None
 
 
+class _StudyView:
+    """What :meth:`MonteCarlo.from_xarray` reads of a dataset, over a checked file."""
+
+    def __init__(self, d: Loaded) -> None:
+        self.attrs = d.attrs
+        self._values = d.values
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._values
+
+    def __getitem__(self, name: str) -> Any:
+        return _Values(self._values[name])
+
+
+@dataclass(frozen=True)
+class _Values:
+    values: np.ndarray
+
+
+def build_study(d: Loaded) -> MonteCarlo:
+    return MonteCarlo.from_xarray(_StudyView(d))
+
+
+def study_rules(d: Loaded) -> str | None:
+    samples = d["sample"]
+    if samples.size and (samples.min() < 0 or samples.max() >= int(d["n"])):
+        return f"`sample` must index the study's n = {int(d['n'])} samples"
+    if len(np.unique(samples)) != samples.size:
+        return "`sample` must not repeat a sample"
+    if int(d["runs"]) != samples.size:
+        return f"`runs` ({int(d['runs'])}) must count the samples ({samples.size})"
+    if str(d["outcome_type"]) == "bool" and not np.isin(d["outcome"], (0, 1)).all():
+        return "`outcome` must be 0 or 1 for a yes/no question"
+    if ("stratum" in d) != (str(d["design"]) == "near-separatrix"):
+        return "`stratum` goes with the near-separatrix design, and only with it"
+    return None
+
+
 # -- the layouts --------------------------------------------------------------------------------
 
 _COUNT = Attr("i", (non_negative,))
@@ -576,6 +615,42 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
         "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
         "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
     }
+
+
+_STUDY_INPUT = {
+    "inertia": ("axis",), "tensor": ("axis", "axis2"), "axes": ("axis", "axis2"),
+    "omega0": ("axis",), "q0": ("quaternion",), "separatrix": (), "knot_times": ("knot",),
+    "knot_tensors": ("knot", "axis", "axis2"), "damper_inertia": (), "damping": (),
+    "damper_sigma0": ("axis",),
+}
+_TEXT = Attr("U")
+_NUMBER = Attr("f")
+_STUDY = Layout(
+    variables={
+        "sample": Var(("sample",), "i", (non_negative,)),
+        **_LABELS,
+        "axis2": Var(("axis2",), "U", (labels(_tables.AXIS),)),
+        "outcome": Var(("sample",), "n"),
+        "weight": Var(("sample",), "f", (finite, non_negative)),
+        "stratum": Var(("sample",), "i", (non_negative,), optional=True),
+        **{name: Var(("sample",) + dims, "f", optional=True)
+           for name, dims in _STUDY_INPUT.items()},
+    },
+    attrs={
+        "ask": _TEXT, "n": _COUNT, "runs": _COUNT, "kind": _TEXT,
+        "seed_entropy": _TEXT, "seed_spawn_key": _TEXT,
+        "t_end": Attr("f", (finite, positive)), "frames": _COUNT, "method": _METHOD,
+        "dt": _NUMBER, "level": Attr("f", (finite, positive)), "interval_method": _TEXT,
+        "estimate": _NUMBER, "lower": _NUMBER, "upper": _NUMBER,
+        "design": Attr("U", (one_of(("plain", "near-separatrix")),)),
+        "outcome_type": Attr("U", (one_of(("bool", "int", "float")),)),
+        "draws_near": Attr("i", (non_negative,), optional=True),
+        "draws_far": Attr("i", (non_negative,), optional=True),
+    },
+    rules=(study_rules,),
+    build=build_study,
+    sizes={**_FIXED, "axis2": 3},
+)
 
 
 LAYOUTS: Mapping[str, Layout] = {
@@ -677,6 +752,7 @@ LAYOUTS: Mapping[str, Layout] = {
         build=build_deployment_sweep,
         sizes=_FIXED, least={"knot": 1},
     ),
+    "MonteCarlo": _STUDY,
 }
 """What a file of each kind holds: its variables (dimensions, type, allowed values), its
 attributes, the rules between them, and what the built result must agree with (its own
@@ -687,7 +763,8 @@ result both read this table."""
 # -- save -------------------------------------------------------------------------------------
 
 
-def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path) -> Path:
+def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
+         path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
     back: arrays bit for bit, and the metadata to rebuild the object (each run's system: the
     body's tensor, a deployment's knots, the parts with their parameters; every part's
@@ -700,7 +777,7 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path)
 
     Parameters
     ----------
-    result : Trajectory, Batch, Sweep or DeploymentSweep
+    result : Trajectory, Batch, Sweep, DeploymentSweep or MonteCarlo
     path : str or Path
         The file to write (replaced if it exists), ending in one of :data:`SUFFIXES`
         (``.nc`` by convention).
@@ -730,11 +807,11 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path)
     True
     """
     kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep",
-             DeploymentSweep: "DeploymentSweep"}
+             DeploymentSweep: "DeploymentSweep", MonteCarlo: "MonteCarlo"}
     kind = kinds.get(type(result))
     if kind is None:
-        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep or DeploymentSweep, "
-                        f"got {type(result).__name__}")
+        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep, DeploymentSweep or "
+                        f"MonteCarlo, got {type(result).__name__}")
     p = as_path(path)
     suffix = p.suffix.lower()
     if suffix not in SUFFIXES:
@@ -759,7 +836,7 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path)
 # -- load -------------------------------------------------------------------------------------
 
 
-def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
+def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo:
     """Reads a result written by :func:`save`, checking it as strictly as a run checks
     what it computes (see the module's docs and :data:`LAYOUTS`).
 
@@ -769,7 +846,8 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
 
     Returns
     -------
-    Trajectory, Batch, Sweep or DeploymentSweep
+    Trajectory, Batch, Sweep, DeploymentSweep or MonteCarlo
+        (a study without its dispersions: it cannot rerun a sample)
 
     Raises
     ------
@@ -836,7 +914,7 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
         raise ReadError(f"{p} holds a {kind} that dz.save never writes: {problem}",
                         path=str(p))
     try:
-        result: Trajectory | Batch | Sweep | DeploymentSweep = layout.build(loaded)
+        result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo = layout.build(loaded)
     except (TypeError, ValueError) as exc:  # a body, part or deployment the core refuses
         raise ReadError(f"{p} holds a {kind} whose system dz cannot build: {exc}",
                         path=str(p)) from None
@@ -908,7 +986,7 @@ def _kind_of(dtype: np.dtype[Any]) -> str:
     return dtype.kind
 
 
-_KIND_WORDS = {"f": "float64", "i": "integers", "U": "text"}
+_KIND_WORDS = {"f": "float64", "i": "integers", "U": "text", "n": "integers or float64"}
 
 
 def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
@@ -945,7 +1023,8 @@ def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
             if sizes.setdefault(dim, n) != n:
                 raise _Bad(f"`{name}` has {n} along `{dim}`, other variables {sizes[dim]}")
         kind = _kind_of(var.dtype)
-        if kind != spec.kind or (kind == "f" and var.dtype != np.float64):
+        if (kind != spec.kind and not (spec.kind == "n" and kind in "if")) or (
+                kind == "f" and var.dtype != np.float64):
             raise _Bad(f"`{name}` must hold {_KIND_WORDS[spec.kind]}, got {var.dtype}")
         shapes[name] = tuple(var.shape)
     for name in sorted(set(ds.variables) - set(layout.variables)):
@@ -963,8 +1042,10 @@ def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) ->
         if name not in shapes:
             continue
         raw = np.asarray(ds.variables[name][...])
-        a = (np.ascontiguousarray(raw, dtype=np.float64) if spec.kind == "f" else
-             np.ascontiguousarray(raw, dtype=np.int64) if spec.kind == "i" else
+        number = spec.kind == "n"
+        a = (np.ascontiguousarray(raw, dtype=np.float64)
+             if spec.kind == "f" or (number and raw.dtype.kind == "f") else
+             np.ascontiguousarray(raw, dtype=np.int64) if spec.kind == "i" or number else
              np.array([v.decode() if isinstance(v, bytes) else str(v) for v in raw.ravel()],
                       dtype=str).reshape(raw.shape))
         a = a.reshape(raw.shape)  # ascontiguousarray makes a 0-d variable 1-d

@@ -64,6 +64,10 @@ CALLS: dict[str, Callable[[], Any]] = {
     # a tiny span in subnormal steps: 2·10¹³ steps once max_steps allows them
     "summarize-subnormal-dt": lambda: dz.summarize(BODY, OMEGA, t_end=1e-310, dt=5e-324,
                                                    max_steps=2**62),
+    # a Monte Carlo study of 32 dispersed bodies, 10⁹ RK4 steps each, in chunks of 16
+    "monte-carlo-rk4": lambda: dz.monte_carlo(
+        dz.InertiaDispersion(BODY, moments=0.02), OMEGA, 32, seed=1, t_end=1e6, method="rk4",
+        dt=1e-3, chunk=16, progress=False),
     # 4·10⁷ point-frames into a fresh gigabyte
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),

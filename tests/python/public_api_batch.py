@@ -27,6 +27,7 @@ from hostile import (
     valid_int,
 )
 from public_api import ENTRIES as SINGLE_ENTRIES
+from public_api_study import ENTRIES as STUDY_ENTRIES
 from public_api import (
     Entry,
     _rate_rows,
@@ -403,6 +404,7 @@ def check_deployment_sweep(kwargs: dict[str, Any], s: Any,
 
 ENTRIES: dict[str, Entry] = {
     **SINGLE_ENTRIES,
+    **STUDY_ENTRIES,
     "simulate[model batch]": Entry(
         call=dz.simulate,
         valid=model_batch_args(),

@@ -14,7 +14,7 @@ CHILD = Path(__file__).with_name("interrupt_child.py")
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
          "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate",
          "summarize-dop853-frames", "summarize-dopri5-frames", "sweep-dop853-frames",
-         "summarize-subnormal-dt"]
+         "summarize-subnormal-dt", "monte-carlo-rk4"]
 # a run and a batch of each of the atlas's methods (issue 22)
 ATLAS = ("splitting6", "implicit_midpoint", "dmv", "dmv_modified", "rkmk4", "crouch_grossman3")
 CALLS += [f"{kind}-{m}" for m in ATLAS for kind in ("simulate", "batch")]

@@ -166,7 +166,8 @@ def test_save_load_sweep_bit_for_bit(sweep, tmp_path):
 
 
 def test_save_refuses_other_objects(tmp_path):
-    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch, Sweep or "):
+    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch, Sweep, "
+                                        "DeploymentSweep or MonteCarlo"):
         dz.save({"q": 1}, tmp_path / "x.nc")
 
 

@@ -1,8 +1,9 @@
 """Everything drawn, with matplotlib: the figures of a scene or a trajectory (:mod:`.figures`),
-stability maps of a sweep (:mod:`.maps`), the animation (:func:`animation`, a
-``FuncAnimation`` for notebooks) and its GIF/MP4 files (:mod:`.movie`)."""
+stability maps of a sweep (:mod:`.maps`), a Monte Carlo study's figure (:mod:`.study`), the
+animation (:func:`animation`, a ``FuncAnimation`` for notebooks) and its GIF/MP4 files
+(:mod:`.movie`)."""
 
-from . import maps, movie
+from . import maps, movie, study
 from .figures import (
     FIGURE_FUNCTIONS,
     animation,
@@ -14,11 +15,14 @@ from .figures import (
     phases_figure,
     polhode_figure,
 )
+from .study import study_figure
 
 __all__ = [
     "animation",
     "maps",
     "movie",
+    "study",
+    "study_figure",
     "compute",
     "phases_figure",
     "path_figure",
