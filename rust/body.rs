@@ -212,9 +212,10 @@ impl Inertia {
         let unit = (unit + unit.transpose()) * 0.5;
         let (moments, axes) = principal_frame(&unit);
         let factored = unit.cholesky().is_some();
-        if !(factored && moments.min() > 0.0) {
-            // with products of inertia an eigenvalue is found to about ε × the largest
-            let resolution = 4.0 * f64::EPSILON * moments.max();
+        // with products of inertia an eigenvalue is found to about ε × the largest: a smaller
+        // one is round-off, whatever its sign (Cholesky may factor such a tensor or not)
+        let resolution = 4.0 * f64::EPSILON * moments.max();
+        if !(factored && moments.min() > resolution) {
             let least = moments.min();
             let allowed = if least.is_nan() || least < -resolution {
                 "must be positive definite".into()

@@ -174,6 +174,7 @@ def check_size(nbytes: int, what: str, hint: str) -> None:
 def as_real(name: str, value: Any) -> float:
     """A real number as a float, whatever its value (infinities and NaN pass: the core says
     what values are allowed)."""
+    _not_a_duration(name, value, "a real number")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} "
                         f"{_short(value)}")
