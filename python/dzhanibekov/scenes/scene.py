@@ -107,9 +107,10 @@ _DEFAULT_PHASES = 6
 
 MAX_SCENE_BYTES = 1 << 20
 """The largest scene file :func:`load_scene` reads (1 MiB); scenes are a few hundred bytes."""
-MAX_ANIMATION_FRAMES = 2000
-"""Most frames (`run.frames`) of a scene that draws an animation: each frame is drawn and
-kept (about 0.3 MB) until the GIF is written. For longer runs, store fewer frames."""
+MAX_ANIMATION_FRAMES = 20_000
+"""Most frames (`run.frames`) of a scene that draws an animation: its plan rotates every
+drawn point at every frame. (The animation itself draws at most
+:data:`dzhanibekov.plotting.movie.MAX_FRAMES` frames, whatever the scene stores.)"""
 MAX_PHASES = 24
 """Most instants (`draw.phases`) of the phases panel: each is one 3-D panel of the figure."""
 MAX_DRAWN_SIZE = 1e100
@@ -707,7 +708,7 @@ def _validate(s: Scene) -> None:
                   f"the {convention} ellipsoid's largest semi-axis")
     if flags["animation"] and s.frames > MAX_ANIMATION_FRAMES:
         raise SceneError(src, "run.frames", f"must be at most {MAX_ANIMATION_FRAMES} for an "
-                         f"animation (each frame is drawn and kept until the GIF is written), "
+                         f"animation (every drawn point is rotated at every frame), "
                          f"got {s.frames}; store fewer frames or set `draw.animation = false`")
 
 
