@@ -358,8 +358,10 @@ class Scene:
         return out
 
     def to_toml(self) -> str:
-        """The scene as TOML text that :meth:`from_toml` reads back to an equal scene."""
-        return tomli_w.dumps(self.to_dict())
+        """The scene as TOML text that :meth:`from_toml` reads back to an equal scene; short
+        arrays on one line, as the shipped files write them (``omega = [0.01, 0.01, 1.0]``).
+        """
+        return _inline_arrays(tomli_w.dumps(self.to_dict()))
 
     def save(self, path: str | Path) -> Path:
         """Writes the scene to `path` (its stem should be the scene's name)."""
@@ -710,6 +712,30 @@ def _validate(s: Scene) -> None:
         raise SceneError(src, "run.frames", f"must be at most {MAX_ANIMATION_FRAMES} for an "
                          f"animation (every drawn point is rotated at every frame), "
                          f"got {s.frames}; store fewer frames or set `draw.animation = false`")
+
+
+_ARRAY = re.compile(r"\[\n((?:[ ]+[^ \]\n][^\n]*,\n)+)[ ]*\]")
+"""An array that tomli_w wrote one item a line, each item on one line."""
+_INLINE_WIDTH = 96
+"""The longest line an array is put on."""
+
+
+def _inline_arrays(text: str) -> str:
+    """`text` (TOML from tomli_w) with each array that fits on one line put there, inner
+    arrays first; the same data (checked by reading both)."""
+    def one_line(match: re.Match[str]) -> str:
+        items = ", ".join(line.strip().removesuffix(",") for line in match.group(1).splitlines())
+        start = text.rfind("\n", 0, match.start()) + 1  # the line the array opens on
+        fits = match.start() - start + len(items) + 2 <= _INLINE_WIDTH
+        return f"[{items}]" if fits else match.group(0)
+
+    written = compact = text
+    while True:
+        text = compact
+        compact = _ARRAY.sub(one_line, text)
+        if compact == text:
+            break
+    return compact if tomllib.loads(compact) == tomllib.loads(written) else written
 
 
 def _drawable(source: str, key: str, size: float, what: str = "") -> None:
