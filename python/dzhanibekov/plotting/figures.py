@@ -587,7 +587,7 @@ def path_figure(scene: Drawable, *, ax: Axes3D | None = None, legend: bool = Tru
     spec = ax.get_subplotspec()
     columns = spec.get_gridspec().ncols if spec is not None else 1
     # inside the panel's top margin: constrained layout does not make room above a 3-D box
-    ax.set_title(_title(result, int(15 * fig.get_figwidth() / columns)), fontsize=9, y=0.93)
+    ax.set_title(_title(result, int(13 * fig.get_figwidth() / columns)), fontsize=9, y=0.93)
     if legend and own:  # below the 3-D box, where it covers none of it
         fig.legend(*_handles([ax]), loc="outside lower center", ncols=3, fontsize=7,
                    frameon=False)
