@@ -173,9 +173,11 @@ class Draw:
     phases: tuple[float, ...] = ()
     """Instants of the phases panel; empty: evenly spread over the run."""
     fps: int | None = None
-    """The animation's frames per second; None: the default (20)."""
+    """The animation's frames per second; None: the default
+    (:data:`dzhanibekov.plotting.movie.FPS`)."""
     animation_size: int | None = None
-    """The animation's width and height in pixels; None: the default (560)."""
+    """The animation's width and height in pixels; None: the default
+    (:data:`dzhanibekov.plotting.movie.SIZE_PX`)."""
 
     @property
     def objects(self) -> tuple[str, ...]:
