@@ -102,34 +102,39 @@ def _say(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
-_API_TO_CLI = [
-    (re.compile(r"\bdt=None\b"), "--dt none"),
-    (re.compile(r"\bmethod='([\w-]+)'"), r"--method \1"),
-    (re.compile(r"\ba smaller dt\b"), "a smaller --dt"),
-    (re.compile(r"`run\.dt`"), "`--dt`"),
-    (re.compile(r"\bMAX_PREDICTED_DRIFT = ([0-9eE.+-]*[0-9])"), r"the \1 allowed"),
-]
-"""Advice written for the Python API, said in the command line's terms."""
+_STEP = (re.compile(r"\ba smaller dt\b"), "a smaller --dt")
+_DRIFT = (re.compile(r"\bMAX_PREDICTED_DRIFT = ([0-9eE.+-]*[0-9])"), r"the \1 allowed")
+_API_TO_CLI: dict[str, list[tuple[re.Pattern[str], str]]] = {
+    "run": [(re.compile(r"\bdt=None\b"), "--dt none"),
+            (re.compile(r"\bmethod='([\w-]+)'"), r"--method \1"), _STEP, _DRIFT],
+    "paper": [(re.compile(r"\bdt=None\b"), "`dzhanibekov run SCENE --dt none`"),
+              (re.compile(r"\bmethod='([\w-]+)'"), r"`dzhanibekov run SCENE --method \1`"),
+              _STEP, _DRIFT],
+    # a sweep's step is fixed and its method RK4: only a smaller --dt is the map's to take
+    "map": [(re.compile(r", dt=None to pick the step for an accuracy, or method='[\w-]+'\."),
+             "."), _STEP, _DRIFT],
+}
+"""Advice written for the Python API, said in each command's terms."""
 
 
-def cli_terms(text: str) -> str:
-    """`text` (a warning or error of the Python API) with its advice in the command line's
-    terms, on one line."""
-    for pattern, replacement in _API_TO_CLI:
+def cli_terms(text: str, command: str) -> str:
+    """`text` (a warning of the Python API) with its advice in the terms of `command`'s
+    options, on one line."""
+    for pattern, replacement in _API_TO_CLI.get(command, []):
         text = pattern.sub(replacement, text)
     return " ".join(text.split())
 
 
-def _warn_all(caught: list[warnings.WarningMessage]) -> None:
-    """Prints each warning raised (once), one line in the command line's terms, on stderr;
-    empties the list."""
+def _warn_all(args: argparse.Namespace) -> None:
+    """Prints each warning raised (once), one line in the command's terms, on stderr; empties
+    the list."""
     seen = set()
-    for w in caught:
-        line = cli_terms(str(w.message))
+    for w in args.caught:
+        line = cli_terms(str(w.message), args.command)
         if line not in seen:
             seen.add(line)
             print(f"dzhanibekov: warning: {line}", file=sys.stderr, flush=True)
-    caught.clear()
+    args.caught.clear()
 
 
 def _note_steps(results: Sequence[SceneResult], dt: float | None) -> None:
@@ -162,9 +167,9 @@ def _override(scene: Scene, overrides: dict[str, Any]) -> Scene:
     except SceneError as exc:
         field = (exc.key or "").removeprefix("run.")
         if field in overrides:
-            raise ValueError(f"`{_OPTIONS[field]}` {cli_terms(exc.detail)}") from None
+            raise ValueError(f"`{_OPTIONS[field]}` {cli_terms(exc.detail, 'run')}") from None
         if exc.key == "run":  # the options together (a step and a tolerance)
-            raise ValueError(f"{scene.name}: {cli_terms(exc.detail)}") from None
+            raise ValueError(f"{scene.name}: {cli_terms(exc.detail, 'run')}") from None
         raise
 
 
@@ -185,7 +190,7 @@ def _paper(args: argparse.Namespace) -> int:
         text = (_table(results, time.perf_counter() - start)
                 + f"\nwrote {len(files)} files to {args.out}")
     args.committed = True
-    _warn_all(args.caught)
+    _warn_all(args)
     print(text)
     return 0
 
@@ -210,7 +215,7 @@ def _run(args: argparse.Namespace) -> int:
                 + f"\nwrote {len(files)} files to {args.out}: "
                 + ", ".join(f.name for f in files))
     args.committed = True
-    _warn_all(args.caught)
+    _warn_all(args)
     print(text)
     return 0
 
@@ -234,7 +239,7 @@ def _map(args: argparse.Namespace) -> int:
         lines.append(f"wrote {len(files)} files to {args.out}: "
                      + ", ".join(f.name for f in files))
     args.committed = True
-    _warn_all(args.caught)
+    _warn_all(args)
     print("\n".join(lines))
     return 0
 
@@ -264,7 +269,7 @@ def _view(args: argparse.Namespace) -> int:
                 break
         raise
     args.committed = True
-    _warn_all(args.caught)
+    _warn_all(args)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): open it in a browser")
     return 0
 
@@ -438,11 +443,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             return int(args.run(args))
         except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
             # OSError: the output folder cannot be written (render.OutputError names the path)
-            _warn_all(caught)
-            print(f"dzhanibekov: error: {cli_terms(str(exc))}", file=sys.stderr)
+            _warn_all(args)
+            print(f"dzhanibekov: error: {exc}", file=sys.stderr)
             return 2
         except MemoryError as exc:
-            _warn_all(caught)
+            _warn_all(args)
             print(f"dzhanibekov: error: out of memory{f': {exc}' if str(exc) else ''}; "
                   f"{_what_was_written(args)}", file=sys.stderr)
             return 2
