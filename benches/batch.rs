@@ -13,7 +13,6 @@ use dzhanibekov::ensemble::sweep::sweep;
 use dzhanibekov::observe::{FlipDetector, Observer};
 use dzhanibekov::run::{FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
-use nalgebra::Vector3;
 
 const PAPER: [f64; 3] = [52.0833, 27.0833, 41.6666];
 const RUNS: usize = 4096;
@@ -55,12 +54,10 @@ fn kernel(c: &mut Criterion) {
                             state_from(rates(g * LANES + l), [1.0, 0.0, 0.0, 0.0])
                         });
                         let mut lanes = Lanes::<LANES>::new(&euler, &states);
-                        let mut detectors: Vec<FlipDetector> = Vec::new();
+                        let mut detectors: Vec<FlipDetector<'_, FreeRigidBody>> = Vec::new();
                         if flips {
                             for (l, x) in states.iter().enumerate() {
-                                let omega = Vector3::new(x[0], x[1], x[2]);
-                                let euler = sys.euler_coefficients();
-                                let mut d = FlipDetector::new(&body, &euler, &omega);
+                                let mut d = FlipDetector::new(&sys, 0.0, x);
                                 d.frame(0, 0.0, x);
                                 lanes.watch_flips(l, &d);
                                 detectors.push(d);

@@ -7,8 +7,9 @@ use std::sync::atomic::AtomicBool;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use nalgebra::Matrix3;
 
-use dzhanibekov::dynamics::{DampedBody, Deployment};
-use dzhanibekov::run::{simulate, simulate_model, FrameGrid, Keep, Method};
+use dzhanibekov::body::Inertia;
+use dzhanibekov::dynamics::{Damper, Deployment, Part, System, SystemBody};
+use dzhanibekov::run::{simulate, simulate_system, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
 
 fn models(c: &mut Criterion) {
@@ -48,25 +49,37 @@ fn models(c: &mut Criterion) {
         vec![Matrix3::from_diagonal(&moments.into()), tilted],
     )
     .unwrap();
-    for (name, d) in [
-        ("deployment_diagonal", &diagonal),
-        ("deployment_tensor", &tensor),
-    ] {
-        group.bench_with_input(BenchmarkId::new(name, steps), &grid, |b, grid| {
+    let damper = Part::Damper {
+        damper: Damper::try_new(0.05, 0.02).unwrap(),
+        sigma0: None,
+    };
+    let systems = [
+        (
+            "deployment_diagonal",
+            System::try_new(SystemBody::Deployment(diagonal), vec![]).unwrap(),
+        ),
+        (
+            "deployment_tensor",
+            System::try_new(SystemBody::Deployment(tensor), vec![]).unwrap(),
+        ),
+        (
+            "damper",
+            System::try_new(
+                SystemBody::Rigid(Inertia::from_principal(body)),
+                vec![damper],
+            )
+            .unwrap(),
+        ),
+    ];
+    for (name, system) in &systems {
+        group.bench_with_input(BenchmarkId::new(*name, steps), &grid, |b, grid| {
             b.iter(|| {
-                let x0 = d.state_from(0.0, black_box([0.01, 0.01, 1.0]), [1.0, 0.0, 0.0, 0.0]);
-                simulate_model(d, x0, grid, Method::Rk4, false, &cancel).unwrap()
+                let w = black_box([0.01, 0.01, 1.0]);
+                let q0 = [1.0, 0.0, 0.0, 0.0];
+                simulate_system(system, w, q0, grid, Method::Rk4, keep, &cancel).unwrap()
             })
         });
     }
-    let damped = DampedBody::try_new(Matrix3::from_diagonal(&moments.into()), 0.05, 0.02).unwrap();
-    group.bench_with_input(BenchmarkId::new("damper", steps), &grid, |b, grid| {
-        b.iter(|| {
-            let w = black_box([0.01, 0.01, 1.0]);
-            let x0 = DampedBody::state_from(w, w, [1.0, 0.0, 0.0, 0.0]);
-            simulate_model(&damped, x0, grid, Method::Rk4, false, &cancel).unwrap()
-        })
-    });
     group.finish();
 }
 

@@ -22,7 +22,7 @@ from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
 from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper_rate,
                      flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
-from .models import simulate_deployments
+from .system import System
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
@@ -50,7 +50,7 @@ __all__ = [
     "InertiaWarning",
     "MeshError",
     "Deployment",
-    "simulate_deployments",
+    "System",
     "Damper",
     "StiffDamperWarning",
     "damper_rate",

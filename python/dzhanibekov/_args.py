@@ -13,12 +13,13 @@ from typing import Any
 
 import numpy as np
 
+from . import _core
 from .errors import TooLargeError
 
 if sys.platform != "win32":
     import resource
 
-__all__ = ["as_float", "as_int", "as_array", "check_size", "MAX_INT"]
+__all__ = ["as_float", "as_int", "as_array", "check_size", "run_options", "MAX_INT"]
 
 MAX_INT = 2**63 - 1
 """The largest integer argument: counts cross into the core as 64-bit integers."""
@@ -155,3 +156,40 @@ def check_size(nbytes: int, what: str, hint: str) -> None:
             f"{what} would need {nbytes / 1e9:.3g} GB ({nbytes} bytes), more than this "
             f"machine's {room[0] / 1e9:.3g} GB of {room[1]}; {hint}"
         )
+
+
+def as_real(name: str, value: Any) -> float:
+    """A real number as a float, whatever its value (infinities and NaN pass: the core says
+    what values are allowed)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} "
+                        f"{_short(value)}")
+    try:
+        return float(value)
+    except OverflowError:  # an int or a Fraction beyond float64
+        raise ValueError(f"`{name}` must be finite in float64, got {_short(value)}") from None
+
+
+def _optional(kind: Any, name: str, value: Any) -> Any:
+    return None if value is None else kind(name, value)
+
+
+def _integer(name: str, value: Any) -> int:
+    return as_int(name, value, minimum=-MAX_INT)
+
+
+def run_options(*, t_end: Any, frames: Any, dt: Any, method: Any, rtol: Any, atol: Any,
+                max_steps: Any, flips: Any, threads: Any) -> _core.RunOptions:
+    """A run's options: their kinds checked here, their values (ranges, and what goes with
+    what: `atol` for adaptive methods only, `rtol` with `dt` for none) by the core, once."""
+    if not isinstance(method, str):
+        raise TypeError(f"`method` must be a string naming a method, got "
+                        f"{type(method).__name__} {_short(method)}")
+    if not isinstance(flips, (bool, np.bool_)):
+        raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
+    return _core.RunOptions(
+        as_real("t_end", t_end), _integer("frames", frames),
+        dt=_optional(as_real, "dt", dt), method=method,
+        rtol=_optional(as_real, "rtol", rtol), atol=_optional(as_real, "atol", atol),
+        max_steps=_optional(_integer, "max_steps", max_steps), flips=bool(flips),
+        threads=_optional(_integer, "threads", threads))

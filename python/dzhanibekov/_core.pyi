@@ -12,39 +12,33 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
-    "Invariants",
+    "Damper",
+    "Deployment",
     "MAX_MOMENT_RATIO",
     "METHODS",
     "MethodInfo",
-    "ModelResult",
     "RUN_STATUSES",
     "RigidBody",
     "RunColumns",
-    "RunResult",
+    "RunOptions",
     "StepPlan",
     "SweepResult",
+    "System",
     "TRIANGLE_SLACK",
     "__version__",
     "_finalizing",
-    "check_rtol",
-    "damper_step",
-    "deployment_step",
     "ellipj",
     "ellipk",
     "ellipsoid_mesh",
     "flip_period",
     "instruction_sets",
-    "invariants",
     "method_info",
-    "plan_batch",
+    "models",
+    "observe",
+    "plan",
     "rotate",
     "simulate",
     "simulate_batch",
-    "simulate_damper",
-    "simulate_dampers",
-    "simulate_deployment",
-    "simulate_deployments",
-    "step_plan",
     "sweep",
 ]
 __version__: str
@@ -55,6 +49,97 @@ DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
+RUN_STATUSES: tuple[str, ...]
+
+_Rows3 = list[list[float]]
+
+def _finalizing() -> None:
+    """The `atexit` hook that keeps daemon threads' calls out of a finalising interpreter."""
+
+@final
+class RigidBody:
+    def __new__(cls, inertia: tuple[float, float, float]) -> RigidBody: ...
+    @staticmethod
+    def from_tensor(tensor: _Rows3) -> RigidBody: ...
+    @staticmethod
+    def from_box(a: float, b: float, c: float, mass: float = 1.0) -> RigidBody: ...
+    @property
+    def inertia(self) -> tuple[float, float, float]: ...
+    @property
+    def tensor(self) -> _Rows3: ...
+    @property
+    def principal_axes(self) -> _Rows3: ...
+    @property
+    def is_principal(self) -> bool: ...
+    @property
+    def satisfies_triangle_inequality(self) -> bool: ...
+    @property
+    def intermediate_axis(self) -> int | None: ...
+    def __reduce__(self) -> tuple[Any, tuple[_Rows3]]: ...
+
+@final
+class Deployment:
+    def __new__(
+        cls, times: npt.NDArray[np.float64], tensors: npt.NDArray[np.float64]
+    ) -> Deployment: ...
+    @property
+    def times(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def tensors(self) -> npt.NDArray[np.float64]: ...
+
+@final
+class Damper:
+    def __new__(cls, inertia: float, damping: float) -> Damper: ...
+    def slip_rate(self, least: float) -> float: ...
+
+@final
+class System:
+    def __new__(
+        cls,
+        body: RigidBody | Deployment,
+        dampers: list[tuple[Damper, tuple[float, float, float] | None]],
+    ) -> System: ...
+    @property
+    def kinds(self) -> tuple[str, ...]: ...
+    @property
+    def conserved(self) -> tuple[str, ...]: ...
+    @property
+    def parts(self) -> list[tuple[str, int]]: ...
+    def tensor_at(self, t: float) -> _Rows3: ...
+
+@final
+class RunOptions:
+    def __new__(
+        cls,
+        t_end: float,
+        frames: int,
+        dt: float | None = None,
+        method: str | None = None,
+        rtol: float | None = None,
+        atol: float | None = None,
+        max_steps: int | None = None,
+        flips: bool = True,
+        threads: int | None = None,
+    ) -> RunOptions: ...
+    @property
+    def t_end(self) -> float: ...
+    @property
+    def frames(self) -> int: ...
+    @property
+    def dt(self) -> float | None: ...
+    @property
+    def method(self) -> str: ...
+    @property
+    def rtol(self) -> float: ...
+    @property
+    def atol(self) -> float: ...
+    @property
+    def max_steps(self) -> int: ...
+    @property
+    def flips(self) -> bool: ...
+    @property
+    def threads(self) -> int | None: ...
+    def with_dt(self, dt: float | None) -> RunOptions: ...
 
 @final
 class MethodInfo:
@@ -81,38 +166,20 @@ class MethodInfo:
     def __reduce__(self) -> tuple[Any, tuple[str]]: ...
 
 def method_info(name: str) -> MethodInfo: ...
-
-@final
-class RunResult:
-    @property
-    def t(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def omega(self) -> npt.NDArray[np.float64] | None: ...
-    @property
-    def q(self) -> npt.NDArray[np.float64] | None: ...
-    @property
-    def flip_times(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def drift(self) -> tuple[float, float, float, float]: ...
-    @property
-    def nfev(self) -> int: ...
-    @property
-    def n_steps(self) -> int: ...
-    @property
-    def n_rejected(self) -> int: ...
-    @property
-    def dt(self) -> float: ...
+def models() -> list[tuple[str, list[str], str]]: ...
 
 @final
 class StepPlan:
     @property
-    def dt(self) -> float: ...
+    def dt(self) -> float | None: ...
     @property
     def step(self) -> float: ...
     @property
     def rate_bound(self) -> float: ...
     @property
     def predicted_drift(self) -> float: ...
+    @property
+    def stiffness(self) -> float: ...
 
 @final
 class BatchPlan:
@@ -122,22 +189,19 @@ class BatchPlan:
     def worst_row(self) -> int | None: ...
     @property
     def worst(self) -> StepPlan | None: ...
+    @property
+    def stiffest_row(self) -> int | None: ...
+    @property
+    def stiffest(self) -> StepPlan | None: ...
 
-@final
-class Invariants:
-    @property
-    def energy(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def momentum_body(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def momentum_world(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def q_norm(self) -> npt.NDArray[np.float64]: ...
+_DriftTuple = tuple[float, float, float, float, float | None, list[str]]
 
 @final
 class RunColumns:
     @property
     def drift(self) -> list[npt.NDArray[np.float64]]: ...
+    @property
+    def kept(self) -> list[str]: ...
     @property
     def nfev(self) -> npt.NDArray[np.int64]: ...
     @property
@@ -155,6 +219,14 @@ class BatchResult:
     def omega(self) -> npt.NDArray[np.float64] | None: ...
     @property
     def q(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def parts(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def end_omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def end_q(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def end_parts(self) -> npt.NDArray[np.float64]: ...
     @property
     def flip_offsets(self) -> npt.NDArray[np.int64]: ...
     @property
@@ -179,168 +251,37 @@ class SweepResult:
     @property
     def runs(self) -> RunColumns: ...
 
-@final
-class ModelResult:
-    @property
-    def t(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def omega(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def q(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def momentum_world(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def momentum_body(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def energy(self) -> npt.NDArray[np.float64]: ...
-    @property
-    def sigma(self) -> npt.NDArray[np.float64] | None: ...
-    @property
-    def flip_times(self) -> npt.NDArray[np.float64] | None: ...
-    @property
-    def drift(self) -> tuple[float, float, float, float]: ...
-    @property
-    def nfev(self) -> int: ...
-    @property
-    def n_steps(self) -> int: ...
-    @property
-    def n_rejected(self) -> int: ...
-    @property
-    def dt(self) -> float: ...
-
-RUN_STATUSES: tuple[str, ...]
-
-def _finalizing() -> None:
-    """The `atexit` hook that keeps daemon threads' calls out of a finalising interpreter."""
-
-@final
-class RigidBody:
-    def __new__(cls, inertia: tuple[float, float, float]) -> RigidBody: ...
-    @staticmethod
-    def from_box(a: float, b: float, c: float, mass: float = 1.0) -> RigidBody: ...
-    @property
-    def inertia(self) -> tuple[float, float, float]: ...
-    @property
-    def satisfies_triangle_inequality(self) -> bool: ...
-    @property
-    def intermediate_axis(self) -> int | None: ...
-    def __reduce__(self) -> tuple[Any, tuple[tuple[float, float, float]]]: ...
-
-def simulate(
-    body: RigidBody,
-    omega0: tuple[float, float, float],
-    q0: tuple[float, float, float, float],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
+def plan(
+    systems: list[System],
+    omega0: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    options: RunOptions,
+    inertia: npt.NDArray[np.float64] | None = None,
+) -> BatchPlan: ...
+def simulate_batch(
+    systems: list[System],
+    omega0: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    options: RunOptions,
     keep_frames: bool,
-    keep_flips: bool,
-    rtol: float = ...,
-    atol: float = ...,
-) -> RunResult: ...
-def simulate_deployment(
-    times: npt.NDArray[np.float64],
-    tensors: npt.NDArray[np.float64],
-    omega0: tuple[float, float, float],
-    q0: tuple[float, float, float, float],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-    flips: bool = False,
-) -> ModelResult: ...
-def simulate_deployments(
-    times: list[list[float]],
-    tensors: list[list[float]],
-    omega0: list[tuple[float, float, float]],
-    q0: list[tuple[float, float, float, float]],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-    flips: bool = False,
-    threads: int | None = None,
-) -> list[ModelResult]: ...
-def simulate_damper(
-    inertia: tuple[float, float, float, float, float, float, float, float, float],
-    sphere: float,
-    damping: float,
-    omega0: tuple[float, float, float],
-    sigma0: tuple[float, float, float],
-    q0: tuple[float, float, float, float],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-    flips: bool = False,
-) -> ModelResult: ...
-def simulate_dampers(
-    inertia: npt.NDArray[np.float64],
-    sphere: npt.NDArray[np.float64],
-    damping: npt.NDArray[np.float64],
+    isa: str | None = None,
+    inertia: npt.NDArray[np.float64] | None = None,
+) -> BatchResult: ...
+def sweep(
+    systems: list[System],
     omega0: npt.NDArray[np.float64],
-    sigma0: npt.NDArray[np.float64],
     q0: npt.NDArray[np.float64],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-    flips: bool = False,
-    threads: int | None = None,
-) -> list[ModelResult]: ...
-def deployment_step(
-    times: list[list[float]],
-    tensors: list[list[float]],
-    omega0: list[tuple[float, float, float]],
-    q0: list[tuple[float, float, float, float]],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-) -> float | None: ...
-def damper_step(
-    inertia: npt.NDArray[np.float64],
-    sphere: npt.NDArray[np.float64],
-    damping: npt.NDArray[np.float64],
-    omega0: npt.NDArray[np.float64],
-    sigma0: npt.NDArray[np.float64],
-    q0: npt.NDArray[np.float64],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-) -> float | None: ...
-def step_plan(
-    body: RigidBody,
-    omega0: tuple[float, float, float],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    rtol: float = ...,
-    atol: float = ...,
-) -> StepPlan: ...
-def check_rtol(rtol: float) -> float: ...
+    options: RunOptions,
+    isa: str | None = None,
+    inertia: npt.NDArray[np.float64] | None = None,
+) -> SweepResult: ...
+def observe(
+    system: System,
+    t: npt.NDArray[np.float64],
+    omega: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    parts: npt.NDArray[np.float64],
+) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 @overload
 def rotate(
     q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: None = None
@@ -349,9 +290,6 @@ def rotate(
 def rotate(
     q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: npt.NDArray[np.float64]
 ) -> None: ...
-def invariants(
-    body: RigidBody, omega: npt.NDArray[np.float64], q: npt.NDArray[np.float64]
-) -> Invariants: ...
 def ellipsoid_mesh(
     semi_axes: tuple[float, float, float], n_around: int, n_along: int
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint32]]: ...
@@ -360,44 +298,4 @@ def ellipj(
     u: npt.NDArray[np.float64], m: float, m1: float
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
 def ellipk(m: float, m1: float) -> float: ...
-def simulate_batch(
-    inertia: npt.NDArray[np.float64],
-    omega0: npt.NDArray[np.float64],
-    q0: npt.NDArray[np.float64],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    keep_frames: bool,
-    keep_flips: bool,
-    rtol: float = ...,
-    atol: float = ...,
-    threads: int | None = None,
-    isa: str | None = None,
-) -> BatchResult: ...
-def sweep(
-    inertia: npt.NDArray[np.float64],
-    omega0: npt.NDArray[np.float64],
-    q0: npt.NDArray[np.float64],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    max_steps: int,
-    rtol: float = ...,
-    atol: float = ...,
-    threads: int | None = None,
-    isa: str | None = None,
-) -> SweepResult: ...
-def plan_batch(
-    inertia: npt.NDArray[np.float64],
-    omega0: npt.NDArray[np.float64],
-    t_end: float,
-    frames: int,
-    dt: float | None,
-    method: str,
-    rtol: float = ...,
-    atol: float = ...,
-) -> BatchPlan: ...
 def instruction_sets() -> list[str]: ...

@@ -7,9 +7,14 @@ pandas are imported on first use, with an error naming the extra when they are m
 Layout (names follow the package; units are the user's own, consistent set):
 
 - ``Trajectory``: dims ``time``, ``axis`` (x, y, z), ``quaternion`` (Q, U, V, W);
-  ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``.
+  ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``; each part's state
+  (``damper(time, axis)``); ``energy(time)``, ``momentum_body(time, axis)`` and
+  ``momentum_world(time, axis)`` as the run's system defines them; and the system itself
+  (see :func:`system_vars`).
 - ``Batch``: the same with a leading ``run``; ``flip_times(run, flip)`` padded with NaN
   beyond each run's ``flips``.
+- ``DeploymentSweep``: per run (dim ``run``) its verdict, the deployed moments and rates,
+  and each run's deployment (its knots).
 - ``Sweep``: one dim per axis of the starts, named for the parameter that varies along it
   alone (``u0``, ``v0``, ``w0``, ``Ix``, ``Iy``, ``Iz``, as from ``dz.grid``) with its values
   as the coordinate, else ``run`` (``run_0``, ``run_1``, … for several axes).
@@ -18,12 +23,14 @@ Layout (names follow the package; units are the user's own, consistent set):
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
-           "trajectory_frame", "batch_frame", "sweep_frame", "DRIFTS", "QUATERNION", "AXIS"]
+           "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
+           "system_vars", "knot_vars", "DRIFTS", "QUATERNION", "AXIS"]
 
 AXIS = ("x", "y", "z")
 QUATERNION = ("Q", "U", "V", "W")
@@ -65,15 +72,99 @@ def _coords(t: np.ndarray) -> dict[str, Any]:
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
+def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
+    """The variables that describe the systems run (`systems` a sequence of `System`, one per
+    index of the leading dims `lead`: ``()`` for one run, ``("run",)`` for a batch), so that
+    a file rebuilds each run's own system (`dzhanibekov.io`): the body's tensor in its own
+    axes (with its mass and centre of mass), or a deployment's knots (NaN-padded between
+    runs); each damper's sphere, coefficient and start (NaN: co-rotating)."""
+    items = list(systems)
+    first = items[0]
+    kinds = tuple(first.kinds)
+    squeeze = _squeeze(lead)
+    out: dict[str, Any] = {}
+    if "deployment" in kinds:
+        out |= knot_vars([s.body for s in items], lead)
+    else:
+        tensor = np.stack([s.body.tensor for s in items])
+        mass = np.array([np.nan if s.body.mass is None else s.body.mass for s in items])
+        com = np.stack([s.body.center_of_mass for s in items])
+        out["body_tensor"] = (lead + ("axis", "axis_"), squeeze(tensor),
+                              {"long_name": "inertia tensor about the centre of mass, body "
+                               "axes (L = T omega)"})
+        out["body_mass"] = (lead, squeeze(mass), {"long_name": "mass (NaN: not given)"})
+        out["body_center_of_mass"] = (lead + ("axis",), squeeze(com),
+                                      {"long_name": "centre of mass, body coordinates"})
+    if "damper" in kinds:
+        dampers = [s.parts[0] for s in items]
+        sigma0 = np.array([(np.nan,) * 3 if d.sigma0 is None else d.sigma0 for d in dampers])
+        out["damper_inertia"] = (lead, squeeze(np.array([d.inertia for d in dampers])),
+                                 {"long_name": "damper sphere's moment of inertia"})
+        out["damper_damping"] = (lead, squeeze(np.array([d.damping for d in dampers])),
+                                 {"long_name": "damper's viscous coefficient"})
+        out["damper_sigma0"] = (lead + ("axis",), squeeze(sigma0),
+                                {"long_name": "damper sphere's initial rate, body axes (NaN: "
+                                 "co-rotating)", "units": UNITS})
+    return out
+
+
+def _squeeze(lead: tuple[str, ...]) -> Callable[[np.ndarray], np.ndarray]:
+    """A single run's values without the run axis; a batch's as they are."""
+    return (lambda a: a) if lead else (lambda a: a[0])
+
+
+def knot_vars(deployments: Any, lead: tuple[str, ...]) -> dict[str, Any]:
+    """Deployments' knots (NaN-padded between runs), for :func:`system_vars`."""
+    items = list(deployments)
+    squeeze = _squeeze(lead)
+    k = max(len(d.times) for d in items)
+    times = np.full((len(items), k), np.nan)
+    tensors = np.full((len(items), k, 3, 3), np.nan)
+    for i, d in enumerate(items):
+        times[i, : len(d.times)] = d.times
+        tensors[i, : len(d.times)] = d.tensors
+    return {"knot_times": (lead + ("knot",), squeeze(times),
+                           {"long_name": "deployment knot times (NaN-padded)", "units": UNITS}),
+            "knot_tensors": (lead + ("knot", "axis", "axis_"), squeeze(tensors),
+                             {"long_name": "deployment knot tensors, body axes"})}
+
+
+def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
+    """A run's parts' state and what its system says of each frame."""
+    out: dict[str, Any] = {}
+    for name, state in run.parts.items():
+        out[name] = (prefix + ("time", "axis"), state,
+                     {"long_name": f"the {name}'s state (its sphere's rates, body axes)",
+                      "units": UNITS})
+    inv = run.invariants()
+    out["energy"] = (prefix + ("time",), inv["energy"],
+                     {"long_name": "total kinetic energy", "units": UNITS})
+    out["momentum_body"] = (prefix + ("time", "axis"), inv["momentum_body"],
+                            {"long_name": "total angular momentum, body axes", "units": UNITS})
+    out["momentum_world"] = (prefix + ("time", "axis"), inv["momentum_world"],
+                             {"long_name": "total angular momentum in space", "units": UNITS})
+    return out
+
+
+def _drift_attrs(drift: Any) -> dict[str, Any]:
+    out: dict[str, Any] = {f"drift_{k}": float(getattr(drift, k)) for k in DRIFTS}
+    out["drift_kept"] = list(drift.kept)
+    if drift.jacobi is not None:
+        out["drift_jacobi"] = float(drift.jacobi)
+    return out
+
+
 def trajectory_dataset(traj: Any) -> Any:
     """A ``Trajectory`` as an ``xarray.Dataset`` (see the module's docs)."""
     xr = require("xarray", "`to_xarray`")
-    data = _vars((), traj.omega, traj.q)
+    data = _vars((), traj.omega, traj.q) | _derived((), traj) | system_vars([traj.system], ())
     attrs = _attrs(traj) | {
-        "inertia": np.array(traj.body.inertia, dtype=np.float64), "dt": traj.dt,
-        "n_steps": traj.n_steps, "nfev": traj.nfev, "n_rejected": traj.n_rejected,
-        "flips_located": int(traj.flip_times is not None),
-    } | {f"drift_{k}": float(v) for k, v in zip(DRIFTS, traj.drift)}
+        "inertia": np.array(traj.body.inertia if hasattr(traj.body, "inertia") else
+                            np.linalg.eigvalsh(traj.system.tensor_at(0.0)), dtype=np.float64),
+        "dt": traj.dt, "n_steps": traj.n_steps, "nfev": traj.nfev,
+        "n_rejected": traj.n_rejected, "flips_located": int(traj.flip_times is not None),
+        "parts": list(traj.system.part_names),
+    } | _drift_attrs(traj.drift)
     if traj.flip_times is not None:
         data["flip_times"] = ("flip", traj.flip_times, {"long_name": "flip times",
                                                         "units": UNITS})
@@ -85,11 +176,15 @@ def batch_dataset(batch: Any) -> Any:
     xr = require("xarray", "`to_xarray`")
     m = len(batch)
     data = _vars(("run",), batch.omega, batch.q)
+    if m:
+        data |= _derived(("run",), batch) | system_vars(batch.systems, ("run",))
     data["inertia"] = (("run", "axis"), batch.inertia, {"long_name": "principal moments"})
     for name in ("dt", "n_steps", "nfev", "n_rejected"):
         data[name] = ("run", np.asarray(getattr(batch, name)))
     for name, values in zip(DRIFTS, batch.drift):
         data[f"drift_{name}"] = ("run", np.asarray(values))
+    if batch.drift.jacobi is not None:
+        data["drift_jacobi"] = ("run", np.asarray(batch.drift.jacobi))
     if batch.flip_times is not None:
         counts = np.asarray(batch.flips)
         padded = np.full((m, int(counts.max(initial=0))), np.nan)
@@ -100,7 +195,43 @@ def batch_dataset(batch: Any) -> Any:
                               {"long_name": "flip times, NaN beyond each run's flips",
                                "units": UNITS})
     coords = _coords(batch.t) | {"run": ("run", np.arange(m))}
-    return xr.Dataset(data, coords=coords, attrs=_attrs(batch))
+    attrs = _attrs(batch) | {"drift_kept": list(batch.drift.kept),
+                             "parts": list(batch.parts)}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def deployment_sweep_dataset(sweep: Any) -> Any:
+    """A ``DeploymentSweep`` as an ``xarray.Dataset``: dim ``run`` (see the module)."""
+    xr = require("xarray", "`to_xarray`")
+    data: dict[str, Any] = {
+        "omega0": (("run", "axis"), sweep.omega0,
+                   {"long_name": "initial body-frame angular velocity", "units": UNITS}),
+        "q0": (("run", "quaternion"), sweep.q0, {"long_name": "initial " + Q_DOC}),
+        "inertia": (("run", "axis"), sweep.inertia,
+                    {"long_name": "the deployed body's principal moments"}),
+        "omega_deployed": (("run", "axis"), sweep.omega_deployed,
+                           {"long_name": "rates at t_end, the deployed body's principal axes",
+                            "units": UNITS}),
+        "flip_period": ("run", sweep.flip_period,
+                        {"long_name": "the deployed motion's flip period", "units": UNITS}),
+        "tumbles": ("run", sweep.tumbles.astype(np.int8), {"long_name": "1: tumbles"}),
+        "energy_change": ("run", sweep.energy_change,
+                          {"long_name": "relative change of the kinetic energy"}),
+        "dt": ("run", sweep.dt), "n_steps": ("run", sweep.n_steps),
+        "nfev": ("run", sweep.nfev),
+        "status": ("run", sweep.status.astype(str),
+                   {"long_name": "how the run ended (ok, diverged, too many steps)"}),
+    }
+    for name, values in zip(DRIFTS, sweep.drift):
+        data[f"drift_{name}"] = ("run", np.asarray(values))
+    if len(sweep):
+        data |= knot_vars(sweep.deployments, ("run",))
+    coords = {"run": ("run", np.arange(len(sweep))), "axis": ("axis", list(AXIS)),
+              "quaternion": ("quaternion", list(QUATERNION))}
+    attrs = {"method": sweep.method, "t_end": sweep.t_end,
+             "drift_kept": list(sweep.drift.kept),
+             "dzhanibekov_conventions": Q_DOC + "; omega in body axes"}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
 def grid_axes(sweep: Any) -> list[tuple[str, np.ndarray | None]]:
@@ -159,24 +290,37 @@ def sweep_dataset(sweep: Any) -> Any:
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _frame(index: Any, omega: np.ndarray, q: np.ndarray) -> Any:
+def _frame(index: Any, run: Any, rows: int) -> Any:
+    """Columns u v w Q U V W, each part's state (``damper_x`` …), the energy and the total
+    angular momentum in space (``L_x`` …), `rows` rows."""
     pd = require("pandas", "`to_dataframe`")
-    columns = np.concatenate([omega, q], axis=1)
-    return pd.DataFrame(columns, index=index, columns=["u", "v", "w", *QUATERNION])
+    columns: dict[str, np.ndarray] = {}
+    for k, name in enumerate("uvw"):
+        columns[name] = run.omega.reshape(rows, 3)[:, k]
+    for k, name in enumerate(QUATERNION):
+        columns[name] = run.q.reshape(rows, 4)[:, k]
+    for part, state in run.parts.items():
+        for k, axis in enumerate(AXIS):
+            columns[f"{part}_{axis}"] = state.reshape(rows, -1)[:, k]
+    if rows:
+        columns["energy"] = run.energy.reshape(rows)
+        for k, axis in enumerate(AXIS):
+            columns[f"L_{axis}"] = run.momentum_world.reshape(rows, 3)[:, k]
+    return pd.DataFrame(columns, index=index)
 
 
 def trajectory_frame(traj: Any) -> Any:
-    """A ``Trajectory`` as a ``pandas.DataFrame``: index ``t``, columns u v w Q U V W."""
+    """A ``Trajectory`` as a ``pandas.DataFrame``: index ``time`` (see :func:`_frame`)."""
     pd = require("pandas", "`to_dataframe`")
-    return _frame(pd.Index(traj.t, name="t"), traj.omega, traj.q)
+    return _frame(pd.Index(traj.t, name="time"), traj, len(traj.t))
 
 
 def batch_frame(batch: Any) -> Any:
-    """A ``Batch`` as a ``pandas.DataFrame``: index (``run``, ``t``), columns u v w Q U V W."""
+    """A ``Batch`` as a ``pandas.DataFrame``: index (``run``, ``time``) (see :func:`_frame`)."""
     pd = require("pandas", "`to_dataframe`")
     m, n = batch.omega.shape[:2]
-    index = pd.MultiIndex.from_product([np.arange(m), batch.t], names=["run", "t"])
-    return _frame(index, batch.omega.reshape(m * n, 3), batch.q.reshape(m * n, 4))
+    index = pd.MultiIndex.from_product([np.arange(m), batch.t], names=["run", "time"])
+    return _frame(index, batch, m * n)
 
 
 def sweep_frame(sweep: Any) -> Any:

@@ -17,8 +17,7 @@ import warnings
 from typing import Any
 
 from . import _core
-from ._args import as_float
-from .methods import DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_RTOL, METHODS, is_adaptive
+from .methods import DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_RTOL, METHODS
 
 __all__ = [
     "ADAPTIVE_METHODS",
@@ -43,62 +42,9 @@ class StepSizeWarning(UserWarning):
     motion (``|q|`` and with it the attitude decay), or diverge beyond its stability limit."""
 
 
-def _tolerance(name: str, value: Any, default: float) -> float:
-    if value is None:
-        return default
-    x = as_float(name, value, positive=True)
-    return _core.check_rtol(x) if name == "rtol" else x
-
-
-def plan_step(
-    body: _core.RigidBody,
-    omega0: tuple[float, float, float],
-    t_end: float,
-    frames: int,
-    dt: Any,
-    method: str,
-    rtol: Any,
-    atol: Any,
-    *,
-    stacklevel: int = 3,
-) -> tuple[float | None, float, float]:
-    """Resolves ``dt`` (None: from `rtol`) and the tolerances, and warns on a step that
-    RK4 would silently dissipate. Returns ``(dt, rtol, atol)`` for the core."""
-    dt_, rtol_, atol_ = check_tolerances(method, dt, rtol, atol)
-    plan = _core.step_plan(body, omega0, t_end, frames, dt_, method, rtol_, atol_)
-    warn_step(plan, method, dt is not None, rtol_, stacklevel=stacklevel + 1)
-    return core_step(plan.dt, dt_, method), rtol_, atol_
-
-
-def core_step(planned: float, dt: float | None, method: str) -> float | None:
-    """The `dt` the core is given: None for an adaptive method without a `dt`, which then
-    picks its first step in the run itself (so each run of a batch or sweep picks its own,
-    as it would alone); otherwise the planned step."""
-    return None if dt is None and method in ADAPTIVE_METHODS else planned
-
-
-def check_tolerances(
-    method: str, dt: Any, rtol: Any, atol: Any
-) -> tuple[float | None, float, float]:
-    """``(dt, rtol, atol)`` checked against each other and `method`, defaults filled in."""
-    adaptive = is_adaptive(method)
-    if not adaptive:
-        if atol is not None:
-            raise ValueError(f"`atol` applies to the adaptive methods {ADAPTIVE_METHODS} only")
-        if rtol is not None and dt is not None:
-            raise ValueError(
-                "`rtol` sets the step of a fixed-step method only with dt=None; "
-                f"got dt={dt!r} as well"
-            )
-    rtol_ = _tolerance("rtol", rtol, DEFAULT_RTOL)
-    atol_ = _tolerance("atol", atol, DEFAULT_ATOL)
-    dt_ = None if dt is None else as_float("dt", dt, positive=True)
-    return dt_, rtol_, atol_
-
-
 def warn_step(plan: _core.StepPlan, method: str, dt_given: bool, rtol: float, *,
               stacklevel: int, where: str = "") -> None:
-    """Warns with `StepSizeWarning` when `plan` (of `_core.step_plan`) predicts that RK4
+    """Warns with `StepSizeWarning` when `plan` (a row's `_core.StepPlan`) predicts that RK4
     dissipates the run; `where` names the run (a batch's worst row). `stacklevel` counts
     from this function."""
     drift = plan.predicted_drift
@@ -121,7 +67,8 @@ def warn_step(plan: _core.StepPlan, method: str, dt_given: bool, rtol: float, *,
         warnings.warn(
             f"{where}step {plan.step:.4g} (dt·Ω = {h_rate:.3g}, Ω = {plan.rate_bound:.4g} "
             f"the bound of |ω|) is too large for {method!r}: {why}. Take a smaller dt, dt=None "
-            "to pick the step for an accuracy, or method='splitting'.",
+            "to pick the step for an accuracy, or a method that keeps |q| (such as "
+            "'splitting', for the free body).",
             StepSizeWarning,
             stacklevel=stacklevel,
         )

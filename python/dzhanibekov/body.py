@@ -1,12 +1,13 @@
 """Rigid bodies: principal moments, full inertia tensors, solids, composites and meshes.
 
 A body is simulated in its principal axes, where Euler's equations are diagonal, but the
-user speaks in the body's own axes (a CAD model's, an assembly's): a body built from a full
-tensor keeps the rotation ``R`` from its principal axes to the user's (its columns are the
-principal axes in user coordinates), and a run turns the start into principal axes once,
+user speaks in the body's own axes (a CAD model's, an assembly's): the core finds the
+rotation ``R`` from a tensor's principal axes to the user's (its columns are the principal
+axes in user coordinates), and a run turns the start into principal axes once,
 ``ω_p = Rᵀ ω``, ``q_p = q ⊗ q_R``, and the frames back once at the end, ``ω = R ω_p``,
-``q = q_p ⊗ q_R*`` (:meth:`Body.to_principal`, :meth:`Body.to_user`): ``traj.omega`` and
-``traj.q`` are the rates and the attitude of the user's axes.
+``q = q_p ⊗ q_R*``, in the core: ``traj.omega`` and ``traj.q`` are the rates and the attitude
+of the user's axes. :meth:`Body.to_principal` and :meth:`Body.to_user` make the same change
+for other uses.
 """
 
 from __future__ import annotations
@@ -28,7 +29,6 @@ from .mass import (
     ellipsoid_tensor,
     mesh_properties,
     parallel_axis,
-    principal,
     quaternion_of,
     quaternion_product,
 )
@@ -90,7 +90,7 @@ class Body:
     27.083333333333332
     """
 
-    __slots__ = ("_core", "_axes", "_q_axes", "_tensor", "_mass", "_com", "_shape", "_parts")
+    __slots__ = ("_core", "_axes", "_q_axes", "_mass", "_com", "_shape", "_parts")
 
     def __init__(self, inertia: Any) -> None:
         if _is_square(inertia):
@@ -100,17 +100,15 @@ class Body:
         self._fill(_core.RigidBody((ix, iy, iz)))
         _warn_if_unphysical(self._core)
 
-    def _fill(self, core: _core.RigidBody, *, axes: np.ndarray | None = None,
-              tensor: np.ndarray | None = None, mass: float | None = None,
+    def _fill(self, core: _core.RigidBody, *, mass: float | None = None,
               com: np.ndarray | None = None, shape: Shape | None = None,
               parts: tuple[Any, ...] = ()) -> None:
-        """Fills a Body's slots (the one place that does)."""
+        """Fills a Body's slots (the one place that does); the tensor and its principal
+        frame are the core's."""
         self._core = core
-        if axes is not None and np.array_equal(axes, np.eye(3)):
-            axes = None
+        axes = None if core.is_principal else np.array(core.principal_axes)
         self._axes = axes
         self._q_axes = None if axes is None else quaternion_of(axes)
-        self._tensor = np.diag(core.inertia) if tensor is None else tensor
         self._mass = mass
         self._com = np.zeros(3) if com is None else com
         self._shape = shape
@@ -239,25 +237,24 @@ class Body:
     @classmethod
     def _of_tensor(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray | None,
                    shape: Shape | None, parts: tuple[Any, ...], name: str) -> Body:
-        largest = float(np.abs(tensor).max())
-        if not largest > 0:
-            raise ValueError(f"`{name}` must be positive definite, got zeros")
-        if np.abs(tensor - tensor.T).max() > 1e-10 * largest:
-            raise ValueError(f"`{name}` must be symmetric, got {tensor.tolist()}")
-        sym = 0.5 * (tensor + tensor.T)
-        moments, axes = principal(sym / largest)
-        moments = moments * largest
-        if not moments[0] > 1e-14 * moments[2]:
-            raise ValueError(f"`{name}` must be positive definite, got eigenvalues "
-                             f"{moments.tolist()}")
-        ix, iy, iz = (float(x) for x in moments)
         try:
-            core = _core.RigidBody((ix, iy, iz))
+            core = _core.RigidBody.from_tensor(np.asarray(tensor, dtype=np.float64).tolist())
         except ValueError as exc:
-            raise ValueError(f"`{name}` has principal moments out of range: {exc}") from None
+            if name == "tensor":
+                raise
+            raise type(exc)(f"{name}: {exc}") from None
         body = cls.__new__(cls)
-        body._fill(core, axes=axes, tensor=sym, mass=mass, com=com, shape=shape, parts=parts)
+        body._fill(core, mass=mass, com=com, shape=shape, parts=parts)
         _warn_if_unphysical(core)
+        return body
+
+    @classmethod
+    def _restored(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray) -> Body:
+        """A body as a file keeps it: its tensor, mass and centre of mass (not its shape)."""
+        with warnings.catch_warnings():  # warned about when it was made
+            warnings.simplefilter("ignore", InertiaWarning)
+            body = cls._of_tensor(np.asarray(tensor, dtype=np.float64), mass,
+                                  np.asarray(com, dtype=np.float64), None, (), "body_tensor")
         return body
 
     @classmethod
@@ -417,8 +414,8 @@ class Body:
         Examples
         --------
         >>> nut = Body.wing_nut()
-        >>> round(nut.mass, 2), [round(i) for i in nut.inertia]  # g and g·mm²
-        (12.77, [269, 1306, 1375])
+        >>> round(nut.mass, 2), [round(i) for i in nut.inertia]  # g and g·mm², about x, y, z
+        (12.77, [269, 1375, 1306])
         >>> nut.principal_axes[:, nut.intermediate_axis]  # the bolt axis z
         array([0., 0., 1.])
         """
@@ -433,14 +430,17 @@ class Body:
 
     @property
     def inertia(self) -> tuple[float, float, float]:
-        """The principal moments ``(Ix, Iy, Iz)`` (ascending for a body from a tensor)."""
+        """The principal moments ``(Ix, Iy, Iz)``, each about the principal axis nearest the
+        body's own x, y, z (the columns of :attr:`principal_axes`): the tensor's diagonal for
+        a body given in principal axes (a box, a mesh aligned with its axes, to round-off);
+        ascending where an axis lies midway between two of the body's."""
         return self._core.inertia
 
     @property
     def tensor(self) -> np.ndarray:
         """The inertia tensor about the centre of mass, in the user's axes (products of
         inertia negated off the diagonal, ``L = T ω``), shape (3, 3)."""
-        return self._tensor.copy()
+        return np.array(self._core.tensor)
 
     @property
     def principal_axes(self) -> np.ndarray:
@@ -505,11 +505,11 @@ class Body:
     def __repr__(self) -> str:
         if self._axes is None:
             return f"Body(inertia={self.inertia!r})"
-        return f"Body.from_tensor({self._tensor.tolist()!r}, mass={self._mass!r})"
+        return f"Body.from_tensor({self.tensor.tolist()!r}, mass={self._mass!r})"
 
     def __eq__(self, other: object) -> bool:
         return (isinstance(other, Body) and self.inertia == other.inertia
-                and np.array_equal(self._tensor, other._tensor)
+                and np.array_equal(self.tensor, other.tensor)
                 and np.array_equal(self.principal_axes, other.principal_axes))
 
     def __hash__(self) -> int:

@@ -43,9 +43,11 @@ __all__ = ["main"]
 
 def _table(results: Sequence[SceneResult], seconds: float) -> str:
     """The summary table: per scene its steps, flips (the count and the first four) and the
-    invariants' drift. It reads only what it prints: a run of 10⁸ flips costs four."""
-    lines = [f"{'scene':<16} {'steps':>9} {'flips':>5}  {'first flip times':<28}"
-             f" {'dE/E':>8} {'d|L|/|L|':>8} {'dL_world':>8} {'d|q|':>8}"]
+    invariants' drift, each column as wide as its widest entry. It reads only what it prints:
+    a run of 10⁸ flips costs four."""
+    head = ("scene", "steps", "flips", "first flip times", "dE/E", "d|L|/|L|", "dL_world",
+            "d|q|")
+    rows = [head]
     for r in results:
         run = r.trajectory if r.trajectory is not None else r.summary
         assert run is not None
@@ -55,9 +57,15 @@ def _table(results: Sequence[SceneResult], seconds: float) -> str:
         more = times is not None and len(times) > 4
         flips = ", ".join(f"{t:.3f}" for t in first) + (", …" if more else "")
         d = r.drift
-        lines.append(f"{r.scene.name:<16} {run.n_steps:>9} {count:>5}  {flips:<28}"
-                     f" {d.energy:>8.1e} {d.momentum:>8.1e} {d.momentum_world:>8.1e}"
-                     f" {d.q_norm:>8.1e}")
+        rows.append((r.scene.name, str(run.n_steps), count, flips,
+                     *(f"{x:.1e}" for x in (d.energy, d.momentum, d.momentum_world, d.q_norm))))
+    least = (16, 9, 5, 28, 8, 8, 8, 8)
+    widths = [max(least[k], *(len(row[k]) for row in rows)) for k in range(len(head))]
+    gaps = ("", " ", " ", "  ", " ", " ", " ", " ")  # before each column
+    left = (0, 3)  # the names and the flip times read from the left; numbers from the right
+    lines = ["".join(gap + (cell.ljust(w) if k in left else cell.rjust(w))
+                     for k, (gap, cell, w) in enumerate(zip(gaps, row, widths)))
+             for row in rows]
     lines.append(f"rendered in {seconds:.1f} s")
     return "\n".join(lines)
 
@@ -104,15 +112,17 @@ def _say(line: str) -> None:
 
 _STEP = (re.compile(r"\ba smaller dt\b"), "a smaller --dt")
 _DRIFT = (re.compile(r"\bMAX_PREDICTED_DRIFT = ([0-9eE.+-]*[0-9])"), r"the \1 allowed")
+_METHOD = r"(?:\bmethod='([\w-]+)'|(?<=\(such as )'([\w-]+)')"
+"""A method the API's advice names: ``method='splitting'`` or ``(such as 'splitting', …)``."""
 _API_TO_CLI: dict[str, list[tuple[re.Pattern[str], str]]] = {
     "run": [(re.compile(r"\bdt=None\b"), "--dt none"),
-            (re.compile(r"\bmethod='([\w-]+)'"), r"--method \1"), _STEP, _DRIFT],
+            (re.compile(_METHOD), r"--method \1\2"), _STEP, _DRIFT],
     "paper": [(re.compile(r"\bdt=None\b"), "`dzhanibekov run SCENE --dt none`"),
-              (re.compile(r"\bmethod='([\w-]+)'"), r"`dzhanibekov run SCENE --method \1`"),
+              (re.compile(_METHOD), r"`dzhanibekov run SCENE --method \1\2`"),
               _STEP, _DRIFT],
     # a sweep's step is fixed and its method RK4: only a smaller --dt is the map's to take
-    "map": [(re.compile(r", dt=None to pick the step for an accuracy, or method='[\w-]+'\."),
-             "."), _STEP, _DRIFT],
+    "map": [(re.compile(r", dt=None to pick the step for an accuracy, or [^.]*?(?:method='[\w-]+'"
+                        r"|\(such as '[\w-]+'[^)]*\))\."), "."), _STEP, _DRIFT],
 }
 """Advice written for the Python API, said in each command's terms."""
 

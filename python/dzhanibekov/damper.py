@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from . import _core
 from ._args import as_array, as_float
 from .accuracy import StepSizeWarning
 from .methods import DEFAULT_METHOD, METHODS
@@ -38,6 +39,10 @@ class Damper:
         tensor counts the sphere's mass as a point at its centre.
     damping : float
         The viscous coefficient ``c`` (torque per unit relative rate), non-negative.
+    sigma0 : array_like, shape (3,), optional
+        The sphere's absolute angular velocity at the start, in the body's own axes;
+        co-rotating with the body (its ``omega0``) if None. A run shows the sphere's rates
+        as ``traj.parts["damper"]``.
 
     Examples
     --------
@@ -45,23 +50,35 @@ class Damper:
     Damper(inertia=0.05, damping=0.02)
     """
 
-    __slots__ = ("inertia", "damping")
+    __slots__ = ("inertia", "damping", "sigma0", "_core")
 
-    def __init__(self, inertia: Any, damping: Any) -> None:
-        self.inertia = as_float("inertia", inertia, positive=True)
+    inertia: float
+    damping: float
+    sigma0: tuple[float, float, float] | None
+
+    def __init__(self, inertia: Any, damping: Any, sigma0: Any = None) -> None:
+        self.inertia = as_float("inertia", inertia)
         self.damping = as_float("damping", damping)
-        if self.damping < 0:
-            raise ValueError(f"`damping` must be non-negative, got {self.damping!r}")
+        if sigma0 is None:
+            self.sigma0 = None
+        else:
+            s = as_array("sigma0", sigma0, "(3,)", last=3, ndim=(1,))
+            self.sigma0 = (float(s[0]), float(s[1]), float(s[2]))
+        self._core = _core.Damper(self.inertia, self.damping)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Damper, (self.inertia, self.damping, self.sigma0))
 
     def __repr__(self) -> str:
-        return f"Damper(inertia={self.inertia!r}, damping={self.damping!r})"
+        start = "" if self.sigma0 is None else f", sigma0={self.sigma0!r}"
+        return f"Damper(inertia={self.inertia!r}, damping={self.damping!r}{start})"
 
     def __eq__(self, other: object) -> bool:
         return (isinstance(other, Damper) and self.inertia == other.inertia
-                and self.damping == other.damping)
+                and self.damping == other.damping and self.sigma0 == other.sigma0)
 
     def __hash__(self) -> int:
-        return hash((self.inertia, self.damping))
+        return hash((self.inertia, self.damping, self.sigma0))
 
 
 STIFF_RATIO = 30.0
@@ -114,26 +131,28 @@ def damper_rate(body: Any, damper: Damper) -> float:
     if not isinstance(damper, Damper):
         raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
     least = min(as_body(body).inertia)
-    return damper.damping * (1.0 / damper.inertia + 1.0 / least)
+    return float(damper._core.slip_rate(least))
 
 
-def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method: str, *,
-               stacklevel: int) -> None:
-    """Warns with `StiffDamperWarning` when a fixed `step` is beyond RK4's stability limit for
-    the fastest of the damper `rates` (``step · λ >`` the method's ``real_limit``), or when an adaptive
-    run (`step` None) has a damper faster than `STIFF_RATIO` times its body's rate bound
-    (`bounds`). `stacklevel` counts from this function."""
-    worst = int(np.argmax(rates))
-    rate = float(rates[worst])
-    where = f"row {worst}: " if len(rates) > 1 else ""
-    if step is not None:
+def warn_stiff(plan: Any, method: str, *, stacklevel: int, where: str = "") -> None:
+    """Warns with `StiffDamperWarning` when the model of `plan` (a row's `_core.StepPlan`)
+    has a damper whose slip decays at ``λ`` (its ``stiffness``) beyond the method's
+    stability limit for the step (``step · λ >`` the method's ``real_limit``), or, for an
+    adaptive method, faster than `STIFF_RATIO` times the body's rate bound. `where` names the
+    run (a batch's stiffest row); `stacklevel` counts from this function."""
+    rate = float(plan.stiffness)
+    if not rate > 0:
+        return
+    if not METHODS[method].adaptive:
+        step = float(plan.step)
         limit = METHODS[method].real_limit
         if limit is None or not step * rate > limit:
             return
         why = (f"beyond {method!r}'s stability limit h·c(1/j + 1/I_min) ≤ {limit:.4f} for the "
                "decay of the slip between sphere and body: the run diverges")
     else:
-        ratio = rate / float(bounds[worst]) if bounds[worst] > 0 else math.inf
+        bound = float(plan.rate_bound)
+        ratio = rate / bound if bound > 0 else math.inf
         if not ratio > STIFF_RATIO:
             return
         step = 1.0 / rate
@@ -152,7 +171,8 @@ def warn_stiff(step: float | None, rates: np.ndarray, bounds: np.ndarray, method
 
 
 def _major_axes(body: Body) -> list[int]:
-    """The axes of the largest moment (both transverse axes of a symmetric top)."""
+    """The principal axes of the largest moment (both transverse axes of a symmetric top),
+    as columns of `body.principal_axes`."""
     i = np.asarray(body.inertia)
     return [k for k in range(3) if i[k] >= i.max() * (1 - 1e-12)]
 
@@ -173,14 +193,20 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
     Examples
     --------
     >>> import dzhanibekov as dz
-    >>> traj = dz.simulate((1.0, 10.0, 10.0), (2.0, 0.01, 0.0), t_end=4000.0, frames=401,
-    ...                    dt=0.01, damper=dz.Damper(0.05, 0.02))
+    >>> explorer = dz.System(dz.Body((1.0, 10.0, 10.0)), parts=[dz.Damper(0.05, 0.02)])
+    >>> traj = dz.simulate(explorer, (2.0, 0.01, 0.0), t_end=4000.0, frames=401, dt=0.01)
     >>> 1000 < flat_spin_time(traj) < 2000
     True
     """
     share = as_float("share", share, positive=True)
-    shares = axis_shares(traj)
-    on_major = np.sqrt((shares[:, _major_axes(traj.body)] ** 2).sum(axis=1))
+    body = traj.body
+    if not isinstance(body, Body):
+        raise TypeError("`traj` must be a run of a constant body (a damped body), got one of "
+                        f"a {type(body).__name__}")
+    # the shares on the principal axes: the major axis is a principal axis, whatever the
+    # body's own axes
+    shares = axis_shares(traj) @ body.principal_axes
+    on_major = np.sqrt((shares[:, _major_axes(body)] ** 2).sum(axis=1))
     hit = np.flatnonzero(on_major >= share)
     return float(traj.t[hit[0]]) if hit.size else math.nan
 
@@ -188,9 +214,9 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
 def axis_shares(traj: Any) -> np.ndarray:
     """``L_k / |L|`` on each body axis at every frame, shape (frames, 3), from the total
     angular momentum in body axes (0 where there is no angular momentum)."""
-    if not hasattr(traj, "invariants"):
+    if not hasattr(traj, "momentum_body"):
         raise TypeError(f"`traj` must be a Trajectory, got {type(traj).__name__}")
-    l_body = np.asarray(traj.invariants()["momentum_body"], dtype=np.float64)
+    l_body = np.asarray(traj.momentum_body, dtype=np.float64)
     norm = np.linalg.norm(l_body, axis=1, keepdims=True)
     shares: np.ndarray = np.divide(l_body, norm, out=np.zeros_like(l_body), where=norm > 0)
     return shares

@@ -6,7 +6,8 @@ from typing import Any
 
 import numpy as np
 
-from ._args import as_array
+from . import _core
+from ._args import as_array, check_size
 from .body import Body
 
 __all__ = ["Deployment"]
@@ -31,6 +32,32 @@ def _as_tensor(k: int, value: Any) -> np.ndarray:
                      f"tensor, got shape {a.shape}")
 
 
+def _tensors(inertia: Any, n: int) -> np.ndarray:
+    """The knots' tensors (n, 3, 3): an array of moments (n, 3) or tensors (n, 3, 3) at
+    once, else item by item."""
+    if isinstance(inertia, np.ndarray) and inertia.dtype.kind in "iuf" and \
+            inertia.shape in ((n, 3), (n, 3, 3)):
+        a = np.asarray(inertia, dtype=np.float64)
+        if a.ndim == 2:
+            out = np.zeros((n, 3, 3))
+            out[:, [0, 1, 2], [0, 1, 2]] = a
+            return out
+        return np.ascontiguousarray(a)
+    try:
+        if isinstance(inertia, (str, bytes)):
+            raise TypeError
+        items = list(inertia)
+    except TypeError:
+        raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
+                        f"{type(inertia).__name__}") from None
+    if len(items) != n:
+        raise ValueError(f"`inertia` must give one body per knot time of `times` ({n}), got "
+                         f"{len(items)}")
+    if not items:
+        raise ValueError("`times` must hold at least one knot time")
+    return np.ascontiguousarray(np.stack([_as_tensor(k, v) for k, v in enumerate(items)]))
+
+
 class Deployment:
     """A body whose inertia tensor moves smoothly between knots while it turns freely.
 
@@ -53,9 +80,11 @@ class Deployment:
 
     Raises
     ------
-    TypeError, ValueError
+    TypeError
+        Knots or bodies of the wrong kind.
+    ValueError
         Knots that are not increasing, tensors that are not symmetric positive definite, or
-        as many bodies as times not given (checked again by the core).
+        as many bodies as times not given (checked by the core).
 
     Examples
     --------
@@ -64,7 +93,7 @@ class Deployment:
     [1.0, 2.5, 2.5]
     """
 
-    __slots__ = ("times", "tensors")
+    __slots__ = ("times", "tensors", "_core")
 
     times: np.ndarray
     """Knot times, shape (K,)."""
@@ -78,28 +107,14 @@ class Deployment:
             raise TypeError(f"`times` must be a sequence of knot times, got "
                             f"{type(times).__name__}") from None
         t = as_array("times", times, "(K,)", last=n, ndim=(1,))
-        if len(t) == 0:
-            raise ValueError("`times` must hold at least one knot time")
-        if np.any(np.diff(t) <= 0):
-            raise ValueError(f"`times` must be strictly increasing, got {t.tolist()}")
-        try:
-            if isinstance(inertia, (str, bytes)):
-                raise TypeError
-            items = list(inertia)
-        except TypeError:
-            raise TypeError(f"`inertia` must be a sequence of bodies, moments or tensors, got "
-                            f"{type(inertia).__name__}") from None
-        if len(items) != len(t):
-            raise ValueError(f"`inertia` must give one body per knot time of `times` "
-                             f"({len(t)}), got {len(items)}")
-        tensors = np.stack([_as_tensor(k, v) for k, v in enumerate(items)])
-        for k, m in enumerate(tensors):
-            if not np.allclose(m, m.T, rtol=0, atol=1e-12 * np.abs(m).max()):
-                raise ValueError(f"`inertia[{k}]` must be symmetric, got {m.tolist()}")
-            if np.linalg.eigvalsh(m).min() <= 0:
-                raise ValueError(f"`inertia[{k}]` must be positive definite, got {m.tolist()}")
-        self.times = np.ascontiguousarray(t, dtype=np.float64)
-        self.tensors = np.ascontiguousarray(tensors, dtype=np.float64)
+        check_size(n * 80, f"a deployment of {n} knots", "give fewer knots")
+        tensors = _tensors(inertia, len(t))
+        self._core = _core.Deployment(np.ascontiguousarray(t, dtype=np.float64), tensors)
+        self.times = np.ascontiguousarray(self._core.times)
+        self.tensors = np.ascontiguousarray(self._core.tensors)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Deployment, (self.times, self.tensors))
 
     def inertia_at(self, t: float) -> np.ndarray:
         """The tensor ``I(t)``, shape (3, 3) (a convenience for plots: runs evaluate the

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from . import _core
 from ._args import as_array
 from ._swap import check_not_swapped
@@ -66,5 +64,4 @@ def flip_period(body: Body | Any, omega0: Any) -> float:
     w = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
     check_not_swapped(body, w, "flip_period")
     body = as_body(body)
-    w, _ = body.to_principal(w, np.array([1.0, 0.0, 0.0, 0.0]))
     return _core.flip_period(body._core, (float(w[0]), float(w[1]), float(w[2])))

@@ -1,8 +1,11 @@
 """Results into files other tools read: netCDF (through xarray) and CCSDS attitude messages.
 
-- :func:`save` / :func:`load`: a `Trajectory`, `Batch` or `Sweep` as a netCDF-4 file
-  (xarray with the h5netcdf engine; the ``io`` extra). Arrays round-trip bit for bit, and
-  the file carries what is needed to rebuild the object.
+- :func:`save` / :func:`load`: a `Trajectory`, `Batch`, `Sweep` or `DeploymentSweep` as a
+  netCDF-4 file (xarray with the h5netcdf engine; the ``io`` extra). Arrays round-trip bit
+  for bit, and the file carries what is needed to rebuild the object: each run's system
+  (the body's tensor, a deployment's knots, the parts with their parameters), every part's
+  state, so that what a loaded run derives (energy, angular momentum in space) is the
+  saved run's, bit for bit.
 - :func:`write_aem` / :func:`read_aem`: a trajectory's attitudes as a CCSDS Attitude
   Ephemeris Message (CCSDS 504.0-B-2, KVN), the text file spacecraft attitude tools take.
 
@@ -30,8 +33,11 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from . import _core, _tables
-from .body import Body, InertiaWarning
-from .results import Batch, BatchDrift, Drift, Sweep, Trajectory
+from .body import Body
+from .damper import Damper
+from .deployment import Deployment
+from .results import Batch, BatchDrift, DeploymentSweep, Drift, Sweep, Trajectory, split_parts
+from .system import System, Systems
 
 __all__ = ["save", "load", "write_aem", "read_aem", "AttitudeEphemeris"]
 
@@ -41,7 +47,7 @@ _KIND = "dzhanibekov_result"
 # -- netCDF ------------------------------------------------------------------------------
 
 
-def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
+def save(result: Trajectory | Batch | Sweep | DeploymentSweep, path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
     back: arrays bit for bit, and the metadata to rebuild the object.
 
@@ -50,7 +56,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
 
     Parameters
     ----------
-    result : Trajectory, Batch or Sweep
+    result : Trajectory, Batch, Sweep or DeploymentSweep
     path : str or Path
         The file to write (replaced if it exists); ``.nc`` by convention.
 
@@ -61,7 +67,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     Raises
     ------
     TypeError
-        `result` is none of the three.
+        `result` is none of these.
     ImportError
         xarray or h5netcdf is missing: install the ``io`` extra.
 
@@ -73,11 +79,12 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     >>> bool((dz.load(path).q == traj.q).all())                   # doctest: +SKIP
     True
     """
-    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep"}
+    kinds = {Trajectory: "Trajectory", Batch: "Batch", Sweep: "Sweep",
+             DeploymentSweep: "DeploymentSweep"}
     kind = kinds.get(type(result))
     if kind is None:
-        raise TypeError(f"`result` must be a Trajectory, Batch or Sweep, got "
-                        f"{type(result).__name__}")
+        raise TypeError(f"`result` must be a Trajectory, Batch, Sweep or DeploymentSweep, "
+                        f"got {type(result).__name__}")
     _tables.require("h5netcdf", "`save`")
     _tables.require("h5py", "`save`")
     ds = result.to_xarray()
@@ -87,7 +94,7 @@ def save(result: Trajectory | Batch | Sweep, path: str | Path) -> Path:
     return path
 
 
-def load(path: str | Path) -> Trajectory | Batch | Sweep:
+def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep:
     """Reads a result written by :func:`save`.
 
     Raises
@@ -109,6 +116,8 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep:
         return _batch(ds)
     if kind == "Sweep":
         return _sweep(ds)
+    if kind == "DeploymentSweep":
+        return _deployment_sweep(ds)
     raise ValueError(f"{path} was not written by dzhanibekov.save (no `{_KIND}` attribute)")
 
 
@@ -116,27 +125,67 @@ def _array(ds: Any, name: str, dtype: Any = np.float64) -> np.ndarray:
     return np.ascontiguousarray(ds[name].values, dtype=dtype)
 
 
-def _body(inertia: Any) -> Body:
-    with warnings.catch_warnings():  # warned about when the run was made
-        warnings.simplefilter("ignore", InertiaWarning)
-        ix, iy, iz = (float(i) for i in np.asarray(inertia))
-        return Body((ix, iy, iz))
+def _systems(ds: Any, runs: int | None) -> list[System]:
+    """The systems a file describes (see `_tables.system_vars`): one (`runs` None) or one
+    per run."""
+    def rows(name: str) -> np.ndarray:
+        a = np.asarray(ds[name].values, dtype=np.float64)
+        return a[None] if runs is None else a
+
+    n = 1 if runs is None else runs
+    bodies: list[Any]
+    if "knot_times" in ds:
+        bodies = _deployments(rows("knot_times"), rows("knot_tensors"))
+    else:
+        tensor, mass, com = rows("body_tensor"), rows("body_mass"), rows("body_center_of_mass")
+        bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
+                                 com[i]) for i in range(n)]
+    parts: list[list[Damper]] = [[] for _ in range(n)]
+    if "damper_inertia" in ds:
+        j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
+        for i in range(n):
+            parts[i].append(Damper(float(j[i]), float(c[i]),
+                                   None if np.isnan(s0[i]).any() else s0[i]))
+    return [System(b, parts=p) for b, p in zip(bodies, parts)]
+
+
+def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
+    """Deployments from NaN-padded knots, one per row."""
+    return [Deployment(t[~np.isnan(t)], k[~np.isnan(t)]) for t, k in zip(times, tensors)]
+
+
+def _drift(a: Any) -> Drift:
+    jacobi = a.get("drift_jacobi")
+    row = BatchDrift.of(lambda k: np.asarray([float(a[f"drift_{k}"])]),
+                        None if jacobi is None else np.asarray([float(jacobi)]),
+                        _names(a, "drift_kept"))
+    return row.row(0)
+
+
+def _names(a: Any, key: str) -> tuple[str, ...]:
+    """A list of names an attribute holds (netCDF keeps one as a string)."""
+    value = a.get(key, ())
+    return (str(value),) if isinstance(value, str) else tuple(str(v) for v in value)
 
 
 def _trajectory(ds: Any) -> Trajectory:
     a = ds.attrs
+    system = _systems(ds, None)[0]
+    parts = np.concatenate([_array(ds, name) for name in system.part_names], axis=1) \
+        if system.part_names else None
     return Trajectory(
         t=_array(ds, "time"),
         omega=_array(ds, "omega"),
         q=_array(ds, "q"),
         flip_times=_array(ds, "flip_times") if int(a["flips_located"]) else None,
-        body=_body(a["inertia"]),
+        system=system,
         method=str(a["method"]),
         dt=float(a["dt"]),
         n_steps=int(a["n_steps"]),
         nfev=int(a["nfev"]),
-        drift=Drift(*(float(a[f"drift_{k}"]) for k in _tables.DRIFTS)),
+        drift=_drift(a),
         n_rejected=int(a["n_rejected"]),
+        parts=split_parts(system, parts),
     )
 
 
@@ -147,19 +196,50 @@ def _batch(ds: Any) -> Batch:
         padded = _array(ds, "flip_times").reshape(len(counts), -1)
         times = np.concatenate([padded[i, :c] for i, c in enumerate(counts)] + [np.empty(0)])
         offsets = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+    m = int(ds.sizes["run"])
+    systems = Systems(m, each=tuple(_systems(ds, m))) if m else Systems(0, each=())
+    names = _names(ds.attrs, "parts")
+    parts = {name: _array(ds, name) for name in names}
+    jacobi = _array(ds, "drift_jacobi") if "drift_jacobi" in ds else None
     return Batch(
         t=_array(ds, "time"),
         omega=_array(ds, "omega"),
         q=_array(ds, "q"),
         _flip_times=times,
         _flip_offsets=offsets,
-        inertia=_array(ds, "inertia"),
+        systems=systems,
         method=str(ds.attrs["method"]),
         dt=_array(ds, "dt"),
         n_steps=_array(ds, "n_steps", np.int64),
         nfev=_array(ds, "nfev", np.int64),
         n_rejected=_array(ds, "n_rejected", np.int64),
-        drift=BatchDrift(*(_array(ds, f"drift_{k}") for k in _tables.DRIFTS)),
+        drift=BatchDrift.of(lambda k: _array(ds, f"drift_{k}"), jacobi,
+                            _names(ds.attrs, "drift_kept")),
+        parts=parts,
+    )
+
+
+def _deployment_sweep(ds: Any) -> DeploymentSweep:
+    m = int(ds.sizes["run"])
+    deployments = _deployments(_array(ds, "knot_times").reshape(m, -1),
+                               _array(ds, "knot_tensors").reshape(m, -1, 3, 3)) if m else []
+    return DeploymentSweep(
+        deployments=tuple(deployments),
+        omega0=_array(ds, "omega0"),
+        q0=_array(ds, "q0"),
+        inertia=_array(ds, "inertia"),
+        omega_deployed=_array(ds, "omega_deployed"),
+        flip_period=_array(ds, "flip_period"),
+        tumbles=_array(ds, "tumbles", np.int8).astype(bool),
+        energy_change=_array(ds, "energy_change"),
+        drift=BatchDrift.of(lambda k: _array(ds, f"drift_{k}"), None,
+                            _names(ds.attrs, "drift_kept")),
+        t_end=float(ds.attrs["t_end"]),
+        method=str(ds.attrs["method"]),
+        dt=_array(ds, "dt"),
+        n_steps=_array(ds, "n_steps", np.int64),
+        nfev=_array(ds, "nfev", np.int64),
+        status=_array(ds, "status", np.asarray(_core.RUN_STATUSES).dtype),
     )
 
 
@@ -173,7 +253,7 @@ def _sweep(ds: Any) -> Sweep:
         period=_array(ds, "period"),
         exact_period=_array(ds, "exact_period"),
         tilt=_array(ds, "tilt"),
-        drift=BatchDrift(*(_array(ds, f"drift_{k}") for k in _tables.DRIFTS)),
+        drift=BatchDrift.of(lambda k: _array(ds, f"drift_{k}")),
         t_end=float(ds.attrs["t_end"]),
         method=str(ds.attrs["method"]),
         dt=_array(ds, "dt"),

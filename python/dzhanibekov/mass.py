@@ -149,22 +149,6 @@ def mesh_properties(vertices: np.ndarray, faces: np.ndarray) -> tuple[float, np.
     return volume, origin + centroid_rel, tensor
 
 
-def principal(tensor: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Principal moments (ascending) and axes of a symmetric tensor: ``T = R diag(I) Rᵀ``
-    with `R` a proper rotation (``det R = +1``) whose columns are the axes.
-
-    Each axis points so that its largest component is positive, and the last is flipped if
-    need be to make the frame right-handed.
-    """
-    moments, axes = np.linalg.eigh(0.5 * (tensor + tensor.T))
-    for k in range(3):
-        if axes[np.argmax(np.abs(axes[:, k])), k] < 0:
-            axes[:, k] = -axes[:, k]
-    if np.linalg.det(axes) < 0:
-        axes[:, 2] = -axes[:, 2]
-    return moments, axes
-
-
 def quaternion_of(rotation: np.ndarray) -> np.ndarray:
     """The unit quaternion (scalar first, ``Q ≥ 0``) of a rotation matrix, by Shepperd's
     method (the largest of ``4Q², 4U², 4V², 4W²`` is taken first, for accuracy)."""

@@ -6,6 +6,7 @@ when every one of them is done, so an error or Ctrl-C leaves the destination as 
 
 from __future__ import annotations
 
+import dataclasses
 import contextlib
 import json
 import multiprocessing
@@ -187,7 +188,7 @@ def summary(result: SceneResult) -> dict[str, Any]:
             "mean_spacing": float((flips[-1] - flips[0]) / (len(flips) - 1))
             if len(flips) > 1 else None,
         },
-        "drift": run.drift._asdict(),
+        "drift": dataclasses.asdict(run.drift),
         "method": run.method,
         "dt": run.dt if run.n_steps > 0 else None,
         "n_steps": run.n_steps,

@@ -1,7 +1,9 @@
 """The results of runs, one family: a :class:`Trajectory` (one run's frames), a
 :class:`Summary` (one run without frames), a :class:`Batch` (many runs' frames) and a
 :class:`Sweep` (many runs, one number each). All tell ``flips`` (how many), ``t_end`` and a
-``verdict`` in words, the same way; all pickle and copy (they are plain arrays and numbers).
+``verdict`` in words, the same way; all pickle and copy (they are plain arrays, numbers and
+the run's own :class:`System`), and whatever they derive (energy, angular momentum) they
+derive from that system, in the core.
 
 >>> import dzhanibekov as dz
 >>> traj = dz.simulate(dz.Body(dz.PAPER_INERTIA), (0.01, 0.01, 1.0), t_end=100.0)
@@ -13,7 +15,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Any, NamedTuple, overload
+from collections.abc import Callable, Iterator
+from typing import Any, overload
 
 import numpy as np
 
@@ -22,9 +25,10 @@ from . import _tables
 from ._args import check_size
 from .body import Body, principal_body
 from .rotations import to_rotation
+from .system import System, Systems
 
 __all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "DeploymentSweep",
-           "verdict"]
+           "verdict", "observe"]
 
 
 def verdict(flips: int, t_end: float) -> str:
@@ -34,19 +38,18 @@ def verdict(flips: int, t_end: float) -> str:
     return f"{flips} flip{'s' if flips > 1 else ''} in [0, {t_end:g}]"
 
 
-def invariants_of(body: _core.RigidBody, omega: np.ndarray,
-                  q: np.ndarray) -> dict[str, np.ndarray]:
-    """The invariants (see `Trajectory.invariants`) of the core's `body` at rows of `omega`
-    and `q` (its principal axes), computed in the core."""
-    out = _core.invariants(body, np.ascontiguousarray(omega), np.ascontiguousarray(q))
-    return {"energy": out.energy, "momentum_body": out.momentum_body,
-            "momentum_world": out.momentum_world, "q_norm": out.q_norm}
+_FREE_KEEPS = ("energy", "momentum", "momentum_world", "q_norm")
 
 
-class Drift(NamedTuple):
+@dataclass(frozen=True)
+class Drift:
     """The largest departure of each invariant from its initial value, over the frames.
 
-    The exact motion keeps all four; their drift measures the integration error.
+    `kept` names what the run's model keeps (see :attr:`System.conserved`): the drift of
+    those measures the integration error; the others change by the model's own law (a
+    deployment's work and a damper's loss on the energy) and their entries say by how much.
+    Iterating gives the measures (energy, momentum, momentum_world, q_norm, and the Jacobi
+    integral's where the model has one), so ``max(traj.drift)`` is the worst of them.
     """
 
     energy: float
@@ -57,11 +60,52 @@ class Drift(NamedTuple):
     """``max |L_world(t) - L_world(0)| / |L(0)|``: the space-frame angular momentum vector."""
     q_norm: float
     """``max ||q(t)| - 1|``."""
+    jacobi: float | None = None
+    """Relative change of the Jacobi integral, for a model that has one; None otherwise."""
+    kept: tuple[str, ...] = _FREE_KEEPS
+    """What the model keeps, by the names of the fields above."""
+
+    def __iter__(self) -> Iterator[float]:
+        yield from (self.energy, self.momentum, self.momentum_world, self.q_norm)
+        if self.jacobi is not None:
+            yield self.jacobi
+
+    def __getitem__(self, i: Any) -> Any:
+        return tuple(self)[i]
+
+    def __len__(self) -> int:
+        return 4 + (self.jacobi is not None)
+
+
+def observe(system: System, t: np.ndarray, omega: np.ndarray, q: np.ndarray,
+            parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The energy and the total angular momentum in body axes and in space at every frame,
+    as the run's own system defines them (computed in the core)."""
+    check_size(len(t) * 8 * 8, f"the invariants at {len(t)} frames",
+               "compute them over fewer frames (a slice of the run)")
+    state = (np.concatenate([parts[name] for name in system.part_names], axis=1)
+             if system.part_names else np.empty((len(t), 0)))
+    energy, body, world = _core.observe(system._core, np.ascontiguousarray(t, dtype=np.float64),
+                                        np.ascontiguousarray(omega), np.ascontiguousarray(q),
+                                        np.ascontiguousarray(state, dtype=np.float64))
+    return {"energy": energy, "momentum_body": body, "momentum_world": world,
+            "q_norm": np.linalg.norm(q, axis=-1)}
+
+
+def split_parts(system: System, state: np.ndarray | None) -> dict[str, np.ndarray]:
+    """The parts' state (..., k) split by part name."""
+    if state is None or not system.part_names:
+        return {}
+    out, at = {}, 0
+    for name, width in zip(system.part_names, system.part_widths):
+        out[name] = state[..., at:at + width]
+        at += width
+    return out
 
 
 @dataclass(frozen=True, eq=False)
 class Trajectory:
-    """Frames of a free rotation, time-major, with the run's cost and error measures.
+    """The frames of one run, time-major, with its system, cost and error measures.
 
     Attributes
     ----------
@@ -75,79 +119,74 @@ class Trajectory:
     flip_times : ndarray, shape (n_flips,), or None
         Times of the flips: half-turns of the intermediate axis relative to the angular
         momentum, located within the step (see the README). None if not asked for.
-    body : Body
+    system : System
+        What was run: the body with its parts.
     method : str
     dt : float
         The step actually taken: ``t_end / (frames - 1)`` split evenly, at most the ``dt``
-        asked for; for an adaptive method, the mean accepted step.
+        asked for; for an adaptive method, the mean accepted step; 0 for ``"exact"``, which
+        takes none.
     n_steps, nfev : int
         Steps taken (accepted) and right-hand-side evaluations (0 for the splittings,
         which evaluate none).
     drift : Drift
-        The invariants' largest drift over the frames.
+        The invariants' largest drift over the frames, and what the model keeps.
     n_rejected : int
         Steps an adaptive method tried and rejected; 0 for fixed-step methods.
-    model : Deployment or Damper or None
-        The model beyond the constant body that was run, if any (then `body` is the body at
-        ``t = 0``, its principal moments).
-    sigma : ndarray, shape (frames, 3), or None
-        A damper's absolute angular velocity in body axes; None without a damper.
-    momentum_world : ndarray, shape (frames, 3)
-        Total angular momentum in space (body, plus damper where there is one); constant
-        for the exact motion of every model.
-    energy : ndarray, shape (frames,)
-        Total kinetic energy: constant for the free body, changed by a deployment's internal
-        work, never rising with a damper.
+    parts : dict of str to ndarray
+        Each part's state at every frame, by the part's name: a damper's sphere rates in body
+        axes, ``parts["damper"]`` of shape (frames, 3). Empty for a body without parts.
     """
 
     t: np.ndarray
     omega: np.ndarray
     q: np.ndarray
     flip_times: np.ndarray | None
-    body: Body
+    system: System
     method: str
     dt: float
     n_steps: int
     nfev: int
     drift: Drift
     n_rejected: int = 0
-    model: Any = None
-    sigma: np.ndarray | None = None
-    _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    parts: dict[str, np.ndarray] = field(default_factory=dict)
+    _observed: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+
+    @property
+    def body(self) -> Any:
+        """The system's body: a :class:`Body` or a :class:`Deployment`."""
+        return self.system.body
 
     def invariants(self) -> dict[str, np.ndarray]:
-        """The invariants at every frame (computed once, in the core).
+        """The invariants at every frame, as the run's own system defines them (computed once,
+        in the core).
 
         Returns
         -------
         dict
-            ``energy`` (frames,), ``momentum_body`` (frames, 3) (``T ω``, in the body's own
-            axes), ``momentum_world`` (frames, 3) and ``q_norm`` (frames,).
+            ``energy`` (frames,), ``momentum_body`` (frames, 3) (the total angular momentum
+            in the body's own axes), ``momentum_world`` (frames, 3) and ``q_norm`` (frames,).
         """
-        if not self._invariants:
-            check_size(len(self.t) * 8 * 8, f"the invariants at {len(self.t)} frames",
-                       "compute them over fewer frames (a slice of the run)")
-            omega, q = self.body.to_principal(self.omega, self.q)
-            values = invariants_of(self.body._core, omega, q)
-            if not self.body.is_principal:  # L = T ω in the user's axes
-                values["momentum_body"] = self.body.to_user(values["momentum_body"], q)[0]
-            self._invariants.update(values)
-        return self._invariants
+        if not self._observed:
+            self._observed.update(observe(self.system, self.t, self.omega, self.q, self.parts))
+        return self._observed
 
     def to_xarray(self) -> Any:
-        """The frames as an ``xarray.Dataset`` (dims ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+        """The run as an ``xarray.Dataset`` (dims ``time``, ``axis``, ``quaternion``; the
+        ``io`` extra): frames, parts' state, energy and angular momentum, the system.
 
         Examples
         --------
         >>> import dzhanibekov as dz
         >>> traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), frames=5)
         >>> dict(traj.to_xarray().sizes)
-        {'time': 5, 'axis': 3, 'quaternion': 4, 'flip': 2}
+        {'time': 5, 'axis': 3, 'quaternion': 4, 'axis_': 3, 'flip': 2}
         """
         return _tables.trajectory_dataset(self)
 
     def to_dataframe(self) -> Any:
-        """The frames as a ``pandas.DataFrame`` (index ``t``, columns u v w Q U V W; the ``io`` extra)."""
+        """The frames as a ``pandas.DataFrame`` (index ``time``; columns u v w Q U V W, the
+        parts' state, energy and L in space; the ``io`` extra)."""
         return _tables.trajectory_frame(self)
 
     @property
@@ -181,14 +220,21 @@ class Trajectory:
         return angles
 
     @property
-    def momentum_world(self) -> np.ndarray:
-        """Total angular momentum in space at every frame, shape (frames, 3)."""
-        return self.invariants()["momentum_world"]
+    def energy(self) -> np.ndarray:
+        """Total kinetic energy at every frame, shape (frames,): constant for the free body,
+        changed by a deployment's internal work, never rising with a damper."""
+        return self.invariants()["energy"]
 
     @property
-    def energy(self) -> np.ndarray:
-        """Total kinetic energy at every frame, shape (frames,)."""
-        return self.invariants()["energy"]
+    def momentum_body(self) -> np.ndarray:
+        """Total angular momentum (body and parts) in the body's own axes, shape (frames, 3)."""
+        return self.invariants()["momentum_body"]
+
+    @property
+    def momentum_world(self) -> np.ndarray:
+        """Total angular momentum in space at every frame, shape (frames, 3); constant for
+        the exact motion of every torque-free system."""
+        return self.invariants()["momentum_world"]
 
     @property
     def t_end(self) -> float:
@@ -228,7 +274,7 @@ class Summary:
     drift : Drift
         The invariants' largest drift over the frame times.
     t_end : float
-    body : Body
+    system : System
     method : str
     dt : float
         The step actually taken.
@@ -239,11 +285,16 @@ class Summary:
     flip_times: np.ndarray
     drift: Drift
     t_end: float
-    body: Body
+    system: System
     method: str
     dt: float
     n_steps: int
     nfev: int
+
+    @property
+    def body(self) -> Any:
+        """The system's body."""
+        return self.system.body
 
     @property
     def flips(self) -> int:
@@ -262,8 +313,10 @@ class Summary:
         )
 
 
-class BatchDrift(NamedTuple):
-    """The invariants' largest drift over the frames, one value per run (see `Drift`)."""
+@dataclass(frozen=True, eq=False)
+class BatchDrift:
+    """The invariants' largest drift over the frames, one value per run (see `Drift`);
+    iterating gives the measures, as `Drift` does."""
 
     energy: np.ndarray
     """Relative: ``max |E(t) - E(0)| / E(0)``."""
@@ -273,15 +326,63 @@ class BatchDrift(NamedTuple):
     """``max |L_world(t) - L_world(0)| / |L(0)|``."""
     q_norm: np.ndarray
     """``max ||q(t)| - 1|``."""
+    jacobi: np.ndarray | None = None
+    """Relative change of the Jacobi integral (NaN for a run whose model has none); None when
+    no run's model has one."""
+    kept: tuple[str, ...] = _FREE_KEEPS
+    """What the runs' model keeps."""
+
+    def __iter__(self) -> Iterator[np.ndarray]:
+        yield from (self.energy, self.momentum, self.momentum_world, self.q_norm)
+        if self.jacobi is not None:
+            yield self.jacobi
+
+    def __getitem__(self, i: Any) -> Any:
+        return tuple(self)[i]
+
+    def __len__(self) -> int:
+        return 4 + (self.jacobi is not None)
+
+    @classmethod
+    def of(cls, measure: Callable[[str], np.ndarray], jacobi: np.ndarray | None = None,
+           kept: tuple[str, ...] = _FREE_KEEPS) -> BatchDrift:
+        """The drift whose four always-present measures `measure(name)` gives."""
+        return cls(measure("energy"), measure("momentum"), measure("momentum_world"),
+                   measure("q_norm"), jacobi, kept)
+
+    def _map(self, f: Callable[[np.ndarray], np.ndarray]) -> BatchDrift:
+        """`f` applied to every measure."""
+        return BatchDrift.of(lambda k: f(getattr(self, k)),
+                             None if self.jacobi is None else f(self.jacobi), self.kept)
 
     def reshape(self, shape: tuple[int, ...]) -> BatchDrift:
         """The same values in `shape`."""
-        return BatchDrift(*(np.reshape(v, shape) for v in self))
+        return self._map(lambda a: np.reshape(a, shape))
+
+    def take(self, key: Any) -> BatchDrift:
+        """The runs at `key`."""
+        return self._map(lambda a: a[key])
+
+    def row(self, i: int) -> Drift:
+        """Run `i`'s drift."""
+        jacobi = None if self.jacobi is None or np.isnan(self.jacobi[i]) else \
+            float(self.jacobi[i])
+        return Drift(float(self.energy[i]), float(self.momentum[i]),
+                     float(self.momentum_world[i]), float(self.q_norm[i]), jacobi, self.kept)
+
+
+def batch_drift(columns: Any) -> BatchDrift:
+    """The core's per-run drift columns as a :class:`BatchDrift`."""
+    energy, momentum, momentum_world, q_norm, jacobi = columns.drift
+    kept = tuple(columns.kept) or _FREE_KEEPS
+    has_jacobi = "jacobi" in kept or not np.isnan(jacobi).all()
+    return BatchDrift(energy, momentum, momentum_world, q_norm,
+                      jacobi if has_jacobi else None, kept)
 
 
 @dataclass(frozen=True, eq=False)
 class Batch:
-    """Frames of M free rotations over one frame grid, run-major.
+    """Frames of M runs over one frame grid, run-major.
 
     ``batch[i]`` is run i as a :class:`Trajectory`, equal bit for bit to ``simulate`` of
     its inputs alone (with the same ``dt``).
@@ -291,13 +392,13 @@ class Batch:
     t : ndarray, shape (frames,)
         Frame times, shared by every run.
     omega : ndarray, shape (M, frames, 3)
-        Body-frame angular velocity ``(u, v, w)`` of each run.
+        Body-frame angular velocity ``(u, v, w)`` of each run, in its body's own axes.
     q : ndarray, shape (M, frames, 4)
         Body-to-world unit quaternion, scalar first, of each run.
     flip_times : tuple of M ndarrays, or None
         Each run's flip times (see :func:`~dzhanibekov.simulate`); None if not asked for.
-    inertia : ndarray, shape (M, 3)
-        Each run's principal moments.
+    systems : Systems
+        Each run's system (``systems[i]``).
     method : str
     dt : ndarray, shape (M,)
         The step each run took (for an adaptive method, its mean accepted step).
@@ -305,16 +406,9 @@ class Batch:
         Steps, right-hand-side evaluations and rejected steps of each run.
     drift : BatchDrift
         The invariants' largest drift over the frames, per run.
-    model : tuple or None
-        A batch of deployments or damped bodies: each run's :class:`Deployment` or
-        :class:`Damper`; flips are located when every run's tensors are diagonal (else
-        `flip_times` is None).
-    sigma : ndarray, shape (M, frames, 3), or None
-        A damper batch's sphere rates in body axes.
-    momentum_world : ndarray, shape (M, frames, 3)
-        Each run's total angular momentum in space (see :attr:`Trajectory.momentum_world`).
-    energy : ndarray, shape (M, frames)
-        Each run's total kinetic energy (see :attr:`Trajectory.energy`).
+    parts : dict of str to ndarray
+        Each part's state, by name, with a leading run axis: ``parts["damper"]`` of shape
+        (M, frames, 3).
     """
 
     t: np.ndarray
@@ -324,26 +418,19 @@ class Batch:
     """Every run's flip times, one after the other; run i's are
     ``_flip_times[_flip_offsets[i]:_flip_offsets[i + 1]]``."""
     _flip_offsets: np.ndarray | None = field(repr=False)
-    inertia: np.ndarray
+    systems: Systems
     method: str
     dt: np.ndarray
     n_steps: np.ndarray
     nfev: np.ndarray
     n_rejected: np.ndarray
     drift: BatchDrift
-    body: Body | tuple[Body, ...] | None = field(default=None, repr=False)
-    """The body shared by every run, or one per run, when given as Bodies (their axes are
-    the ones `omega` and `q` are in); None for moments. For a batch of deployments, each
-    run's body at ``t = 0`` (its principal moments)."""
-    model: tuple[Any, ...] | None = field(default=None, repr=False)
-    """Each run's model beyond the constant body (its Deployment or Damper), or None."""
-    sigma: np.ndarray | None = field(default=None, repr=False)
-    """A damper batch's sphere rates in body axes, shape (M, frames, 3); None otherwise."""
-    _invariants: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
-    """A model batch's invariants at every frame, each with a leading run axis."""
+    parts: dict[str, np.ndarray] = field(default_factory=dict)
+    _observed: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
 
     def to_xarray(self) -> Any:
-        """Every run's frames as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``; the ``io`` extra).
+        """Every run as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``;
+        the ``io`` extra).
 
         Examples
         --------
@@ -355,18 +442,20 @@ class Batch:
         return _tables.batch_dataset(self)
 
     def to_dataframe(self) -> Any:
-        """Every run's frames as a ``pandas.DataFrame`` (index (``run``, ``t``), columns u v w Q U V W; the ``io`` extra)."""
+        """Every run's frames as a ``pandas.DataFrame`` (index (``run``, ``time``), columns as
+        :meth:`Trajectory.to_dataframe`; the ``io`` extra)."""
         return _tables.batch_frame(self)
 
     def __len__(self) -> int:
         return len(self.omega)
 
-    def _row_body(self, i: int) -> Body:
-        if isinstance(self.body, Body):
-            return self.body
-        if self.body is not None:
-            return self.body[i]
-        return trusted_body(self.inertia[i])
+    @property
+    def inertia(self) -> np.ndarray:
+        """Each run's principal moments at ``t = 0``, shape (M, 3) (a deployment's, of its
+        first knot, ascending)."""
+        if self.systems.moments is not None:
+            return self.systems.moments
+        return np.array([_moments(self.systems[i]) for i in range(len(self))]).reshape(-1, 3)
 
     @cached_property
     def flip_times(self) -> tuple[np.ndarray, ...] | None:
@@ -396,36 +485,60 @@ class Batch:
             omega=self.omega[i],
             q=self.q[i],
             flip_times=self._run_flip_times(i),
-            body=self._row_body(i),
+            system=self.systems[i],
             method=self.method,
             dt=float(self.dt[i]),
             n_steps=int(self.n_steps[i]),
             nfev=int(self.nfev[i]),
-            drift=Drift(*(float(d[i]) for d in self.drift)),
+            drift=self.drift.row(i),
             n_rejected=int(self.n_rejected[i]),
-            model=None if self.model is None else self.model[i],
-            sigma=None if self.sigma is None else self.sigma[i],
-            _invariants={k: v[i] for k, v in self._invariants.items()},
+            parts={k: v[i] for k, v in self.parts.items()},
+            _observed={k: v[i] for k, v in self._observed.items()},
         )
 
-    @property
-    def momentum_world(self) -> np.ndarray:
-        """Each run's total angular momentum in space at every frame, shape (M, frames, 3)."""
-        return self._invariant("momentum_world")
+    def invariants(self) -> dict[str, np.ndarray]:
+        """Each run's invariants at every frame (see :meth:`Trajectory.invariants`), with a
+        leading run axis; computed once, in the core."""
+        if not self._observed and len(self):
+            runs = [observe(self.systems[i], self.t, self.omega[i], self.q[i],
+                            {k: v[i] for k, v in self.parts.items()}) for i in range(len(self))]
+            self._observed.update({k: np.stack([r[k] for r in runs]) for k in runs[0]})
+        return self._observed
 
     @property
     def energy(self) -> np.ndarray:
         """Each run's total kinetic energy at every frame, shape (M, frames)."""
-        return self._invariant("energy")
+        return self.invariants()["energy"]
 
-    def _invariant(self, name: str) -> np.ndarray:
-        """An invariant of every run: a model batch's own, or each run's, computed once."""
-        if name not in self._invariants:
-            runs = [self[i].invariants() for i in range(len(self))]
-            for key in ("energy", "momentum_body", "momentum_world", "q_norm"):
-                self._invariants[key] = np.stack([r[key] for r in runs]) if runs else \
-                    np.empty((0, len(self.t)) + ((3,) if key.startswith("momentum") else ()))
-        return self._invariants[name]
+    @property
+    def momentum_body(self) -> np.ndarray:
+        """Each run's total angular momentum in its body's axes, shape (M, frames, 3)."""
+        return self.invariants()["momentum_body"]
+
+    @property
+    def momentum_world(self) -> np.ndarray:
+        """Each run's total angular momentum in space at every frame, shape (M, frames, 3)."""
+        return self.invariants()["momentum_world"]
+
+    @property
+    def rotation(self) -> Any:
+        """Every run's attitude at every frame as one scipy ``Rotation`` stack, run-major
+        (``M · frames`` rotations, world-from-body).
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> batch = dz.simulate(dz.PAPER_INERTIA, [(0.01, 0.01, 1.0), (0, 1, 0.01)], frames=3)
+        >>> len(batch.rotation)
+        6
+        """
+        return to_rotation(self.q.reshape(-1, 4))
+
+    def euler(self, seq: str, degrees: bool = False) -> np.ndarray:
+        """Euler angles of every run's attitude at every frame, shape (M, frames, 3) (see
+        :meth:`Trajectory.euler`)."""
+        angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
+        return angles.reshape(self.q.shape[:2] + (3,))
 
     def _run_flip_times(self, i: int) -> np.ndarray | None:
         if self._flip_times is None or self._flip_offsets is None:
@@ -441,15 +554,11 @@ class Batch:
             times = np.concatenate(kept) if kept else times[:0]
             offsets = np.concatenate([[0], np.cumsum([len(k) for k in kept], dtype=np.int64)])
         return replace(self, omega=self.omega[take], q=self.q[take], _flip_times=times,
-                       _flip_offsets=offsets, inertia=self.inertia[take], dt=self.dt[take],
+                       _flip_offsets=offsets, systems=self.systems[take], dt=self.dt[take],
                        n_steps=self.n_steps[take], nfev=self.nfev[take],
-                       n_rejected=self.n_rejected[take],
-                       drift=BatchDrift(*(d[take] for d in self.drift)),
-                       body=self.body if not isinstance(self.body, tuple) else
-                       tuple(self.body[i] for i in rows),
-                       model=None if self.model is None else tuple(self.model[i] for i in rows),
-                       sigma=None if self.sigma is None else self.sigma[take],
-                       _invariants={k: v[take] for k, v in self._invariants.items()})
+                       n_rejected=self.n_rejected[take], drift=self.drift.take(take),
+                       parts={k: v[take] for k, v in self.parts.items()},
+                       _observed={k: v[take] for k, v in self._observed.items()})
 
     @property
     def t_end(self) -> float:
@@ -475,6 +584,15 @@ class Batch:
             f"Batch(runs={len(self)}, frames={len(self.t)}, t_end={self.t[-1]:g}, "
             f"method={self.method!r})"
         )
+
+
+def _moments(system: System) -> tuple[float, float, float]:
+    """A system's principal moments at ``t = 0``."""
+    body = system.body
+    if isinstance(body, Body):
+        return body.inertia
+    a, b, c = (float(x) for x in np.linalg.eigvalsh(system.tensor_at(0.0)))
+    return a, b, c
 
 
 def trusted_body(inertia: np.ndarray) -> Body:
@@ -596,7 +714,7 @@ class Sweep(_Statuses):
         per_run = {name: getattr(self, name)[key] for name in
                    ("flips", "first_flip", "period", "exact_period", "tilt", "dt", "n_steps",
                     "nfev", "inertia", "omega0", "q0", "status")}
-        return replace(self, drift=BatchDrift(*(d[key] for d in self.drift)), **per_run)
+        return replace(self, drift=self.drift.take(key), **per_run)
 
     @property
     def tilt_degrees(self) -> np.ndarray:
@@ -671,6 +789,11 @@ class DeploymentSweep(_Statuses):
     nfev: np.ndarray
     status: np.ndarray
 
+    def to_xarray(self) -> Any:
+        """Every run's verdict, inputs and deployment as an ``xarray.Dataset`` (dim ``run``;
+        the ``io`` extra), savable with :func:`~dzhanibekov.save`."""
+        return _tables.deployment_sweep_dataset(self)
+
     @property
     def verdict(self) -> np.ndarray:
         """Each run's verdict in words, shape (M,)."""
@@ -690,7 +813,7 @@ class DeploymentSweep(_Statuses):
                    ("omega0", "q0", "inertia", "omega_deployed", "flip_period", "tumbles",
                     "energy_change", "dt", "n_steps", "nfev", "status")}
         return replace(self, deployments=tuple(self.deployments[int(i)] for i in rows),
-                       drift=BatchDrift(*(d[rows] for d in self.drift)), **per_run)
+                       drift=self.drift.take(rows), **per_run)
 
     def __repr__(self) -> str:
         return (

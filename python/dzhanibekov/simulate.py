@@ -1,90 +1,86 @@
-"""The two entry points: `simulate` a free rotation and `rotate` body points by its attitudes."""
+"""The one entry point of every run: :func:`simulate` a system (one run, or a batch of them)
+and :func:`rotate` body points by its attitudes."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any, overload
 
 import numpy as np
+from tqdm.auto import tqdm
 
 from . import _core
-from ._args import as_array, as_float, as_int, check_size
-from ._swap import check_not_swapped
-from .accuracy import check_tolerances, plan_step
-from .ensemble import Batch, checked_threads, is_batch, simulate_batch
-from .body import Body, as_body
-from .damper import Damper
+from ._args import as_array, check_size, run_options
+from .accuracy import warn_step
+from .body import Body
+from .damper import warn_stiff
 from .deployment import Deployment
-from .models import is_deployment_list, is_model_batch, simulate_model, simulate_model_batch
-from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
-from .results import Drift, Trajectory
-from .rotations import quaternions_of
+from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS
+from .results import Batch, Trajectory, batch_drift, split_parts
+from .rows import Rows, row_error, rows_of, warn_unphysical
+from .system import System
 
-__all__ = ["METHODS", "simulate", "rotate"]
+__all__ = ["METHODS", "simulate", "rotate", "plan", "run_batch"]
 
 MAX_COORDINATE = float(np.finfo(np.float64).max / 4)
 """The largest body-point coordinate `rotate` takes: a rotated coordinate sums three terms
 each at most the largest coordinate, so nothing larger than this can overflow."""
 
+
 @overload
 def simulate(
-    body: Body | Deployment | Sequence[float],
+    system: System | Body | Deployment | Sequence[float],
     omega0: Sequence[float],
     q0: Sequence[float] = ...,
+    *,
     t_end: float = ...,
     frames: int = ...,
     dt: float | None = ...,
     method: str = ...,
-    *,
     rtol: float | None = ...,
     atol: float | None = ...,
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
     progress: bool | None = ...,
-    damper: Damper | None = ...,
-    sigma0: Sequence[float] | None = ...,
 ) -> Trajectory: ...
 
 
 @overload
 def simulate(
-    body: Any,
+    system: Any,
     omega0: Any,
     q0: Any = ...,
+    *,
     t_end: float = ...,
     frames: int = ...,
     dt: float | None = ...,
     method: str = ...,
-    *,
     rtol: float | None = ...,
     atol: float | None = ...,
     flips: bool = ...,
     max_steps: int = ...,
     threads: int | None = ...,
     progress: bool | None = ...,
-    damper: Damper | Sequence[Damper] | None = ...,
-    sigma0: Any = ...,
 ) -> Trajectory | Batch: ...
 
 
 def simulate(
-    body: Body | Any,
+    system: Any,
     omega0: Any,
     q0: Any = (1.0, 0.0, 0.0, 0.0),
+    *,
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = None,
     method: str = DEFAULT_METHOD,
-    *,
     rtol: float | None = None,
     atol: float | None = None,
     flips: bool = True,
     max_steps: int = DEFAULT_MAX_STEPS,
     threads: int | None = None,
     progress: bool | None = None,
-    damper: Damper | Sequence[Damper] | None = None,
-    sigma0: Any = None,
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
@@ -99,24 +95,23 @@ def simulate(
     (M, frames, 4), flip times and drift per run). RK4 runs several at once in SIMD lanes;
     every run equals its single run bit for bit (``batch[i]``), whatever the number of
     threads. For one number per run (flips, tilt, drift) and no frames, use
-    :func:`~dzhanibekov.sweep`. Deployments and damped bodies take the same batch axis (a
-    list of deployments, of bodies or of dampers counts as one too): their runs go side by
-    side on all cores, each row equal to its single run bit for bit, with
-    ``momentum_world`` (M, frames, 3), ``energy`` (M, frames) and a damper's ``sigma``
-    (M, frames, 3).
+    :func:`~dzhanibekov.sweep`. Systems with parts or a schedule take the same batch axis
+    (a list of systems counts as one): their runs go side by side on all cores, each row
+    equal to its single run bit for bit.
 
     Parameters
     ----------
-    body : Body, list of Body, Deployment, list of Deployment, or array_like, shape (3,) or (M, 3)
-        The body (any :class:`Body`: from a tensor, a solid, parts, a mesh), or its
-        principal moments ``(Ix, Iy, Iz)``; one row (or one Body of a list) per run of a
-        batch. A 3×3 array is refused (use :meth:`Body.from_tensor`). A
-        :class:`Deployment` runs a body whose inertia changes in a prescribed way
-        (``dL/dt = L × ω``, ``ω = I(t)⁻¹ L``) by the methods that run it (``"rk4"``,
-        ``"rk4_projected"`` onto ``|L|``, ``L_world`` and ``|q|``, ``"dopri5"``,
-        ``"dop853"``); ``energy`` shows the internal work. Flips are located where every
-        knot is diagonal (the intermediate axis of the body as it is then coming nearest
-        ``L`` on the other side), else ``flip_times`` is None.
+    system : System, Body, Deployment, list of them, or array_like, shape (3,) or (M, 3)
+        What is simulated: a :class:`System` (a body with its parts, such as a
+        :class:`Damper`), or a body alone — any :class:`Body` (from a tensor, a solid,
+        parts, a mesh), a :class:`Deployment` (a body whose inertia changes in a
+        prescribed way, ``dL/dt = L × ω``, ``ω = I(t)⁻¹ L``), or principal moments
+        ``(Ix, Iy, Iz)``; one per run of a batch. A 3×3 array is refused (use
+        :meth:`Body.from_tensor`). A part's state appears in the result under its name
+        (``traj.parts["damper"]``); ``energy`` and ``momentum_world`` count body and parts.
+        Methods that cannot run a system's model refuse it by name
+        (``METHODS[name].models``); flips (the intermediate axis of the body as it is then
+        coming nearest the total ``L`` on the other side) are located for any tensor.
     omega0 : array_like, shape (3,) or (M, 3)
         Initial body-frame angular velocity ``(u0, v0, w0)``, finite, in the body's own
         axes (for a body from a tensor, those of the tensor; the run changes to principal
@@ -182,16 +177,6 @@ def simulate(
         per block of 1024 runs: None (default) shows it for batches of more than one block
         when stderr is a terminal and the batch takes more than a second; True always;
         False never. A single run shows none, nor a batch of deployments or dampers.
-    damper : Damper or list of Damper, optional
-        A spherical viscous nutation damper inside the body (see :class:`Damper`), or one
-        per run of a batch: its three rates join the state; the trajectory gains ``sigma``
-        (frames, 3), and ``momentum_world`` and ``energy`` count body and damper. Runs by
-        ``"rk4"``, ``"rk4_projected"`` (onto ``|H|``, ``H_world`` and ``|q|``),
-        ``"dopri5"`` and ``"dop853"``; the other methods refuse it by name. Flips (of the body's
-        intermediate axis relative to the total ``L``) are located for a diagonal body
-        tensor.
-    sigma0 : array_like, shape (3,) or (M, 3), optional
-        The damper's initial absolute rate in body axes; co-rotating (``omega0``) if None.
 
     Returns
     -------
@@ -247,98 +232,156 @@ def simulate(
 
     A batch of damped bodies, one spin per row:
 
-    >>> from dzhanibekov import Damper
-    >>> damped = simulate((1.0, 10.0, 10.0), [(2.0, 0.01, 0.0), (0.0, 0.2, 0.01)],
-    ...                   t_end=50.0, frames=11, dt=0.01, damper=Damper(0.05, 0.02))
-    >>> damped.energy.shape, damped.sigma.shape
+    >>> from dzhanibekov import Body, Damper, System
+    >>> damped = System(Body((1.0, 10.0, 10.0)), parts=[Damper(0.05, 0.02)])
+    >>> runs = simulate(damped, [(2.0, 0.01, 0.0), (0.0, 0.2, 0.01)], t_end=50.0, frames=11,
+    ...                 dt=0.01)
+    >>> runs.energy.shape, runs.parts["damper"].shape
     ((2, 11), (2, 11, 3))
     """
-    q0 = quaternions_of(q0)
-    if isinstance(body, Deployment) or damper is not None or is_deployment_list(body):
-        threads = checked_threads(threads)
-        if not isinstance(flips, (bool, np.bool_)):
-            raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
-        if is_model_batch(body, omega0, q0, damper, sigma0):
-            return simulate_model_batch(body, omega0, q0, t_end, frames, dt, method,
-                                        damper=damper, sigma0=sigma0, rtol=rtol, atol=atol,
-                                        max_steps=max_steps, threads=threads,
-                                        flips=bool(flips))
-        if damper is not None and not isinstance(damper, Damper):
-            raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
-        return simulate_model(body, omega0, q0, t_end, frames, dt, method, damper=damper,
-                              sigma0=sigma0, rtol=rtol, atol=atol, max_steps=max_steps,
-                              flips=bool(flips))
-    if sigma0 is not None:
-        raise ValueError("`sigma0` is the damper's initial rate: pass `damper` too")
-    if is_batch(body, omega0, q0):
-        return simulate_batch(body, omega0, q0, t_end, frames, dt, method, rtol=rtol, atol=atol,
-                              flips=flips, max_steps=max_steps, threads=threads,
-                              progress=progress)
-    checked_threads(threads)
+    rows = rows_of(system, omega0, q0, function="simulate", max_batch_ndim=1, stacklevel=3)
+    options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
+                          atol=atol, max_steps=max_steps, flips=flips, threads=threads)
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
-    if not isinstance(flips, (bool, np.bool_)):
-        raise TypeError(f"`flips` must be True or False, got {type(flips).__name__}")
-    body, omega0, q0, t_end, frames, max_steps = _checked(
-        body, omega0, q0, t_end, frames, method, max_steps, "simulate", dt, rtol, atol
-    )
-    check_size(frames * 8 * 8, f"frames={frames}", "ask for fewer frames")
-    omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
-    dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)
-    out = _core.simulate(
-        body._core,
-        tuple(omega0),
-        tuple(q0),
-        t_end,
-        frames,
-        dt,
-        method,
-        max_steps,
-        True,
-        bool(flips),
-        rtol_,
-        atol_,
-    )
-    if out.omega is None or out.q is None:
-        raise RuntimeError("internal error in the dzhanibekov core: frames were not kept")
-    omega_out, q_out = body.to_user(out.omega, out.q)
-    return Trajectory(
+    options = plan(rows, options, stacklevel=3)
+    batch = run_batch(rows, options, progress=progress)
+    return batch if rows.batch else batch[0]
+
+
+def plan(rows: Rows, options: _core.RunOptions, *, stacklevel: int) -> _core.RunOptions:
+    """The step of every run planned in the core (one shared by a batch), with the
+    warnings it calls for (RK4's dissipation, a stiff damper) naming the worst run; `options`
+    with that step. `stacklevel` counts from this function."""
+    systems, moments = rows.core()
+    try:
+        p = _core.plan(systems, rows.omega, rows.q, options, inertia=moments)
+    except ValueError as exc:
+        raise row_error(exc, rows) from None
+    warn_unphysical(rows, stacklevel=stacklevel + 1)
+    method = options.method
+
+    def where(row: int) -> str:
+        return f"{rows.where(row)}: " if rows.batch and len(rows) > 1 else ""
+
+    if p.worst is not None and p.worst_row is not None:
+        warn_step(p.worst, method, options.dt is not None, options.rtol,
+                  stacklevel=stacklevel + 1, where=where(p.worst_row))
+    if p.stiffest is not None and p.stiffest_row is not None:
+        warn_stiff(p.stiffest, method, stacklevel=stacklevel + 1, where=where(p.stiffest_row))
+    return options.with_dt(p.dt)
+
+
+PROGRESS_BLOCK = 1024
+"""Rows per call to the core when a batch shows its progress (a multiple of the SIMD
+lanes' 16, so that the lanes are grouped as in one call; rows never depend on it)."""
+
+PROGRESS_DELAY = 1.0
+"""Seconds before a progress bar shows (``progress=None``): quick calls show none."""
+
+
+def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = None,
+              keep_frames: bool = True) -> Batch:
+    """The runs of `rows` (planned) over one frame grid, as a :class:`Batch` (a single run's
+    too: its row 0); with a progress bar, in blocks of `PROGRESS_BLOCK` rows."""
+    m, width = len(rows), sum(rows.systems.first.part_widths) if len(rows) else 0
+    if keep_frames:
+        what = f"a batch of {m} runs × {options.frames} frames" if rows.batch else \
+            f"frames={options.frames}"
+        check_size(m * options.frames * (7 + width) * 8, what,
+                   "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo study) "
+                   "for per-run outcomes, which keep no frames")
+
+    def run(block: slice) -> Any:
+        part = rows.take(block)
+        systems, moments = part.core()
+        try:
+            return _core.simulate_batch(systems, part.omega, part.q, options, keep_frames,
+                                        inertia=moments)
+        except ValueError as exc:
+            raise row_error(exc, rows, block.start or 0) from None
+
+    out = _in_blocks(run, m, progress)
+    system = rows.systems.first if m else None
+    return Batch(
         t=out.t,
-        omega=omega_out,
-        q=q_out,
-        flip_times=out.flip_times if flips else None,
-        body=body,
-        method=method,
-        dt=out.dt,
-        n_steps=out.n_steps,
-        nfev=out.nfev,
-        drift=Drift(*out.drift),
-        n_rejected=out.n_rejected,
+        omega=out.omega if out.omega is not None else np.empty((m, 0, 3)),
+        q=out.q if out.q is not None else np.empty((m, 0, 4)),
+        _flip_times=out.flip_times if options.flips else None,
+        _flip_offsets=out.flip_offsets if options.flips else None,
+        systems=rows.systems,
+        method=options.method,
+        dt=out.runs.dt,
+        n_steps=out.runs.n_steps,
+        nfev=out.runs.nfev,
+        n_rejected=out.runs.n_rejected,
+        drift=batch_drift(out.runs),
+        parts={} if system is None else split_parts(system, out.parts),
     )
 
 
-def _checked(
-    body: Any, omega0: Any, q0: Any, t_end: Any, frames: Any, method: Any, max_steps: Any,
-    function: str, dt: Any, rtol: Any, atol: Any,
-) -> tuple[Body, np.ndarray, np.ndarray, float, int, int]:
-    """The arguments of a run but its step, coerced and checked (shared by `simulate` and
-    `summarize`, named `function` in messages; `accuracy.plan_step` settles the step and
-    tolerances), with the start in the body's principal axes. Arguments that look swapped
-    are refused once everything else passed."""
-    omega0_given = omega0
-    omega0 = as_array("omega0", omega0, "(3,)", last=3, ndim=(1,))
-    q0 = as_array("q0", quaternions_of(q0), "(4,)", last=4, ndim=(1,))
-    if not np.any(q0):
-        raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), got (0, 0, 0, 0)")
-    t_end = as_float("t_end", t_end, positive=True)
-    frames = as_int("frames", frames, minimum=2)
-    max_steps = as_int("max_steps", max_steps, minimum=1)
-    check_method(method)
-    check_tolerances(method, dt, rtol, atol)
-    check_not_swapped(body, omega0_given, function)
-    body = as_body(body)
-    omega0, q0 = body.to_principal(omega0, q0)  # the run's one change of axes, at its start
-    return body, omega0, q0, t_end, frames, max_steps
+def _in_blocks(run: Callable[[slice], Any], m: int, progress: bool | None) -> Any:
+    """`run` over all `m` rows in one call, or, when a progress bar shows (tqdm decides:
+    with ``progress=None`` only on a terminal), in blocks of `PROGRESS_BLOCK` rows joined as
+    one call returns them."""
+    if progress is False or m <= PROGRESS_BLOCK:
+        return run(slice(0, m))
+    bar = tqdm(total=m, desc="batch", unit="run", leave=False,
+               disable=None if progress is None else False,
+               delay=PROGRESS_DELAY if progress is None else 0.0)
+    if bar.disable:  # no bar will show: one call, no copies
+        return run(slice(0, m))
+    parts = []
+    with bar:
+        for start in range(0, m, PROGRESS_BLOCK):
+            rows = slice(start, min(start + PROGRESS_BLOCK, m))
+            parts.append(run(rows))
+            bar.update(rows.stop - rows.start)
+    return _Joined.of(parts)
+
+
+@dataclass(frozen=True)
+class _Columns:
+    """As `_core.RunColumns`: per-run drift, what is kept, cost and step."""
+
+    drift: list[np.ndarray]
+    kept: list[str]
+    nfev: np.ndarray
+    n_steps: np.ndarray
+    n_rejected: np.ndarray
+    dt: np.ndarray
+
+
+@dataclass(frozen=True)
+class _Joined:
+    """The core's results of a batch's blocks joined into one, as one call returns it."""
+
+    t: np.ndarray
+    omega: np.ndarray | None
+    q: np.ndarray | None
+    parts: np.ndarray | None
+    flip_offsets: np.ndarray
+    flip_times: np.ndarray
+    runs: _Columns
+
+    @staticmethod
+    def of(parts: list[Any]) -> _Joined:
+        def joined(values: list[Any]) -> Any:
+            return None if values[0] is None else np.concatenate(values)
+
+        starts = np.cumsum([0] + [p.flip_offsets[-1] for p in parts[:-1]])
+        offsets = np.concatenate([parts[0].flip_offsets[:1]] + [
+            p.flip_offsets[1:] + s for p, s in zip(parts, starts)])
+        runs = [p.runs for p in parts]
+        return _Joined(
+            t=parts[0].t, omega=joined([p.omega for p in parts]),
+            q=joined([p.q for p in parts]), parts=joined([p.parts for p in parts]),
+            flip_offsets=offsets, flip_times=joined([p.flip_times for p in parts]),
+            runs=_Columns(
+                drift=[np.concatenate(c) for c in zip(*(r.drift for r in runs))],
+                kept=runs[0].kept,
+                **{k: joined([getattr(r, k) for r in runs])
+                   for k in ("nfev", "n_steps", "n_rejected", "dt")}))
 
 
 def rotate(q: Any, points: Any, out: np.ndarray | None = None) -> np.ndarray:

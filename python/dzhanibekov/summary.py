@@ -11,25 +11,25 @@ from typing import Any
 
 import numpy as np
 
-from . import _core
-from .accuracy import plan_step
+from ._args import run_options
 from .body import Body
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD
-from .simulate import _checked
-from .results import Drift, Summary
+from .results import Summary
+from .rows import rows_of
+from .simulate import plan, run_batch
 
 __all__ = ["Summary", "summarize"]
 
 
 def summarize(
-    body: Body | Any,
+    system: Body | Any,
     omega0: Any,
     q0: Any = (1.0, 0.0, 0.0, 0.0),
+    *,
     t_end: float = 100.0,
     frames: int = 201,
     dt: float | None = None,
     method: str = DEFAULT_METHOD,
-    *,
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: int = DEFAULT_MAX_STEPS,
@@ -42,7 +42,9 @@ def summarize(
 
     Parameters
     ----------
-    body, omega0, q0, t_end, dt, method, rtol, atol, max_steps
+    system : System, Body, Deployment or array_like, shape (3,)
+        What is run (one system), as for :func:`~dzhanibekov.simulate`.
+    omega0, q0, t_end, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`.
     frames : int
         The frame grid, as for ``simulate``: between frames the run takes equal substeps no
@@ -63,22 +65,20 @@ def summarize(
     >>> s.flips, s.verdict
     (2, '2 flips in [0, 100]')
     """
-    body, omega0, q0, t_end, frames, max_steps = _checked(
-        body, omega0, q0, t_end, frames, method, max_steps, "summarize", dt, rtol, atol
-    )
-    omega = (float(omega0[0]), float(omega0[1]), float(omega0[2]))
-    dt, rtol_, atol_ = plan_step(body._core, omega, t_end, frames, dt, method, rtol, atol)
-    out = _core.simulate(
-        body._core, tuple(omega0), tuple(q0), t_end, frames, dt, method, max_steps, False, True,
-        rtol_, atol_,
-    )
+    rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=0, stacklevel=3)
+    options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
+                          atol=atol, max_steps=max_steps, flips=True, threads=None)
+    options = plan(rows, options, stacklevel=3)
+    run = run_batch(rows, options, keep_frames=False)
+    flip_times = run.flip_times
+    assert flip_times is not None
     return Summary(
-        flip_times=out.flip_times,
-        drift=Drift(*out.drift),
-        t_end=t_end,
-        body=body,
-        method=method,
-        dt=out.dt,
-        n_steps=out.n_steps,
-        nfev=out.nfev,
+        flip_times=flip_times[0],
+        drift=run.drift.row(0),
+        t_end=options.t_end,
+        system=rows.systems[0],
+        method=options.method,
+        dt=float(run.dt[0]),
+        n_steps=int(run.n_steps[0]),
+        nfev=int(run.nfev[0]),
     )

@@ -1,19 +1,22 @@
-//! The models: the right-hand sides a run integrates, one file per model. Each model has a
-//! name here; the registry of methods ([`crate::run::registry`]) says which methods run it.
+//! The models: the right-hand sides a run integrates. The constant free body
+//! ([`FreeRigidBody`], eq. 1) and the general model ([`GeneralModel`]: a constant or
+//! scheduled body with parts) implement one trait ([`Model`]); what a user describes is a
+//! [`System`], which the run turns into one of them. Each model the registry knows has an
+//! entry in [`MODELS`]; the registry of methods ([`crate::run::registry`]) says which methods
+//! run which.
 
 mod damper;
 mod deployment;
 mod free;
+mod general;
+mod kinds;
 pub mod model;
+mod system;
 
-pub use damper::{DampedBody, DamperState};
-pub use deployment::{Deployment, DeploymentState};
+pub use damper::Damper;
+pub use deployment::Deployment;
 pub use free::*;
-pub use model::Model;
-
-/// The constant free rigid body ([`FreeRigidBody`]).
-pub const FREE: &str = "free";
-/// A body whose inertia changes in a prescribed way ([`Deployment`]).
-pub const DEPLOYMENT: &str = "deployment";
-/// A body with a spherical viscous damper ([`DampedBody`]).
-pub const DAMPER: &str = "damper";
+pub use general::{ConstantInertia, GeneralModel, InertiaLaw};
+pub use kinds::{Kinds, ModelInfo, MODELS};
+pub use model::{Conserved, MidAxis, Model};
+pub use system::{Part, System, SystemBody};

@@ -1,62 +1,151 @@
-//! What a run needs to know of a model beyond its right-hand side: where the attitude sits in
-//! the state, the body rates, the total angular momentum and kinetic energy it reports, and
-//! how the projected RK4 puts a state back onto the invariants that model keeps.
+//! What a run needs to know of a model: its state's layout, the rates, the total angular
+//! momentum and energy it reports, what its exact motion keeps, where its intermediate axis
+//! is (for the flips), where its right-hand side is not smooth, and how a projected method
+//! puts a state back onto what it keeps.
 //!
-//! Every model's state ends with the body-to-world quaternion `(Q, U, V, W)`, scalar first,
+//! **State layout**, the same for every model: three components of rates or momenta (the
+//! free body's `ω`, a general system's total angular momentum `H`), then each part's own
+//! state (a damper's `σ`), then the body-to-world quaternion `(Q, U, V, W)`, scalar first,
 //! obeying the body-frame law `q' = ½ q ⊗ (0, ω)`.
 
-use nalgebra::{Quaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::error::Result;
+
+pub use super::kinds::Conserved;
 use crate::float::RateScale;
 use crate::kinematics::rotation_matrix;
 use crate::ode::OdeSystem;
 
-/// A model of a rotating body: an ODE system of dimension `N` whose last four components
-/// are the attitude quaternion.
-pub trait Model<const N: usize>: OdeSystem<N> + Sync {
-    /// The model's name, as the method registry and error messages spell it.
-    const NAME: &'static str;
+/// Where a model's intermediate principal axis is at some time, for the flips.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MidAxis {
+    /// No intermediate axis: two moments equal (a symmetric top never flips).
+    None,
+    /// Body axis `k` (0 = x, 1 = y, 2 = z): the body axes are principal.
+    Body(usize),
+    /// Along this unit vector in body axes (a tensor that is not diagonal); its sign is
+    /// arbitrary, the flip observer keeps it continuous.
+    Along(Vector3<f64>),
+}
 
-    /// Body-frame angular velocity of the (main) body at `(t, x)`.
+/// The intermediate principal axis of the tensor `m`: a body axis for a `diagonal` one, else
+/// the eigenvector of the middle eigenvalue (its sign arbitrary); none where two moments are
+/// equal.
+pub fn mid_axis_of(m: &Matrix3<f64>, diagonal: bool) -> MidAxis {
+    if diagonal {
+        return match crate::body::intermediate_index(&m.diagonal()) {
+            Some(k) => MidAxis::Body(k),
+            None => MidAxis::None,
+        };
+    }
+    let eig = m.symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    match crate::body::intermediate_index(&Vector3::new(
+        eig.eigenvalues[order[0]],
+        eig.eigenvalues[order[1]],
+        eig.eigenvalues[order[2]],
+    )) {
+        Some(_) => MidAxis::Along(eig.eigenvectors.column(order[1]).into_owned()),
+        None => MidAxis::None,
+    }
+}
+
+/// A model of a rotating body: an ODE system of dimension `N` laid out as the module doc says.
+pub trait Model<const N: usize>: OdeSystem<N> + Sync + Sized {
+    /// What the model's projection keeps (see [`Model::kept`]).
+    type Kept: Copy + Send + Sync + std::fmt::Debug;
+
+    /// What the exact motion keeps: the drift measures the error in these; the others change
+    /// by the model's own law (a deployment's work, a damper's loss, a torque's).
+    fn conserved(&self) -> Conserved;
+
+    /// The registry's models this one is made of ([`crate::dynamics::MODELS`]): a method runs
+    /// it if it runs each of them.
+    fn kinds(&self) -> super::kinds::Kinds;
+
+    /// The body-frame angular velocity at `(t, x)`.
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64>;
 
-    /// Total angular momentum at `(t, x)`, in body axes (body and any internal rotor).
+    /// The total angular momentum at `(t, x)` in body axes (body and parts).
     fn momentum_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64>;
 
-    /// Total kinetic energy at `(t, x)`.
+    /// The time derivative of [`Model::momentum_body`] in body axes: `L × ω` without external
+    /// torque (the flips' interpolation slopes).
+    fn momentum_rate(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+        self.momentum_body(t, x).cross(&self.omega_body(t, x))
+    }
+
+    /// The total kinetic energy at `(t, x)`.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64;
 
-    /// Multiplies every rate of `x` by `factor`: the total angular momentum scales with it.
-    fn scale_rates(&self, x: &mut [f64; N], factor: f64);
+    /// The Jacobi integral at `(t, x)`, for a model that has one.
+    fn jacobi(&self, _t: f64, _x: &[f64; N]) -> Option<f64> {
+        None
+    }
 
-    /// A bound on the body rates over the run from `x0`, for the adaptive error control's
-    /// absolute tolerance and the default step.
+    /// A bound on the body rates over the run from `x0`, for the planned step and the adaptive
+    /// error control.
     fn rate_bound(&self, x0: &[f64; N]) -> f64;
 
-    /// The principal moments at `t` when the principal axes are the body axes (every
-    /// tensor of the model diagonal), where flips are located; `None` otherwise.
-    fn principal_moments(&self, t: f64) -> Option<Vector3<f64>>;
+    /// The absolute-tolerance unit of the rates (or momenta) for the adaptive error control:
+    /// the size of the first three components over the run.
+    fn state_size(&self, x0: &[f64; N]) -> f64 {
+        x0[..N - 4].iter().fold(0.0_f64, |m, v| m.max(v.abs()))
+    }
 
-    /// Extra per-frame output of the model (the damper's rates), appended to `out`.
-    fn extra(&self, _x: &[f64; N], _out: &mut Vec<f64>) {}
+    /// The fastest decay rate of the model's own dissipation (a damper's slip): an explicit
+    /// method is stable while the step times it stays within its real-axis limit; 0 for none.
+    fn stiffness(&self) -> f64 {
+        0.0
+    }
 
-    /// The same model with times in the units of `scale` (times multiplied by `2^e`, rates and
-    /// momenta divided by it; see [`crate::float`]), so that a run from rates far from 1 is
-    /// integrated in the motion's own units. What carries a time changes with them: a
-    /// deployment's knot times, a damper's coefficient (a moment per unit time).
+    /// The intermediate principal axis at `t`.
+    fn intermediate_axis(&self, t: f64) -> MidAxis;
+
+    /// The times (increasing) where the right-hand side is not smooth: an adaptive step ends
+    /// exactly there, a fixed step is told in the docs.
+    fn knots(&self) -> &[f64] {
+        &[]
+    }
+
+    /// What a projected method restores after each step, taken at the start `(t0, x0)`.
+    fn kept(&self, t0: f64, x0: &[f64; N]) -> Self::Kept;
+
+    /// Puts `x` at `t` back onto what `kept` holds.
+    fn project(&self, kept: &Self::Kept, t: f64, x: &mut [f64; N]);
+
+    /// The same model with times in the units of `scale` (see [`crate::float`]): what carries
+    /// a time (knot times, a damper's coefficient, an orbit's rate) changes with it.
     ///
     /// # Errors
-    /// [`crate::Error::TooLarge`] when such a time or coefficient leaves float64.
-    fn in_units(&self, scale: RateScale) -> Result<Self>
-    where
-        Self: Sized;
+    /// [`crate::Error::TooLarge`] when such a quantity leaves float64.
+    fn in_units(&self, scale: RateScale) -> Result<Self>;
 }
 
 /// The attitude part of a model's state (its last four components).
 #[inline(always)]
 pub fn attitude<const N: usize>(x: &[f64; N]) -> Quaternion<f64> {
     Quaternion::new(x[N - 4], x[N - 3], x[N - 2], x[N - 1])
+}
+
+/// Writes the unit quaternion `q` into the last four components of `x`.
+#[inline(always)]
+pub fn set_attitude<const N: usize>(x: &mut [f64; N], q: &Quaternion<f64>) {
+    x[N - 4] = q.w;
+    x[N - 3] = q.i;
+    x[N - 2] = q.j;
+    x[N - 1] = q.k;
+}
+
+/// A model's state in the units of `scale`: its rates or momenta and its parts' state over
+/// `2^e`, its attitude as it is.
+pub fn state_to_unit<const N: usize>(x: &[f64; N], scale: RateScale) -> [f64; N] {
+    std::array::from_fn(|k| match k < N - 4 {
+        true => scale.rate_to_unit(x[k]),
+        false => x[k],
+    })
 }
 
 /// `s · ½ q ⊗ (0, ω)`: the body-frame quaternion law, scaled.
@@ -73,9 +162,7 @@ pub fn quaternion_increment(q: [f64; 4], omega: Vector3<f64>, s: f64) -> [f64; 4
     ]
 }
 
-/// The invariants a model's exact motion keeps, taken at the start: the norm of the total
-/// angular momentum and its direction in space (not the energy, which deployments change
-/// and dampers dissipate).
+/// The momentum invariants of a torque-free model, taken at the start: `|H|` and `H` in space.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MomentumProjection {
     l0: f64,
@@ -83,36 +170,29 @@ pub struct MomentumProjection {
 }
 
 impl MomentumProjection {
-    /// The invariants of the state `x0` at `t0`.
-    pub fn new<const N: usize, S: Model<N>>(sys: &S, t0: f64, x0: &[f64; N]) -> Self {
-        let l = sys.momentum_body(t0, x0);
+    /// The invariants of a state with total angular momentum `l` (body axes) and attitude `q`.
+    pub fn new(l: Vector3<f64>, q: &Quaternion<f64>) -> Self {
         Self {
             l0: l.norm(),
-            l_world0: rotation_matrix(&attitude(x0)) * l,
+            l_world0: rotation_matrix(q) * l,
         }
     }
 
-    /// Puts `x` back onto `|L| = |L₀|`, `|q| = 1` and `M(q) L = L_world(0)`: the rates are
-    /// scaled by `|L₀| / |L|`, `q` is normalised and then turned, in space, by the smallest
-    /// rotation taking `L_world` onto its initial direction (`q ← δ ⊗ q`).
+    /// The factor that takes `l` back to `|L₀|` and `q` normalised and turned, in space, by the
+    /// smallest rotation taking `M(q) L` onto its initial direction (`q ← δ ⊗ q`).
     #[inline]
-    pub fn project<const N: usize, S: Model<N>>(&self, sys: &S, t: f64, x: &mut [f64; N]) {
-        let l = sys.momentum_body(t, x);
+    pub fn restore(&self, l: &Vector3<f64>, q: &Quaternion<f64>) -> (f64, Quaternion<f64>) {
         let n = l.norm();
-        let mut q = attitude(x);
+        let mut q = *q;
+        let mut factor = 1.0;
         if n > 0.0 && self.l0 > 0.0 {
-            let factor = self.l0 / n;
-            sys.scale_rates(x, factor);
+            factor = self.l0 / n;
             let a = rotation_matrix(&q) * (l * factor);
             let b = &self.l_world0;
             // δ ∝ (|a||b| + a·b, a × b) turns a onto b (|a| = |b|)
             let delta = Quaternion::from_parts(self.l0 * self.l0 + a.dot(b), a.cross(b));
             q = delta * q;
         }
-        let q = q / q.norm();
-        x[N - 4] = q.w;
-        x[N - 3] = q.i;
-        x[N - 2] = q.j;
-        x[N - 1] = q.k;
+        (factor, q / q.norm())
     }
 }

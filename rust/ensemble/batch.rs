@@ -332,19 +332,11 @@ pub(crate) fn run_group(
     }
     let euler = systems.map(|s| s.euler_coefficients().into());
     let mut lanes = Lanes::<LANES>::new(&euler, &x0);
-    let mut drift: Vec<DriftMonitor> = starts
-        .iter()
-        .map(|s| DriftMonitor::new(&s.body, &s.omega()))
-        .collect();
-    let mut detectors: Vec<FlipDetector> = match watch.flips {
+    let mut drift: Vec<DriftMonitor<'_, FreeRigidBody>> =
+        systems[..real].iter().map(DriftMonitor::new).collect();
+    let mut detectors: Vec<FlipDetector<'_, FreeRigidBody>> = match watch.flips {
         true => (0..LANES)
-            .map(|l| {
-                FlipDetector::new(
-                    &start(l).body,
-                    &systems[l].euler_coefficients(),
-                    &start(l).omega(),
-                )
-            })
+            .map(|l| FlipDetector::new(&systems[l], 0.0, &x0[l]))
             .collect(),
         false => Vec::new(),
     };
@@ -464,6 +456,8 @@ pub struct BatchOutput {
     pub omega: Vec<f64>,
     /// `(M, frames, 4)` quaternions, scalar first; empty unless frames were kept.
     pub q: Vec<f64>,
+    /// `(M, frames, k)` the parts' state; empty unless frames were kept and there are parts.
+    pub parts: Vec<f64>,
     /// Row `i`'s flip times are `flip_times[flip_offsets[i]..flip_offsets[i + 1]]`.
     pub flip_offsets: Vec<usize>,
     pub flip_times: Vec<f64>,
@@ -471,6 +465,38 @@ pub struct BatchOutput {
     pub stats: Vec<Stats>,
     /// The step taken by each row; for an adaptive method, its mean accepted step.
     pub dt: Vec<f64>,
+    /// Where each row ended (kept by batches of systems with parts or a schedule; empty for
+    /// free bodies, whose last frame says it when frames are kept).
+    pub end: Vec<crate::observe::End>,
+}
+
+impl BatchOutput {
+    /// Appends a row's columns (its frames are in place already).
+    ///
+    /// # Errors
+    /// [`Error::TooLarge`] if the flip times cannot be stored.
+    pub(crate) fn push_row(
+        &mut self,
+        flip_times: Vec<f64>,
+        drift: Drift,
+        stats: Stats,
+        dt: f64,
+    ) -> Result<()> {
+        self.flip_times
+            .try_reserve(flip_times.len())
+            .map_err(|_| Error::TooLarge {
+                what: "the batch's flip times",
+                needed: format!("{} values", self.flip_times.len() + flip_times.len()),
+                limit: "the memory this process can allocate".into(),
+                hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",
+            })?;
+        self.flip_times.extend_from_slice(&flip_times);
+        self.flip_offsets.push(self.flip_times.len());
+        self.drift.push(drift);
+        self.stats.push(stats);
+        self.dt.push(dt);
+        Ok(())
+    }
 }
 
 /// One row's part of a [`BatchOutput`], before it is put in place.
@@ -563,11 +589,13 @@ pub fn simulate_batch(
     let mut out = BatchOutput {
         omega,
         q,
+        parts: Vec::new(),
         flip_offsets: try_with_capacity(m + 1, "the batch's flip offsets", FLIPS_HINT)?,
         flip_times: try_with_capacity(total_flips, "the batch's flip times", FLIPS_HINT)?,
         drift: try_with_capacity(m, "the batch's drifts", ROWS_HINT)?,
         stats: try_with_capacity(m, "the batch's statistics", ROWS_HINT)?,
         dt: try_with_capacity(m, "the batch's steps", ROWS_HINT)?,
+        end: Vec::new(),
     };
     out.flip_offsets.push(0);
     for row in rows {

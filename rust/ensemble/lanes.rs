@@ -19,7 +19,7 @@
 //! detectors called, lane by lane, with the states before and after the step, exactly as a
 //! single run calls its detector. The state is double-buffered so that both are at hand.
 
-use crate::dynamics::{scaled_increment, State};
+use crate::dynamics::{scaled_increment, FreeRigidBody, State};
 use crate::integrators::Rk4;
 use crate::observe::tilt::TiltMonitor;
 use crate::observe::{crosses, FlipDetector};
@@ -209,7 +209,7 @@ impl<const L: usize> Lanes<L> {
     }
 
     /// Mirrors the detector of lane `l` (after it saw the first frame).
-    pub fn watch_flips(&mut self, l: usize, detector: &FlipDetector) {
+    pub fn watch_flips(&mut self, l: usize, detector: &FlipDetector<'_, FreeRigidBody>) {
         let w = &mut self.flips;
         if let Some((axis, inertia, threshold)) = detector.watch() {
             w.axis.set(l, Some(axis));
@@ -242,7 +242,7 @@ impl<const L: usize> FlipWatch<L> {
     /// Sets lane `l`'s band: the detector changes only when the axis comes nearest `L`
     /// (`|I ω_mid| > θ`) on a side other than the last, or on any side while a crossing is
     /// pending.
-    fn mirror(&mut self, l: usize, detector: &FlipDetector) {
+    fn mirror(&mut self, l: usize, detector: &FlipDetector<'_, FreeRigidBody>) {
         let threshold = self.threshold[l];
         let (low, high) = match detector.progress() {
             (side, false) if side > 0.0 => (-threshold, f64::INFINITY),
@@ -310,7 +310,7 @@ fn see_tilt<const L: usize>(w: &mut TiltWatch<L>, x: &Soa<L>) {
 #[inline(always)]
 fn advance_generic<const L: usize, const FLIPS: bool, const TILT: bool>(
     k: &mut Lanes<L>,
-    detectors: &mut [FlipDetector],
+    detectors: &mut [FlipDetector<'_, FreeRigidBody>],
     span: Span,
 ) {
     let Lanes {
@@ -350,7 +350,7 @@ fn advance_generic<const L: usize, const FLIPS: bool, const TILT: bool>(
 #[inline(never)]
 fn flip_step<const L: usize>(
     w: &mut FlipWatch<L>,
-    detectors: &mut [FlipDetector],
+    detectors: &mut [FlipDetector<'_, FreeRigidBody>],
     src: &Soa<L>,
     dst: &Soa<L>,
     t0: f64,
@@ -373,7 +373,7 @@ macro_rules! dispatch {
             #[target_feature(enable = "avx512f")]
             unsafe fn avx512<const L: usize, const FLIPS: bool, const TILT: bool>(
                 k: &mut Lanes<L>,
-                detectors: &mut [FlipDetector],
+                detectors: &mut [FlipDetector<'_, FreeRigidBody>],
                 span: Span,
             ) {
                 $f::<L, FLIPS, TILT>(k, detectors, span)
@@ -381,7 +381,7 @@ macro_rules! dispatch {
             #[target_feature(enable = "avx2")]
             unsafe fn avx2<const L: usize, const FLIPS: bool, const TILT: bool>(
                 k: &mut Lanes<L>,
-                detectors: &mut [FlipDetector],
+                detectors: &mut [FlipDetector<'_, FreeRigidBody>],
                 span: Span,
             ) {
                 $f::<L, FLIPS, TILT>(k, detectors, span)
@@ -408,7 +408,7 @@ macro_rules! dispatch {
 pub fn advance<const L: usize>(
     isa: Isa,
     k: &mut Lanes<L>,
-    detectors: &mut [FlipDetector],
+    detectors: &mut [FlipDetector<'_, FreeRigidBody>],
     span: Span,
     flips: bool,
     tilt: bool,

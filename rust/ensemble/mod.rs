@@ -4,3 +4,4 @@ pub mod batch;
 pub mod lanes;
 pub mod plan;
 pub mod sweep;
+pub mod systems;

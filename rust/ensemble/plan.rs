@@ -6,9 +6,12 @@
 //! to pick its own first step, as alone. The plan also names the run that RK4 threatens most
 //! (the largest predicted drift of `|q|`, see [`crate::run::step_size`]), for one warning.
 
+use crate::dynamics::System;
 use crate::ensemble::batch::{plan_rows, Start};
 use crate::error::Result;
 use crate::ode::controller::check_rtol;
+use crate::run::options::RunOptions;
+use crate::run::plan_system;
 use crate::run::registry::Method;
 use crate::run::step_size::StepPlan;
 
@@ -19,8 +22,11 @@ pub struct BatchPlan {
     /// each pick their own first step.
     pub dt: Option<f64>,
     /// The run with the largest predicted drift (the first of equals) and its plan at `dt`;
-    /// `None` without runs or without a shared step.
+    /// `None` without runs.
     pub worst: Option<(usize, StepPlan)>,
+    /// The run whose model is stiffest relative to its rates (a damper's slip rate over the
+    /// rate bound), and its plan; `None` without runs.
+    pub stiffest: Option<(usize, StepPlan)>,
 }
 
 /// Plans the step of every run of `starts` (see the module docs); each run's inputs are
@@ -36,35 +42,100 @@ pub fn plan_batch(
     dt: Option<f64>,
     rtol: f64,
 ) -> Result<BatchPlan> {
+    shared_step(starts.len(), method, dt, rtol, |dt| {
+        plan_rows(starts, t_end, frames, method, dt, rtol)
+    })
+}
+
+/// Plans the step of every run of `systems` from `omega0[i]`, `q0[i]` (one row each), as
+/// [`plan_batch`] plans the free body's.
+///
+/// # Errors
+/// As [`plan_batch`], naming the row.
+pub fn plan_systems(
+    systems: &[System],
+    omega0: &[[f64; 3]],
+    q0: &[[f64; 4]],
+    options: &RunOptions,
+) -> Result<BatchPlan> {
+    let o = options;
+    shared_step(systems.len(), o.method, o.dt, o.rtol, |dt| {
+        (0..systems.len())
+            .map(|i| {
+                plan_system(
+                    &systems[i],
+                    omega0[i],
+                    q0[i],
+                    o.t_end,
+                    o.frames,
+                    o.method,
+                    dt,
+                    o.rtol,
+                )
+                .map_err(|e| e.in_row(i))
+            })
+            .collect()
+    })
+}
+
+/// The shared step of `runs` runs whose plans at a step `dt` (`None`: each its own) `plans`
+/// makes (see the module docs).
+fn shared_step(
+    runs: usize,
+    method: Method,
+    dt: Option<f64>,
+    rtol: f64,
+    plan_at: impl Fn(Option<f64>) -> Result<Vec<StepPlan>>,
+) -> Result<BatchPlan> {
     check_rtol(rtol)?;
-    if dt.is_none() && method.is_adaptive() {
-        plan_rows(starts, t_end, frames, method, dt, rtol)?;
+    if !method.info().takes_steps() || (dt.is_none() && method.is_adaptive()) {
+        let plans = plan_at(dt)?;
         return Ok(BatchPlan {
-            dt: None,
-            worst: None,
+            dt,
+            worst: worst(&plans),
+            stiffest: stiffest(&plans),
         });
     }
-    if starts.is_empty() {
+    if runs == 0 {
         return Ok(BatchPlan {
             dt: Some(dt.unwrap_or(1.0)),
             worst: None,
+            stiffest: None,
         });
     }
-    let mut plans = plan_rows(starts, t_end, frames, method, dt, rtol)?;
-    let step = plans.iter().map(|p| p.dt).fold(f64::INFINITY, f64::min);
-    if dt.is_none() && plans.iter().any(|p| p.dt != step) {
-        plans = plan_rows(starts, t_end, frames, method, Some(step), rtol)?;
-    }
-    let mut worst = 0;
-    for (i, p) in plans.iter().enumerate() {
-        if p.predicted_drift > plans[worst].predicted_drift {
-            worst = i;
-        }
+    let mut plans = plan_at(dt)?;
+    let step = plans
+        .iter()
+        .filter_map(|p| p.dt)
+        .fold(f64::INFINITY, f64::min);
+    if dt.is_none() && plans.iter().any(|p| p.dt != Some(step)) {
+        plans = plan_at(Some(step))?;
     }
     Ok(BatchPlan {
         dt: Some(step),
-        worst: Some((worst, plans[worst])),
+        worst: worst(&plans),
+        stiffest: stiffest(&plans),
     })
+}
+
+/// The run with the largest predicted drift (the first of equals) and its plan.
+fn worst(plans: &[StepPlan]) -> Option<(usize, StepPlan)> {
+    largest(plans, |p| p.predicted_drift)
+}
+
+/// The run with the stiffest model (the first of equals) and its plan.
+fn stiffest(plans: &[StepPlan]) -> Option<(usize, StepPlan)> {
+    largest(plans, |p| p.stiffness / p.rate_bound.max(f64::MIN_POSITIVE))
+}
+
+fn largest(plans: &[StepPlan], key: impl Fn(&StepPlan) -> f64) -> Option<(usize, StepPlan)> {
+    let mut best: Option<(usize, StepPlan)> = None;
+    for (i, p) in plans.iter().enumerate() {
+        if best.is_none_or(|(_, b)| key(p) > key(&b)) {
+            best = Some((i, *p));
+        }
+    }
+    best
 }
 
 #[cfg(test)]

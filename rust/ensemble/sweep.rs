@@ -111,6 +111,8 @@ impl RunSummary {
                 momentum: f64::NAN,
                 momentum_world: f64::NAN,
                 q_norm: f64::NAN,
+                jacobi: None,
+                kept: crate::dynamics::Conserved::FREE,
             },
             stats: Stats::default(),
             dt: f64::NAN,

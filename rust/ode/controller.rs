@@ -123,12 +123,15 @@ impl Controller {
     }
 }
 
-/// Checks a relative tolerance: at least 100 ulps, below 1.
+/// Checks a relative tolerance: positive and finite (said first: a sign slip is the usual
+/// mistake), then at least 100 ulps and below 1.
 ///
 /// # Errors
 /// Names `rtol`.
 pub fn check_rtol(rtol: f64) -> Result<f64> {
-    if (MIN_RTOL..1.0).contains(&rtol) {
+    if !(rtol.is_finite() && rtol > 0.0) {
+        Err(Error::invalid("rtol", "must be positive and finite", rtol))
+    } else if (MIN_RTOL..1.0).contains(&rtol) {
         Ok(rtol)
     } else {
         Err(Error::invalid(

@@ -4,5 +4,5 @@
 mod projected;
 mod splitting;
 
-pub use projected::{ModelRk4Projected, Rk4Projected};
+pub use projected::Rk4Projected;
 pub use splitting::{Splitting, Splitting2, Splitting4};

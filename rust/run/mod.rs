@@ -5,8 +5,10 @@
 pub mod adaptive;
 pub mod fixed;
 pub mod grid;
+pub mod options;
 pub mod registry;
 pub mod step_size;
+pub(crate) mod system;
 pub mod watchdog;
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,28 +16,23 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::Vector3;
 
 use crate::body::RigidBody;
-use crate::dynamics::{state_from, FreeRigidBody};
+use crate::dynamics::model::state_to_unit;
+use crate::dynamics::{state_from, FreeRigidBody, Model};
 use crate::error::{Error, Result};
 use crate::exact::ExactMotion;
 use crate::float::RateScale;
 use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
-use crate::observe::{Drift, DriftMonitor, FlipDetector, FrameRecorder, Observer};
+use crate::observe::{Drift, DriftMonitor, End, FlipDetector, LastFrame, Observer, Recorder};
 use crate::ode::controller::Adaptive;
 use crate::ode::Stats;
-
-mod models;
 
 pub use fixed::integrate;
 pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
 pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
-pub use models::{
-    model_method_and_grid, model_step, rows_method_and_grid, simulate_model, simulate_models,
-    ModelOutput,
-};
-pub(crate) use registry::run_method;
-pub use registry::{Method, MethodInfo, METHODS};
+pub use registry::{Method, MethodInfo, Runs, METHODS};
+pub use system::{plan_system, simulate_system, Edge};
 
 /// The method named `name` and the frame grid of its run: tolerances `rtol`, `atol`, first
 /// step `dt` (`None`: picked in the run, for each run of a batch or sweep as alone) and a cap
@@ -88,17 +85,23 @@ pub struct RunOutput {
     pub omega: Vec<f64>,
     /// `(frames, 4)` quaternions, scalar first; empty unless frames were kept.
     pub q: Vec<f64>,
+    /// `(frames, k)` the parts' state (a damper's σ); empty unless frames were kept.
+    pub parts: Vec<f64>,
+    /// The flip times; empty unless asked for.
     pub flip_times: Vec<f64>,
     /// The largest tilt of the spin axis from where it started, in radians; NaN unless kept.
     pub tilt: f64,
+    /// Where the run ended (kept whether or not the frames are).
+    pub end: End,
     pub drift: Drift,
     pub stats: Stats,
     /// The step actually taken; for an adaptive method, the mean accepted step.
     pub dt: f64,
 }
 
-/// Simulates the free rotation of `body` from body rates `omega0` and attitude `q0`
-/// (normalised here) over `grid`.
+/// Simulates the free rotation of `body` (principal moments) from body rates `omega0` and
+/// attitude `q0` (normalised here) over `grid`: the free body's run in its principal axes, as
+/// a batch row or a sweep run takes it ([`simulate_system`] is the run in the user's axes).
 ///
 /// Rates of any size are integrated in the motion's own units (see [`crate::float`]), so
 /// that rates of 1e-300 or 1e300 neither underflow nor overflow in Euler's products; moments
@@ -130,85 +133,162 @@ pub fn simulate(
     keep: Keep,
     cancel: &AtomicBool,
 ) -> Result<RunOutput> {
-    if !omega0.iter().all(|w| w.is_finite()) {
-        return Err(Error::invalid(
-            "omega0",
-            "must be three finite body rates",
-            omega0,
-        ));
-    }
-    if let Some(unit) = crate::float::unit_body(body) {
-        return simulate(&unit, omega0, q0, grid, method, keep, cancel);
-    }
-    let scale = RateScale::of(omega0);
-    if !scale.is_identity() {
-        normalized(q0)?; // refused before anything else, as unscaled; normalised once, inside
-        return simulate_scaled(body, omega0, q0, grid, method, keep, cancel, scale);
-    }
+    check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    let body = crate::float::unit_body(body).unwrap_or(*body);
+    let sys = FreeRigidBody::new(body);
+    let x0 = state_from(omega0, q0);
     // The tilt is watched at every step; without it the step loop stays bare.
     match keep.tilt {
         true => {
-            let tilt = TiltMonitor::new(body, &Vector3::from(omega0));
-            simulate_unit(body, omega0, q0, grid, method, keep, tilt, cancel)
+            let scale = RateScale::of(omega0);
+            let omega = Vector3::from(omega0.map(|w| scale.rate_to_unit(w)));
+            let tilt = TiltMonitor::new(&body, &omega);
+            simulate_model_with(&sys, x0, grid, method, keep, tilt, cancel)
         }
-        false => simulate_unit(body, omega0, q0, grid, method, keep, NoTilt, cancel),
+        false => simulate_model_with(&sys, x0, grid, method, keep, NoTilt, cancel),
     }
 }
 
-/// What a run watches beside the drift and frames: the tilt, or nothing.
-trait TiltWatch: Observer {
-    fn tilt(&self) -> f64;
-}
-
-/// No tilt watched: a bare step loop.
-struct NoTilt;
-
-impl Observer for NoTilt {}
-
-impl TiltWatch for NoTilt {
-    fn tilt(&self) -> f64 {
-        f64::NAN
+/// Non-finite body rates, refused.
+pub(crate) fn check_rates(omega0: [f64; 3]) -> Result<()> {
+    match omega0.iter().all(|w| w.is_finite()) {
+        true => Ok(()),
+        false => Err(Error::invalid(
+            "omega0",
+            "must be three finite body rates",
+            omega0,
+        )),
     }
 }
 
-impl TiltWatch for TiltMonitor {
-    fn tilt(&self) -> f64 {
-        TiltMonitor::tilt(self)
-    }
+/// Runs the model `sys` (in its own axes, its attitude already normalised) from `x0` at
+/// `t = 0` over `grid` with `method`, keeping what `keep` asks (but the tilt, the free body's
+/// alone): the one run of every model.
+///
+/// Rates far from 1 are integrated in the motion's own units (see [`crate::float`]): the
+/// model's times ([`Model::in_units`]) and the state's rates scale, and the results back.
+///
+/// # Errors
+/// A non-finite `x0`; a method that cannot run the model ([`Error::Unsupported`]);
+/// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
+/// being finite; [`Error::TooLarge`] beyond a step cap or memory.
+pub fn simulate_model<const N: usize, S: Runs<N>>(
+    sys: &S,
+    x0: [f64; N],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
+    simulate_model_with(sys, x0, grid, method, keep, NoTilt, cancel)
 }
 
-/// [`simulate`] of a start in the motion's own units (rates and moments near 1).
-#[allow(clippy::too_many_arguments)]
-fn simulate_unit<T: TiltWatch>(
-    body: &RigidBody,
-    omega0: [f64; 3],
-    q0: [f64; 4],
+/// [`simulate_model`], with the tilt watched by `tilt` (given in the run's own units).
+fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+    sys: &S,
+    x0: [f64; N],
     grid: &FrameGrid,
     method: Method,
     keep: Keep,
     tilt: T,
     cancel: &AtomicBool,
 ) -> Result<RunOutput> {
-    let sys = FreeRigidBody::new(*body);
-    let omega = Vector3::from(omega0);
+    if !x0.iter().all(|v| v.is_finite()) {
+        return Err(Error::invalid(
+            "omega0",
+            "must be finite body rates (and q0 a finite quaternion)",
+            &x0[..N - 4],
+        ));
+    }
+    method.for_kinds(sys.kinds())?;
+    let omega0: [f64; 3] = sys.omega_body(0.0, &x0).into();
+    let scale = RateScale::of(omega0);
+    if scale.is_identity() {
+        return simulate_unit(sys, x0, grid, method, keep, tilt, cancel);
+    }
+    let (unit_grid, unit_method) = to_unit(grid, method, omega0, scale)?;
+    let unit = sys.in_units(scale)?;
+    let x = state_to_unit(&x0, scale);
+    let mut out = simulate_unit(&unit, x, &unit_grid, unit_method, keep, tilt, cancel)
+        .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
+    let end = &mut out.end;
+    let rates = (out.omega.iter_mut().chain(&mut out.parts))
+        .chain(end.omega.iter_mut().chain(&mut end.parts));
+    for w in rates {
+        *w = scale.rate_from_unit(*w);
+    }
+    // An integrator's frame 0 is the start as given: components below 2^-1074 of the largest
+    // rate round in the run's own units (and move it by that much), the start itself does
+    // not. (The exact method's frame 0 is its closed form at t = 0, scaled like the rest.)
+    if let (Some(first), true) = (out.omega.get_mut(..3), method.info().takes_steps()) {
+        first.copy_from_slice(&omega0);
+    }
+    if !out.omega.iter().all(|w| w.is_finite()) {
+        return Err(Error::Diverged {
+            t: grid.t_end(),
+            hint: "the body rates `omega0` are too large for float64",
+        });
+    }
+    for t in &mut out.flip_times {
+        *t = time_from_unit(scale, *t, grid.t_end());
+    }
+    out.dt = scale.time_from_unit(out.dt);
+    Ok(out)
+}
+
+/// What a run watches beside the drift and frames: the tilt, or nothing.
+pub(crate) trait TiltWatch<const N: usize>: Observer<N> {
+    fn tilt(&self) -> f64;
+}
+
+/// No tilt watched: a bare step loop.
+pub(crate) struct NoTilt;
+
+impl<const N: usize> Observer<N> for NoTilt {}
+
+impl<const N: usize> TiltWatch<N> for NoTilt {
+    fn tilt(&self) -> f64 {
+        f64::NAN
+    }
+}
+
+impl TiltWatch<7> for TiltMonitor {
+    fn tilt(&self) -> f64 {
+        TiltMonitor::tilt(self)
+    }
+}
+
+/// [`simulate_model`] of a start in the motion's own units (rates near 1).
+fn simulate_unit<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+    sys: &S,
+    x0: [f64; N],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    tilt: T,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
     let recorder = match keep.frames {
-        true => Some(FrameRecorder::with_frames(grid.frames())?),
+        true => Some(Recorder::with_frames(sys, grid.frames())?),
         false => None,
     };
-    let mut obs = (DriftMonitor::new(body, &omega), (recorder, tilt));
+    let mut obs = (
+        DriftMonitor::new(sys),
+        ((recorder, LastFrame::new(sys)), tilt),
+    );
     if !method.info().takes_steps() {
-        return simulate_exact(body, omega0, q0, grid, keep, obs, cancel);
+        let flip_times = sys.run_exact(x0, grid, &mut obs, keep.flips, cancel)?;
+        return finished(obs, flip_times, Stats::default(), 0.0, grid);
     }
-    let x0 = state_from(omega0, q0);
     // Flip detection looks at every step; without it the step loop stays bare.
     let (stats, flip_times) = if keep.flips {
-        let mut flips = FlipDetector::new(body, &sys.euler_coefficients(), &omega);
-        let stats = run_method(method, &sys, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
+        let mut flips = FlipDetector::new(sys, 0.0, &x0);
+        let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
         (stats, flips.into_flip_times()?)
     } else {
         (
-            run_method(method, &sys, x0, grid, &mut obs, cancel)?,
+            sys.run_method(method, x0, grid, &mut obs, cancel)?,
             Vec::new(),
         )
     };
@@ -264,15 +344,7 @@ pub(crate) fn to_unit(
 /// stability limit a short run can end finite but so large that its energy is not, and that
 /// run diverged, whatever the cheap checks in the step loop saw.
 pub(crate) fn finite_drift(drift: Drift, t_end: f64) -> Result<Drift> {
-    match [
-        drift.energy,
-        drift.momentum,
-        drift.momentum_world,
-        drift.q_norm,
-    ]
-    .iter()
-    .all(|v| v.is_finite())
-    {
+    match drift.is_finite() {
         true => Ok(drift),
         false => Err(Error::Diverged {
             t: t_end,
@@ -302,63 +374,18 @@ pub(crate) fn error_from_unit(error: Error, scale: RateScale, t_end: f64) -> Err
     }
 }
 
-/// [`simulate`] in the motion's own units: rates over `2^e`, times times `2^e`, and back.
-#[allow(clippy::too_many_arguments)]
-fn simulate_scaled(
+/// The free body's frames evaluated from the closed form at the frame times: no steps, the
+/// same observers, flip times from the solution by the detector's definition.
+pub(crate) fn evaluate_exact<O: Observer<7>>(
     body: &RigidBody,
-    omega0: [f64; 3],
-    q0: [f64; 4],
+    x0: [f64; 7],
     grid: &FrameGrid,
-    method: Method,
-    keep: Keep,
+    obs: &mut O,
+    flips: bool,
     cancel: &AtomicBool,
-    scale: RateScale,
-) -> Result<RunOutput> {
-    let (unit_grid, method) = to_unit(grid, method, omega0, scale)?;
-    let mut out = simulate(
-        body,
-        omega0.map(|w| scale.rate_to_unit(w)),
-        q0,
-        &unit_grid,
-        method,
-        keep,
-        cancel,
-    )
-    .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
-    for w in &mut out.omega {
-        *w = scale.rate_from_unit(*w);
-    }
-    // An integrator's frame 0 is the start as given: components below 2^-1074 of the largest
-    // rate round in the run's own units (and move it by that much), the start itself does
-    // not. (The exact method's frame 0 is its closed form at t = 0, scaled like the rest.)
-    if let (Some(first), false) = (out.omega.get_mut(..3), !method.info().takes_steps()) {
-        first.copy_from_slice(&omega0);
-    }
-    if !out.omega.iter().all(|w| w.is_finite()) {
-        return Err(Error::Diverged {
-            t: grid.t_end(),
-            hint: "the body rates `omega0` are too large for float64",
-        });
-    }
-    for t in &mut out.flip_times {
-        *t = time_from_unit(scale, *t, grid.t_end());
-    }
-    out.dt = scale.time_from_unit(out.dt);
-    Ok(out)
-}
-
-/// Frames evaluated from the closed form at the frame times: no steps, the same observers,
-/// flip times from the solution by the detector's definition.
-fn simulate_exact<T: TiltWatch>(
-    body: &RigidBody,
-    omega0: [f64; 3],
-    q0: [f64; 4],
-    grid: &FrameGrid,
-    keep: Keep,
-    mut obs: Watched<T>,
-    cancel: &AtomicBool,
-) -> Result<RunOutput> {
-    let motion = ExactMotion::try_new(body, omega0, q0)?;
+) -> Result<Vec<f64>> {
+    let omega0 = [x0[0], x0[1], x0[2]];
+    let motion = ExactMotion::try_new(body, omega0, [x0[3], x0[4], x0[5], x0[6]])?;
     for i in 0..grid.frames() {
         if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
             return Err(Error::Interrupted);
@@ -375,36 +402,40 @@ fn simulate_exact<T: TiltWatch>(
         }
         obs.frame(i, t, &x);
     }
-    let flip_times = match keep.flips {
-        true => motion.flip_times(grid.t_end())?,
-        false => Vec::new(),
-    };
-    finished(obs, flip_times, Stats::default(), 0.0, grid)
+    match flips {
+        true => motion.flip_times(grid.t_end()),
+        false => Ok(Vec::new()),
+    }
 }
+
+/// The observers of every run: the drift, the frames if kept, the tilt if watched.
+type Watched<'a, const N: usize, S, T> = (
+    DriftMonitor<'a, S>,
+    ((Option<Recorder<'a, N, S>>, LastFrame<'a, N, S>), T),
+);
 
 /// The output of a run from what its observers saw.
 ///
 /// # Errors
 /// Invariants that overflowed (see [`finite_drift`]).
-fn finished<T: TiltWatch>(
-    (drift, (frames, tilt)): Watched<T>,
+fn finished<const N: usize, S: Model<N>, T: TiltWatch<N>>(
+    (drift, ((frames, last), tilt)): Watched<'_, N, S, T>,
     flip_times: Vec<f64>,
     stats: Stats,
     dt: f64,
     grid: &FrameGrid,
 ) -> Result<RunOutput> {
     let drift = finite_drift(drift.drift, grid.t_end())?;
-    let frames = frames.unwrap_or_default();
+    let (omega, q, parts) = frames.map(Recorder::into_frames).unwrap_or_default();
     Ok(RunOutput {
-        omega: frames.omega,
-        q: frames.q,
+        omega,
+        q,
+        parts,
         flip_times,
         tilt: tilt.tilt(),
+        end: last.end(),
         drift,
         stats,
         dt,
     })
 }
-
-/// The observers of every run: the drift, the frames if kept, the tilt if watched.
-type Watched<T> = (DriftMonitor, (Option<FrameRecorder>, T));

@@ -9,14 +9,14 @@
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 
-use crate::dynamics::{rate_bound, FreeRigidBody, Model, State, DAMPER, DEPLOYMENT, FREE};
+use crate::dynamics::{Conserved, FreeRigidBody, GeneralModel, Kinds, Model, State};
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::observe::Observer;
 use crate::ode::controller::Adaptive;
 pub use crate::ode::controller::{DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::ode::{EmbeddedPair, Stats, Stepper};
-use crate::rigid::{ModelRk4Projected, Rk4Projected, Splitting2, Splitting4};
+use crate::rigid::{Rk4Projected, Splitting2, Splitting4};
 use crate::run::adaptive::{integrate_adaptive, Units};
 use crate::run::fixed::integrate;
 use crate::run::grid::FrameGrid;
@@ -25,15 +25,6 @@ use crate::run::grid::FrameGrid;
 pub const DEFAULT_METHOD: &str = "rk4";
 /// Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4).
 pub const DEFAULT_MAX_STEPS: u64 = 10_000_000_000;
-
-/// The invariants a method can keep to round-off, by the names of [`crate::observe::Drift`].
-pub const ENERGY: &str = "energy";
-/// `|L|`.
-pub const MOMENTUM: &str = "momentum";
-/// `L_world`.
-pub const MOMENTUM_WORLD: &str = "momentum_world";
-/// `|q| = 1`.
-pub const Q_NORM: &str = "q_norm";
 
 /// The integration methods on offer.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -83,8 +74,8 @@ pub struct MethodInfo {
     pub order: Option<u32>,
     /// How `dt = None` picks the step; whether the method chooses its own steps.
     pub step_rule: StepRule,
-    /// What it keeps to round-off (names of [`crate::observe::Drift`]).
-    pub keeps: &'static [&'static str],
+    /// What it keeps to round-off of what a model keeps (see [`Method::keeps`]).
+    pub keeps: Conserved,
     /// Right-hand-side evaluations per (accepted) step; 0 for a method that evaluates none.
     pub rhs_per_step: u64,
     /// Whether batches run it several rows at once in SIMD lanes ([`crate::ensemble::lanes`]).
@@ -92,8 +83,8 @@ pub struct MethodInfo {
     /// Whether RK4's silent dissipation of `|q|` is predicted for it before a run (the
     /// projection hides the drift, not the error behind it).
     pub rk4_dissipation: bool,
-    /// The models ([`crate::dynamics`]) it can run.
-    pub models: &'static [&'static str],
+    /// The models ([`crate::dynamics::MODELS`]) it can run.
+    pub models: Kinds,
     /// Where a fixed-step method stays stable; `None` for the methods that choose their steps
     /// or take none, and for the splittings (compositions of exact rotations).
     pub stability: Option<Stability>,
@@ -131,10 +122,13 @@ impl MethodInfo {
     }
 }
 
-const ALL_INVARIANTS: &[&str] = &[ENERGY, MOMENTUM, MOMENTUM_WORLD, Q_NORM];
-const FREE_ONLY: &[&str] = &[FREE];
+/// Everything a model keeps.
+const ALL_INVARIANTS: Conserved = Conserved::FREE.union(Conserved::JACOBI);
+/// The momenta and `|q|`: what a composition of exact rotations keeps.
+const ROTATIONS: Conserved = Conserved::MOMENTA;
+const FREE_ONLY: Kinds = Kinds::FREE;
 /// Every model: the free body, deployments and damped bodies.
-const EVERY_MODEL: &[&str] = &[FREE, DEPLOYMENT, DAMPER];
+const EVERY_MODEL: Kinds = Kinds::FREE.union(Kinds::DEPLOYMENT).union(Kinds::DAMPER);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -154,7 +148,7 @@ pub const METHODS: [MethodInfo; 7] = [
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 400.0,
         },
-        keeps: &[],
+        keeps: Conserved::NONE,
         rhs_per_step: fixed::<Rk4>(),
         batch: true,
         rk4_dissipation: true,
@@ -170,13 +164,14 @@ pub const METHODS: [MethodInfo; 7] = [
             constant: 1.0 / 400.0, // as RK4's
         },
         keeps: ALL_INVARIANTS,
-        rhs_per_step: fixed::<Rk4Projected>(),
+        rhs_per_step: fixed::<Rk4Projected<crate::dynamics::FreeProjection>>(),
         batch: false,
         rk4_dissipation: true,
         models: EVERY_MODEL,
         stability: Some(RK4_STABILITY),
-        about: "RK4, each step projected back onto the energy, |L|, L_world and |q| = 1 (E and \
-                |L| to round-off for dt·Ω ≲ 0.25, beyond to the square of RK4's change per step)",
+        about: "RK4, each step projected back onto what the model keeps: for the free body the \
+                energy, |L|, L_world and |q| = 1 (E and |L| to round-off for dt·Ω ≲ 0.25, beyond \
+                to the square of RK4's change per step); for the others |L|, L_world and |q|",
     },
     MethodInfo {
         method: Method::Splitting,
@@ -187,7 +182,7 @@ pub const METHODS: [MethodInfo; 7] = [
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 6.0,
         },
-        keeps: &[MOMENTUM, MOMENTUM_WORLD, Q_NORM],
+        keeps: ROTATIONS,
         rhs_per_step: fixed::<Splitting2>(),
         batch: false,
         rk4_dissipation: false,
@@ -204,7 +199,7 @@ pub const METHODS: [MethodInfo; 7] = [
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 2000.0,
         },
-        keeps: &[MOMENTUM, MOMENTUM_WORLD, Q_NORM],
+        keeps: ROTATIONS,
         rhs_per_step: fixed::<Splitting4>(),
         batch: false,
         rk4_dissipation: false,
@@ -219,7 +214,7 @@ pub const METHODS: [MethodInfo; 7] = [
         step_rule: StepRule::Adaptive {
             error_order: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::ERROR_ORDER,
         },
-        keeps: &[],
+        keeps: Conserved::NONE,
         rhs_per_step: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
@@ -234,7 +229,7 @@ pub const METHODS: [MethodInfo; 7] = [
         step_rule: StepRule::Adaptive {
             error_order: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::ERROR_ORDER,
         },
-        keeps: &[],
+        keeps: Conserved::NONE,
         rhs_per_step: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
@@ -374,93 +369,155 @@ impl FrameGrid {
     }
 }
 
-/// Runs `method` over `grid` from `x0`, showing frames (and steps, if asked) to `obs`.
-pub(crate) fn run_method<O: Observer>(
-    method: Method,
-    sys: &FreeRigidBody,
-    x0: State,
-    grid: &FrameGrid,
-    obs: &mut O,
-    cancel: &AtomicBool,
-) -> Result<Stats> {
-    let body = sys.body();
-    // the rates' absolute tolerance in units of the rate bound Ω (see `run::adaptive`)
-    let rate = rate_bound(body, [x0[0], x0[1], x0[2]]);
-    let units = Units::new(rate, rate, 3);
-    let (_, stats) = match method {
-        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
-        // `simulate` evaluates the exact solution before it gets here: nothing to step.
-        Method::Exact => (x0, Stats::default()),
-        Method::Rk4Projected => {
-            integrate(&Rk4Projected::new(body, &x0), sys, x0, grid, obs, cancel)?
-        }
-        Method::Splitting => integrate(&Splitting2::new(body, &x0), sys, x0, grid, obs, cancel)?,
-        Method::Splitting4 => integrate(&Splitting4::new(body, &x0), sys, x0, grid, obs, cancel)?,
-        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units, obs, cancel)?,
-        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units, obs, cancel)?,
-    };
-    Ok(stats)
+/// A model the registry's methods run: its arms of the dispatch. Every model runs the methods
+/// that run any model ([`run_any`]); the free body adds those made for it.
+pub trait Runs<const N: usize>: Model<N> {
+    /// Runs `method` over `grid` from `x0`, showing frames (and steps, if asked) to `obs`.
+    ///
+    /// # Errors
+    /// The drivers' errors.
+    fn run_method<O: Observer<N>>(
+        &self,
+        method: Method,
+        x0: [f64; N],
+        grid: &FrameGrid,
+        obs: &mut O,
+        cancel: &AtomicBool,
+    ) -> Result<Stats>;
+
+    /// Evaluates the closed-form solution at the frames, showing them to `obs`; the flip times
+    /// if `flips`.
+    ///
+    /// # Errors
+    /// [`Error::Unsupported`] for a model without one (refused before, by [`Method::for_kinds`]).
+    fn run_exact<O: Observer<N>>(
+        &self,
+        _x0: [f64; N],
+        _grid: &FrameGrid,
+        _obs: &mut O,
+        _flips: bool,
+        _cancel: &AtomicBool,
+    ) -> Result<Vec<f64>> {
+        Method::Exact.for_kinds(self.kinds()).map(|_| Vec::new())
+    }
 }
 
-/// Runs `method` on the model `sys` (see [`Method::for_model`]) over `grid` from `x0`, by the
-/// same drivers as the free body, showing frames (and steps, if asked) to `obs`.
-///
-/// # Errors
-/// [`Error::Unsupported`] for a method that cannot run the model; the drivers' errors.
-pub(crate) fn run_model_method<const N: usize, S: Model<N>, O: Observer<N>>(
+/// Runs a method that runs every model, by the drivers; `None` for the methods made for one.
+fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
     method: Method,
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
     obs: &mut O,
     cancel: &AtomicBool,
-) -> Result<Stats> {
-    method.for_model(S::NAME)?;
-    // absolute tolerance: `atol` on q, `atol` times the largest rate (or momentum) elsewhere
-    let size = x0[..N - 4].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-    let units = Units::new(sys.rate_bound(&x0), size, N - 4);
-    let (_, stats) = match method {
-        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel)?,
-        Method::Rk4Projected => {
-            let projected = ModelRk4Projected::new(sys, 0.0, &x0);
-            integrate(&projected, sys, x0, grid, obs, cancel)?
-        }
-        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units, obs, cancel)?,
-        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units, obs, cancel)?,
-        Method::Exact | Method::Splitting | Method::Splitting4 => {
-            unreachable!("`for_model` refuses the methods built on the free body")
-        }
+) -> Option<Result<Stats>> {
+    // absolute tolerance: `atol` on q, `atol` times the size of the rates (or momenta) elsewhere
+    let units = || Units::new(sys.rate_bound(&x0), sys.state_size(&x0), N - 4);
+    let run = match method {
+        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel),
+        Method::Rk4Projected => integrate(&Rk4Projected::new(sys, &x0), sys, x0, grid, obs, cancel),
+        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units(), obs, cancel),
+        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units(), obs, cancel),
+        Method::Exact | Method::Splitting | Method::Splitting4 => return None,
     };
-    Ok(stats)
+    Some(run.map(|(_, stats)| stats))
+}
+
+/// A method made for one model, asked of another: refused before (by [`Method::for_kinds`]).
+fn refused(method: Method, kinds: Kinds) -> Result<Stats> {
+    method.for_kinds(kinds).map(|_| Stats::default())
+}
+
+impl Runs<7> for FreeRigidBody {
+    fn run_method<O: Observer<7>>(
+        &self,
+        method: Method,
+        x0: State,
+        grid: &FrameGrid,
+        obs: &mut O,
+        cancel: &AtomicBool,
+    ) -> Result<Stats> {
+        if let Some(run) = run_any(method, self, x0, grid, obs, cancel) {
+            return run;
+        }
+        let body = self.body();
+        let (_, stats) = match method {
+            Method::Splitting => {
+                integrate(&Splitting2::new(body, &x0), self, x0, grid, obs, cancel)?
+            }
+            Method::Splitting4 => {
+                integrate(&Splitting4::new(body, &x0), self, x0, grid, obs, cancel)?
+            }
+            // the closed form takes no steps: `run_exact`
+            other => return refused(other, Kinds::NONE),
+        };
+        Ok(stats)
+    }
+
+    fn run_exact<O: Observer<7>>(
+        &self,
+        x0: State,
+        grid: &FrameGrid,
+        obs: &mut O,
+        flips: bool,
+        cancel: &AtomicBool,
+    ) -> Result<Vec<f64>> {
+        crate::run::evaluate_exact(self.body(), x0, grid, obs, flips, cancel)
+    }
+}
+
+impl<const N: usize> Runs<N> for GeneralModel<N> {
+    fn run_method<O: Observer<N>>(
+        &self,
+        method: Method,
+        x0: [f64; N],
+        grid: &FrameGrid,
+        obs: &mut O,
+        cancel: &AtomicBool,
+    ) -> Result<Stats> {
+        run_any(method, self, x0, grid, obs, cancel)
+            .unwrap_or_else(|| refused(method, self.kinds()))
+    }
 }
 
 impl Method {
-    /// `self`, if its registry entry says it runs the model named `model`.
+    /// `self`, if its registry entry says it runs every model of `kinds`.
     ///
     /// # Errors
-    /// [`Error::Unsupported`], naming the method, the model and the methods that run it.
+    /// [`Error::Unsupported`], naming the method, the first model it does not run and the
+    /// methods that run that one.
     ///
     /// # Example
     /// ```
+    /// use dzhanibekov::dynamics::Kinds;
     /// use dzhanibekov::run::Method;
-    /// let e = Method::Exact.for_model("deployment").unwrap_err();
+    /// let e = Method::Exact.for_kinds(Kinds::DEPLOYMENT).unwrap_err();
     /// assert!(e.to_string().starts_with("method 'exact' cannot run model 'deployment'"));
-    /// assert!(Method::Rk4.for_model("damper").is_ok());
+    /// assert!(Method::Rk4.for_kinds(Kinds::DAMPER).is_ok());
     /// ```
-    pub fn for_model(self, model: &'static str) -> Result<Self> {
-        if self.info().models.contains(&model) {
+    pub fn for_kinds(self, kinds: Kinds) -> Result<Self> {
+        let Some(model) = kinds.first_missing(self.info().models) else {
             return Ok(self);
-        }
+        };
+        let kind = crate::dynamics::MODELS
+            .iter()
+            .find(|m| m.name == model)
+            .map_or(Kinds::NONE, |m| m.kind);
         Err(Error::Unsupported {
             method: self.name(),
             model,
             supported: METHODS
                 .iter()
-                .filter(|m| m.models.contains(&model))
+                .filter(|m| m.models.contains(kind))
                 .map(|m| format!("'{}'", m.name))
                 .collect::<Vec<_>>()
                 .join(", "),
         })
+    }
+
+    /// What this method keeps to round-off of what a model of `conserved` keeps.
+    pub fn keeps(&self, conserved: Conserved) -> Conserved {
+        self.info().keeps.intersection(conserved)
     }
 }
 

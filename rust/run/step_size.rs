@@ -19,15 +19,14 @@
 //! **The step for an accuracy.** A method of order `p` run for `T` with step `h` makes a
 //! global error (on well-conditioned orbits, where it grows linearly: a phase error) of about
 //! `C_p · ΩT · (hΩ)^p`, relative to `Ω` for the rates and absolute for `q`. Solving for `h`
-//! with each method's constant (its [`StepRule`] in [`crate::run::registry`]) gives the step
+//! with each method's constant (its `StepRule` in [`crate::run::registry`]) gives the step
 //! `dt = None` takes. Near the separatrix the
 //! error grows faster than linearly and this rule does not hold (no fixed rule can).
 
 use crate::body::RigidBody;
 use crate::error::{Error, Result};
 use crate::ode::controller::check_rtol;
-use crate::run::grid::FrameGrid;
-use crate::run::registry::{Method, StepRule};
+use crate::run::registry::Method;
 
 pub use crate::dynamics::{frequency_factor, rate_bound};
 
@@ -99,11 +98,12 @@ pub fn step_for_accuracy(
 /// The step of a run and what it predicts, worked out before the run.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepPlan {
-    /// The step asked for or chosen: the largest step of a fixed-step method, the first step
-    /// tried by an adaptive one.
-    pub dt: f64,
+    /// The step the run is given: the planned (or asked) step of a fixed-step method; the
+    /// asked first step of an adaptive one (`None`: each run picks its own); `None` for the
+    /// closed form, which takes no steps.
+    pub dt: Option<f64>,
     /// The step a fixed-step method will take (`t_end / (frames − 1)` split evenly, at most
-    /// `dt`); `dt` itself for an adaptive method.
+    /// `dt`); an adaptive method's first step; 0 for the closed form.
     pub step: f64,
     /// The rate bound `Ω` (see the module docs), times [`frequency_factor`] for moments that
     /// break the triangle inequality.
@@ -111,11 +111,14 @@ pub struct StepPlan {
     /// RK4's predicted relative drift of `|q|` over the run, for `rk4` and `rk4_projected`
     /// (whose projection hides the drift, not the error behind it); 0 for other methods.
     pub predicted_drift: f64,
+    /// The fastest decay rate of the model (a damper's slip, [`crate::dynamics::Damper::slip_rate`]):
+    /// an explicit method is stable while `step · stiffness` is within its real-axis limit;
+    /// 0 for a model without one.
+    pub stiffness: f64,
 }
 
-/// Plans the step of a run of `method` over `frames` frames to `t_end` from `omega0`: `dt`
-/// if given, else the step predicted to meet `rtol` (fixed-step methods) or the automatic
-/// first step (adaptive ones, whose own tolerances are in `method`).
+/// Plans the step of a run of the free body `body` (principal moments) from `omega0` (see
+/// [`crate::run::plan_system`], which plans any system's).
 ///
 /// # Errors
 /// Bad `t_end`, `frames`, `dt` or `rtol`.
@@ -137,49 +140,7 @@ pub fn plan(
             omega0,
         ));
     }
-    let info = method.info();
-    let constant = match info.step_rule {
-        StepRule::NoSteps => {
-            FrameGrid::try_frames(t_end, frames)?;
-            return Ok(StepPlan {
-                dt: 0.0,
-                step: 0.0,
-                rate_bound: rate,
-                predicted_drift: 0.0,
-            });
-        }
-        StepRule::Adaptive { error_order } => {
-            FrameGrid::frames_only(t_end, frames)?;
-            let a = method.adaptive_settings().unwrap_or_default();
-            let a = match dt {
-                Some(h) => a.with_first_step(h)?,
-                None => a,
-            };
-            let h = a.first_step_for(error_order, rate, t_end);
-            return Ok(StepPlan {
-                dt: h,
-                step: h,
-                rate_bound: rate,
-                predicted_drift: 0.0,
-            });
-        }
-        StepRule::Accuracy { constant } => constant,
-    };
-    let dt = match dt {
-        Some(dt) => dt,
-        None => step_for_accuracy(method.order(), constant, rate, t_end, rtol)?,
-    };
-    let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX)?;
-    let predicted_drift = match info.rk4_dissipation {
-        true => rk4_predicted_drift(grid.step_size(), rate, grid.n_steps() as f64),
-        false => 0.0,
-    };
-    Ok(StepPlan {
-        dt,
-        step: grid.step_size(),
-        rate_bound: rate,
-        predicted_drift,
-    })
+    crate::run::system::plan_step(rate, 0.0, t_end, frames, method, dt, rtol)
 }
 
 #[cfg(test)]

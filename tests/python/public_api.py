@@ -171,7 +171,7 @@ def run_args(draw: st.DrawFn, method: str, *, flips: bool = True) -> dict[str, A
         dt = draw(as_number_types(dt))
         t_end = draw(as_number_types(t_end))
     kwargs: dict[str, Any] = dict(
-        body=draw(bodies(inertia)),
+        system=draw(bodies(inertia)),
         omega0=draw(layouts(omega0)),
         q0=draw(quaternions().flatmap(layouts)),
         t_end=t_end,
@@ -210,7 +210,7 @@ def batch_rows_of(value: Any, width: int) -> bool:
 
 def run_hostile(method_names: tuple[str, ...], *, flips: bool = True) -> dict[str, st.SearchStrategy[Any]]:
     hostile = {
-        "body": st.one_of(hostile_vector3(positive=True, moments=True).filter(
+        "system": st.one_of(hostile_vector3(positive=True, moments=True).filter(
             lambda v: not (batch_rows_of(v, 3) and bool((np.asarray(v) > 0).all()))),
             st.just(dz.SCENES["fig3a"])),
         "omega0": hostile_vector3().filter(lambda v: not batch_rows_of(v, 3)),
@@ -283,9 +283,11 @@ def check_run(kwargs: dict[str, Any], result: Any, caught: list[warnings.Warning
     method = kwargs["method"]
     t_end = float(kwargs["t_end"])
     frames = int(kwargs["frames"])
-    body = kwargs["body"]
+    body = kwargs["system"]
     inertia = np.array(body.inertia if isinstance(body, dz.Body) else np.asarray(body, float))
     omega0 = np.asarray(kwargs["omega0"], dtype=float)
+    if isinstance(body, dz.Body) and not body.is_principal:  # the rates in principal axes
+        omega0 = body.principal_axes.T @ omega0
     rate = min(rate_bound(inertia, omega0) * euler_rate_factor(inertia), LARGEST)
     drift = result.drift
     assert all(isinstance(d, float) and math.isfinite(d) and d >= 0 for d in drift), drift
@@ -457,7 +459,10 @@ def check_tensor(kwargs: dict[str, Any], body: Any, caught: list[warnings.Warnin
     scale = np.abs(tensor).max()
     np.testing.assert_allclose((axes @ np.diag(body.inertia) @ axes.T) / scale, tensor / scale,
                                atol=1e-12)
-    assert list(body.inertia) == sorted(body.inertia)
+    # each principal moment about the principal axis nearest the user's x, y, z: a diagonal
+    # tensor's own diagonal, in its order
+    if not np.any(tensor - np.diag(np.diag(tensor))):
+        assert list(body.inertia) == list(np.diag(tensor))
 
 
 def check_solid(kwargs: dict[str, Any], body: Any, caught: list[warnings.WarningMessage]) -> None:
@@ -866,6 +871,13 @@ def check_deployment(kwargs: dict[str, Any], d: Any, caught: list[warnings.Warni
 
 def check_damper(kwargs: dict[str, Any], d: Any, caught: list[warnings.WarningMessage]) -> None:
     assert isinstance(d, dz.Damper) and d.inertia > 0 and d.damping >= 0
+    assert d.sigma0 is None or np.isfinite(d.sigma0).all()
+
+
+def check_system(kwargs: dict[str, Any], s: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(s, dz.System) and s.parts == tuple(kwargs.get("parts", ()))
+    assert s.kinds == (("damper",) if s.parts else ("free",))
+    assert set(s.conserved) <= {"energy", "momentum", "momentum_world", "q_norm"}
 
 
 @st.composite
@@ -887,15 +899,17 @@ def model_run_args(draw: st.DrawFn, kind: str) -> dict[str, Any]:
         second = draw(inertias().filter(lambda i: i.max() / i.min() < 1e6))
         second = second / second.max() * inertia.max()
         span = float(kwargs["t_end"])
-        kwargs["body"] = dz.Deployment([0.2 * span, 0.6 * span], [inertia, second])
+        kwargs["system"] = dz.Deployment([0.2 * span, 0.6 * span], [inertia, second])
     else:
-        kwargs["body"] = draw(bodies(inertia))
         # the damper's own time j / c stays above the step: explicit methods past their
         # stability limit on it (h c / j ≈ 2.8 for RK4) are not what this entry tests
         j = float(inertia.min()) * draw(log_uniform(1e-3, 1.0))
-        kwargs["damper"] = dz.Damper(j, j * rate * draw(log_uniform(1e-3, 1.0)))
-        if draw(st.booleans()):
-            kwargs["sigma0"] = draw(layouts(scaled(draw(directions(3)), 0) * rate))
+        sigma0 = draw(layouts(scaled(draw(directions(3)), 0) * rate)) \
+            if draw(st.booleans()) else None
+        damper = dz.Damper(j, j * rate * draw(log_uniform(1e-3, 1.0)), sigma0=sigma0)
+        with warnings.catch_warnings():  # moments no real body has: warned of, and run
+            warnings.simplefilter("ignore", dz.InertiaWarning)
+            kwargs["system"] = dz.System(draw(bodies(inertia)), parts=[damper])
     if method in ADAPTIVE_METHODS:
         kwargs.update(rtol=draw(log_uniform(1e-12, 1e-4)), dt=None)
     return kwargs
@@ -915,8 +929,8 @@ def check_model_run(kwargs: dict[str, Any], traj: Any, caught: list[warnings.War
         rtol = kwargs.get("rtol")
         allowed = 1e-3 if rtol is None else max(1e-3, 1e3 * float(rtol))
         assert np.abs(l_world - l_world[0]).max() <= allowed * scale
-    if "damper" in kwargs:
-        assert traj.sigma.shape == (frames, 3)
+    if "damper" in traj.system.kinds:
+        assert traj.parts["damper"].shape == (frames, 3)
         energy = traj.energy
         assert energy.max() <= energy[0] * (1 + 1e-3) + 1e-300
         shares = dz.axis_shares(traj) if scale > 0 else None
@@ -925,11 +939,18 @@ def check_model_run(kwargs: dict[str, Any], traj: Any, caught: list[warnings.War
         assert math.isnan(t_flat) or 0 <= t_flat <= float(kwargs["t_end"])
 
 
+def dampers() -> st.SearchStrategy[Any]:
+    """Dampers the core takes: positive sphere, non-negative coefficient, their ratio c / j
+    (the slip's rate) finite in float64."""
+    return st.tuples(valid_positive(), positive_floats()).filter(
+        lambda jc: math.isfinite(float(jc[1]) / float(jc[0]))).map(lambda jc: dz.Damper(*jc))
+
+
 @st.composite
 def estimate_args(draw: st.DrawFn) -> dict[str, Any]:
     inertia = draw(inertias())
     return {"body": draw(bodies(inertia)),
-            "damper": dz.Damper(draw(valid_positive()), draw(positive_floats())),
+            "damper": draw(dampers()),
             "omega0": draw(layouts(scaled(draw(directions(3)), draw(st.sampled_from([0, -100, 100]))))),
             **({"share": draw(st.floats(0.01, 0.999))} if draw(st.booleans()) else {})}
 
@@ -948,11 +969,6 @@ def check_estimate(kwargs: dict[str, Any], t: Any, caught: list[warnings.Warning
 def _model_entry(kind: str) -> Entry:
     hostile = {k: v for k, v in run_hostile(tuple(dz.METHODS), flips=False).items()
                if k in ("omega0", "q0", "t_end", "frames", "method", "max_steps")}
-    if kind == "damper":
-        hostile |= {"damper": st.one_of(st.just(0.5), st.just("damper"), st.just((0.1, 0.2))),
-                    # (M, 3) rows of damper rates are a batch's starts, as omega0's are
-                    "sigma0": hostile_vector3().filter(
-                        lambda v: v is not None and not batch_rows_of(v, 3))}
     hostile["method"] = st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])
     return Entry(
         call=dz.simulate,
@@ -960,7 +976,7 @@ def _model_entry(kind: str) -> Entry:
         hostile=hostile,
         check=check_model_run,
         covers=(dz.simulate, dz.axis_shares, dz.flat_spin_time, dz.FLAT_SHARE),
-        warns=(dz.InertiaWarning,),
+        warns=(dz.InertiaWarning, dz.StepSizeWarning),
         examples=60,
         min_success=0.5,
     )
@@ -970,8 +986,8 @@ def _model_entry(kind: str) -> Entry:
 def deployments_args(draw: st.DrawFn) -> dict[str, Any]:
     runs = [draw(model_run_args("deployment")) for _ in range(draw(st.integers(1, 3)))]
     first = runs[0]
-    kwargs = {k: v for k, v in first.items() if k not in ("body", "omega0", "q0")}
-    kwargs["deployments"] = [r["body"] for r in runs]
+    kwargs = {k: v for k, v in first.items() if k not in ("system", "omega0", "q0")}
+    kwargs["system"] = [r["system"] for r in runs]
     kwargs["omega0"] = first["omega0"] if draw(st.booleans()) else np.stack(
         [np.asarray(r["omega0"], float) for r in runs])
     return kwargs
@@ -987,10 +1003,10 @@ def _rate_rows(v: Any) -> bool:
             and arr.dtype.kind in "iuf" and bool(np.isfinite(arr).all()))
 
 
-def check_deployments(kwargs: dict[str, Any], runs: Any, caught: list[warnings.WarningMessage]) -> None:
-    assert isinstance(runs, list) and len(runs) == len(kwargs["deployments"])
-    for traj in runs:
-        check_model_run(kwargs, traj, caught)
+def check_deployments(kwargs: dict[str, Any], batch: Any, caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(batch, dz.Batch) and len(batch) == len(kwargs["system"])
+    for i in range(len(batch)):
+        check_model_run(kwargs, batch[i], caught)
 
 
 # -- the table -----------------------------------------------------------------------------------------
@@ -1063,19 +1079,33 @@ ENTRIES: dict[str, Entry] = {
     **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
     "simulate[deployment]": _model_entry("deployment"),
     "simulate[damper]": _model_entry("damper"),
-    "simulate_deployments": Entry(
-        call=dz.simulate_deployments,
+    "simulate[deployments]": Entry(
+        call=dz.simulate,
         valid=deployments_args(),
-        hostile={"deployments": st.sampled_from([[], [STOWED_HOSTILE], "x", None, 1.0]),
+        hostile={"system": st.sampled_from([[], [STOWED_HOSTILE], "x", None, 1.0]),
                  "omega0": hostile_vector3().filter(lambda v: not _rate_rows(v)),
                  "t_end": hostile_real(positive=True),
                  "frames": hostile_int(2),
                  "method": st.sampled_from(["exact", "splitting", "splitting4", "RK4", ""])},
         check=check_deployments,
-        covers=(dz.simulate_deployments,),
-        warns=(dz.InertiaWarning,),
+        covers=(dz.Deployment,),
+        warns=(dz.InertiaWarning, dz.StepSizeWarning),
         examples=30,
         min_success=0.5,
+    ),
+    "System": Entry(
+        call=dz.System,
+        valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
+            {"body": bodies(i)}, optional={"parts": dampers().map(lambda d: [d])})),
+        hostile={"body": st.one_of(hostile_vector3(positive=True, moments=True),
+                                   st.sampled_from(["box", None])),
+                 "parts": st.sampled_from([[0.5], "damper", [dz.Damper(1.0, 1.0)] * 2, 3,
+                                           [None]]),
+                 "torques": st.sampled_from([[0.5], "g", 1.0, [None]])},
+        check=check_system,
+        covers=(dz.System,),
+        warns=(dz.InertiaWarning,),
+        min_success=0.9,
     ),
     "Deployment": Entry(
         call=dz.Deployment,
@@ -1095,9 +1125,13 @@ ENTRIES: dict[str, Entry] = {
     "Damper": Entry(
         call=dz.Damper,
         valid=st.fixed_dictionaries({"inertia": valid_positive(),
-                                     "damping": st.one_of(valid_positive(), st.just(0.0))}),
+                                     "damping": st.one_of(valid_positive(), st.just(0.0))},
+                                    optional={"sigma0": layouts(np.array([0.1, -0.2, 1.0]))}
+                                    ).filter(lambda k: math.isfinite(
+                                        float(k["damping"]) / float(k["inertia"]))),
         hostile={"inertia": hostile_real(positive=True), "damping": st.one_of(
-            hostile_real(positive=False), st.sampled_from([-1.0, -1e-300]))},
+            hostile_real(positive=False), st.sampled_from([-1.0, -1e-300])),
+            "sigma0": hostile_vector3().filter(lambda v: v is not None)},
         check=check_damper,
         covers=(dz.Damper,),
         min_success=1.0,
@@ -1105,7 +1139,7 @@ ENTRIES: dict[str, Entry] = {
     "damper_rate": Entry(
         call=dz.damper_rate,
         valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
-            {"body": bodies(i), "damper": st.builds(dz.Damper, valid_positive(), positive_floats())})),
+            {"body": bodies(i), "damper": dampers()})),
         hostile={"body": hostile_vector3(positive=True, moments=True),
                  "damper": st.sampled_from([0.5, "d", None, (0.1, 0.2)])},
         check=check_damper_rate,
@@ -1137,7 +1171,9 @@ ENTRIES: dict[str, Entry] = {
     "rotate": Entry(
         call=dz.rotate,
         valid=rotate_args(),
-        hostile={"q": hostile_quaternion(), "points": hostile_array((None, 3), real_arrays((2, 3), st.floats(-1, 1)),
+        # (N, 4) rows of quaternions are what rotate takes: not hostile to it
+        hostile={"q": hostile_quaternion().filter(lambda v: not batch_rows_of(v, 4)),
+                 "points": hostile_array((None, 3), real_arrays((2, 3), st.floats(-1, 1)),
                                                                     extra=[st.just(np.full((2, 3), 1e308))]),
                  "out": hostile_out},
         check=check_rotate,

@@ -114,8 +114,8 @@ def test_dt_none_takes_the_smallest_step_of_the_rows(paper_body):
         (dict(omega0=[[0, 0, 1], [0, np.nan, 1]]), ValueError, "`omega0` must be finite"),
         (dict(omega0=[[0, 0, 1], [0, 1, 1]], q0=[[1, 0, 0, 0], [0, 0, 0, 0]]), ValueError,
          "row 1"),
-        (dict(body=[[1, 2, 3], [1, -2, 3]], omega0=[0, 0, 1]), ValueError, "row 1"),
-        (dict(body=[[1, 2, 3], [1, 1e200, 1e-200]], omega0=[0, 0, 1]), ValueError, "1e150"),
+        (dict(system=[[1, 2, 3], [1, -2, 3]], omega0=[0, 0, 1]), ValueError, "row 1"),
+        (dict(system=[[1, 2, 3], [1, 1e200, 1e-200]], omega0=[0, 0, 1]), ValueError, "1e150"),
         (dict(omega0=[["a", "b", "c"]]), TypeError, "`omega0` must hold real numbers"),
         (dict(omega0=[[0, 0, 1]], threads=0), ValueError, "`threads` must be at least 1"),
         (dict(omega0=[[0, 0, 1]], threads=1.5), TypeError, "`threads` must be an integer"),
@@ -125,7 +125,7 @@ def test_dt_none_takes_the_smallest_step_of_the_rows(paper_body):
     ],
 )
 def test_bad_batches_are_refused_naming_the_argument(kwargs, error, match):
-    kwargs = {"body": dz.PAPER_INERTIA, **kwargs}
+    kwargs = {"system": dz.PAPER_INERTIA, **kwargs}
     with pytest.raises(error, match=match):
         dz.simulate(**kwargs)
 

@@ -259,6 +259,27 @@ def test_the_table_reads_only_what_it_prints():
     assert " 1000000000000  " in row and "0.500, 0.500, 0.500, 0.500, …" in row
 
 
+def test_the_tables_columns_line_up_past_long_flip_times():
+    """A deployment's first four flips (112.117, 122.212, …, and "…") ran past the flip
+    column and pushed its drift out from under the header."""
+    from types import SimpleNamespace
+
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    real = compute(dz.SCENES["fig3a"])
+    long = np.array([112.117, 122.212, 1132.306, 1142.401, 1150.0])
+    fake = SimpleNamespace(scene=real.scene, trajectory=real.trajectory, summary=None,
+                           flip_times=long, drift=real.drift)
+    head, short, wide = _table([real, fake], 1.0).splitlines()[:3]
+    assert "1142.401, …" in wide
+    for name, value in (("dE/E", real.drift.energy), ("d|q|", real.drift.q_norm)):
+        end = head.index(name) + len(name)  # numbers are right-aligned under their name
+        cell = f"{value:.1e}"
+        for row in (short, wide):
+            assert row[end - len(cell):end] == cell, (name, row)
+
+
 def test_a_failure_after_the_run_leaves_nothing_written(tmp_path, monkeypatch, capsys):
     """Issue 25: the table came after the output was moved into `--out`, so "out of memory;
     nothing written" (or "interrupted; nothing written") was false: the JSON was there."""

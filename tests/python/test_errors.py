@@ -107,8 +107,9 @@ def _results():
     deployments = [dz.Deployment([1.0, 2.0], [(1, 2, 3), (1, 3, r)]) for r in (2.0, 4.0)]
     model_batch = dz.simulate(deployments, (0.01, 0.01, 1.0), t_end=5.0, frames=6, dt=1e-2)
     model_batch.momentum_world  # the invariants travel with it
-    damper_batch = dz.simulate(PAPER, [[0.01, 0.01, 1.0], [0.2, 0.0, 1.0]], t_end=5.0, frames=6,
-                               dt=1e-2, damper=dz.Damper(1.0, 0.5))
+    damper_batch = dz.simulate(dz.System(PAPER, parts=[dz.Damper(1.0, 0.5)]),
+                               [[0.01, 0.01, 1.0], [0.2, 0.0, 1.0]], t_end=5.0, frames=6,
+                               dt=1e-2)
     deployment_sweep = dz.sweep(deployments, (0.01, 0.01, 1.0), t_end=2.0, frames=2, dt=1e-2)
     return {"Body": PAPER, "box": dz.Body.box(20, 10, 15), "Trajectory": traj, "Batch": batch,
             "Sweep": sweep, "Summary": summary, "Scene": scene, "SceneResult": result,

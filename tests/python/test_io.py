@@ -58,22 +58,25 @@ def test_trajectory_dataset_dims_coords_and_attrs(traj):
 
 def test_trajectory_dataframe(traj):
     df = traj.to_dataframe()
-    assert list(df.columns) == ["u", "v", "w", "Q", "U", "V", "W"]
-    assert df.index.name == "t" and np.array_equal(df.index.values, traj.t)
+    assert list(df.columns) == ["u", "v", "w", "Q", "U", "V", "W", "energy", "L_x", "L_y", "L_z"]
+    # one name for time, as in the dataset
+    assert df.index.name == "time" and np.array_equal(df.index.values, traj.t)
     assert np.array_equal(df[["Q", "U", "V", "W"]].to_numpy(), traj.q)
+    assert np.array_equal(df["energy"].to_numpy(), traj.energy)
+    assert np.array_equal(df[["L_x", "L_y", "L_z"]].to_numpy(), traj.momentum_world)
 
 
 def test_batch_dataset_has_run_and_time(batch):
     ds = batch.to_xarray()
     assert ds.q.dims == ("run", "time", "quaternion")
-    assert dict(ds.sizes) == {"run": 3, "time": 21, "axis": 3, "quaternion": 4,
+    assert dict(ds.sizes) == {"run": 3, "time": 21, "axis": 3, "quaternion": 4, "axis_": 3,
                               "flip": int(batch.flips.max())}
     assert np.array_equal(ds.q.values, batch.q)
     for i, times in enumerate(batch.flip_times):
         row = ds.flip_times.values[i]
         assert np.array_equal(row[: len(times)], times) and np.isnan(row[len(times):]).all()
     df = batch.to_dataframe()
-    assert df.index.names == ["run", "t"] and len(df) == 3 * 21
+    assert df.index.names == ["run", "time"] and len(df) == 3 * 21
     assert np.array_equal(df.loc[2][["u", "v", "w"]].to_numpy(), batch.omega[2])
 
 
@@ -161,7 +164,7 @@ def test_save_load_sweep_bit_for_bit(sweep, tmp_path):
 
 
 def test_save_refuses_other_objects(tmp_path):
-    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch or Sweep"):
+    with pytest.raises(TypeError, match="`result` must be a Trajectory, Batch, Sweep or "):
         dz.save({"q": 1}, tmp_path / "x.nc")
 
 

@@ -82,13 +82,14 @@ def test_the_invariants_of_twenty_million_frames():
         from dzhanibekov.results import Drift, Trajectory
         n = 2 * 10**7
         traj = Trajectory(t=np.zeros(n), omega=np.zeros((n, 3)), q=np.zeros((n, 4)),
-                          flip_times=None, body=dz.Body(dz.PAPER_INERTIA), method="exact",
+                          flip_times=None, system=dz.System(dz.PAPER_INERTIA), method="exact",
                           dt=0.0, n_steps=0, nfev=0, drift=Drift(0.0, 0.0, 0.0, 0.0))
     """
     frames = textwrap.dedent(frames).strip() + "\n"
     report = under_limit(frames + "traj.invariants()", 2 * GB)
     assert_refused_with_size(report, "invariants")
-    core = "from dzhanibekov import _core\n_core.invariants(traj.body._core, traj.omega, traj.q)"
+    core = ("from dzhanibekov import _core\n"
+            "_core.observe(traj.system._core, traj.t, traj.omega, traj.q, np.empty((n, 0)))")
     report = under_limit(frames + core, 2 * GB)
     assert_refused_with_size(report)
 

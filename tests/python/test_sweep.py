@@ -129,7 +129,7 @@ def test_grid_builds_every_combination():
     ],
 )
 def test_bad_sweeps_are_refused(kwargs, error, match):
-    kwargs = {"body": PAPER, "omega0": [[0.0, 0.1, 1.0]], **kwargs}
+    kwargs = {"system": PAPER, "omega0": [[0.0, 0.1, 1.0]], **kwargs}
     with pytest.raises(error, match=match):
         dz.sweep(**kwargs)
 

@@ -32,15 +32,17 @@ def ticks_during(call: Callable[[], Any]) -> tuple[int, float]:
             time.sleep(0.001)
             ticks += 1
 
-    ticker = threading.Thread(target=tick)
+    ticker = threading.Thread(target=tick, daemon=True)
     ticker.start()
-    started.wait()
-    time.sleep(0.01)
-    before, start = ticks, time.perf_counter()
-    call()
-    elapsed, during = time.perf_counter() - start, ticks - before
-    stop.set()
-    ticker.join()
+    try:
+        started.wait()
+        time.sleep(0.01)
+        before, start = ticks, time.perf_counter()
+        call()
+        elapsed, during = time.perf_counter() - start, ticks - before
+    finally:  # a call that raises must not leave the ticker running (pytest would wait on it)
+        stop.set()
+        ticker.join()
     return during, elapsed
 
 
@@ -69,7 +71,7 @@ LONG_CALLS: dict[str, Callable[[], Any]] = {
                                      dt=None, rtol=1e-12, progress=False),
     "ellipsoid_mesh": lambda: dz.ellipsoid_mesh((1.0, 2.0, 3.0), 4096, 2048),
     "Trajectory.invariants": lambda: dz.Trajectory(**{
-        **{f: getattr(LONG_TRAJECTORY, f) for f in ("t", "omega", "q", "flip_times", "body",
+        **{f: getattr(LONG_TRAJECTORY, f) for f in ("t", "omega", "q", "flip_times", "system",
                                                     "method", "dt", "n_steps", "nfev",
                                                     "drift")}}).invariants(),
 }

@@ -43,7 +43,7 @@ from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
-from ..results import Trajectory, invariants_of
+from ..results import Trajectory
 
 __all__ = [
     "compute",
@@ -174,18 +174,6 @@ def extent(result: SceneResult) -> float:
     sizes.append(math.hypot(*result.scene.signal_point))
     largest = float(max(sizes))
     return 1.08 * largest if largest > 0 else 1.0  # nothing drawn away from the centre
-
-
-def _scaled_invariants(traj: Trajectory) -> tuple[dict[str, np.ndarray], float]:
-    """The invariants at every frame for moments over the largest and rates over the largest
-    initial rate, and that rate: relative measures do not change, and nothing over- or
-    underflows however large or small the body and its rates."""
-    inertia = np.array(traj.body.inertia)
-    big = float(np.abs(traj.omega[0]).max()) or 1.0
-    ix, iy, iz = (float(x) for x in inertia / inertia.max())
-    unit_body = _core.RigidBody((ix, iy, iz))
-    omega, q = traj.body.to_principal(traj.omega, traj.q)
-    return invariants_of(unit_body, np.ascontiguousarray(omega) / big, q), big
 
 
 def _relative(values: np.ndarray, reference: float) -> np.ndarray:
@@ -490,8 +478,9 @@ def _headline(result: SceneResult) -> str | None:
     """What the scene's run did, for its title: for a damped body (a scene about
     reorientation) when the spin went flat; else how often it flipped (None if flips were not
     located)."""
-    if result.scene.damper is not None and result.trajectory is not None:
-        t_flat = flat_spin_time(result.trajectory)
+    traj = result.trajectory
+    if traj is not None and "damper" in traj.system.kinds:  # the run's own system's parts
+        t_flat = flat_spin_time(traj)
         unit = units_of(result.scene).time
         if math.isfinite(t_flat):
             return f"flat spin from t ≈ {t_flat:.0f}" + (f" {unit}" if unit else "")
@@ -671,7 +660,7 @@ def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
     _need(result, "invariants figure")
     traj = result.trajectory
     assert traj is not None
-    inv, _ = _scaled_invariants(traj)
+    inv = traj.invariants()  # the run's own system's, as the run's drift measures them
     l_body = np.linalg.norm(inv["momentum_body"], axis=1)
     l0 = float(l_body[0])
     series = {
@@ -804,11 +793,17 @@ def polhode_figure(scene: Drawable, *, ax: Axes3D | None = None,
     _need(result, "polhode")
     traj = result.trajectory
     assert traj is not None
+    if not traj.system.is_free:
+        raise ValueError(f"the polhode is the free body's: the run's system "
+                         f"{traj.system.kinds} changes its energy ellipsoid (draw its "
+                         "'shares' and 'energy' figures instead)")
     # in units of the largest moment and the largest initial rate, scaled back for drawing
-    inv, big = _scaled_invariants(traj)
     moments = np.array(traj.body.inertia)
     unit_moments = moments / moments.max()
-    energy = float(inv["energy"][0])
+    big = float(np.abs(traj.omega[0]).max()) or 1.0
+    omega, _ = traj.body.to_principal(traj.omega, traj.q)
+    w0 = omega[0] / big
+    energy = 0.5 * float(w0 @ (unit_moments * w0))
     if ax is None:
         fig = Figure(figsize=(5.2, 5.2), layout="constrained")
         ax = _axes3d(fig, 1, 1, 1)
@@ -824,7 +819,6 @@ def polhode_figure(scene: Drawable, *, ax: Axes3D | None = None,
     for k, curve in enumerate(separatrix):
         ax.plot(*curve.T, color=COLORS["separatrix"], lw=1.2,
                 label="separatrix" if k == 0 else None)
-    omega, _ = traj.body.to_principal(traj.omega, traj.q)
     ax.plot(*omega.T, color="#1f4fd6", lw=2.0, label="ω(t)")
     ax.plot(*omega[0], "o", color="#2e8b57", ms=5, label="ω(0)")
     if len(separatrix) == 2:
@@ -895,11 +889,12 @@ def shares_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     shares = axis_shares(traj)
     for k, name in enumerate("xyz"):
         ax.plot(traj.t, shares[:, k], color=COLORS["omega"][k], lw=1.1, label=f"L{name} / |L|")
-    if result.scene.damper is not None:
+    if "damper" in traj.system.kinds:
         inertia = np.asarray(traj.body.inertia)
         major = inertia >= inertia.max() * (1 - 1e-12)
-        ax.plot(traj.t, np.sqrt((shares[:, major] ** 2).sum(axis=1)), color="#111111", lw=1.0,
-                ls="--", label="on the major axes")
+        principal = shares @ traj.body.principal_axes  # on the principal axes
+        ax.plot(traj.t, np.sqrt((principal[:, major] ** 2).sum(axis=1)), color="#111111",
+                lw=1.0, ls="--", label="on the major axes")
         t_flat = flat_spin_time(traj)
         if math.isfinite(t_flat):
             ax.axvline(t_flat, color="#555555", lw=0.8, ls=":", label=f"flat, t ≈ {t_flat:.0f}")

@@ -115,8 +115,7 @@ def make_plan(scene: Scene) -> Plan:
     return Plan(
         scene=scene,
         keep_frames=keep_frames,
-        keep_flips=(scene.flips or "omega" in d.figures) and scene.deployment is None
-        and scene.damper is None,
+        keep_flips=scene.flips or "omega" in d.figures,
         invariants="invariants" in d.figures or "polhode" in d.figures
         or (d.momentum and keep_frames),
         meshes=("ellipsoid",) if "ellipsoid" in objects else (),
@@ -252,7 +251,10 @@ def densified(result: SceneResult, max_turn: float = ANIMATION_TURN) -> SceneRes
     if len(times) == len(traj.t):
         return result
     q, omega = attitudes_at(traj.t, traj.omega, traj.q, times)
-    dense = dataclasses.replace(traj, t=times, omega=omega, q=q, _invariants={})
+    # the parts' state between frames, linearly (drawings do not show it)
+    parts = {name: np.stack([np.interp(times, traj.t, v[:, k]) for k in range(v.shape[1])],
+                            axis=1) for name, v in traj.parts.items()}
+    dense = dataclasses.replace(traj, t=times, omega=omega, q=q, parts=parts, _observed={})
     names = tuple(result.world)
     scene = result.scene.replace(frames=len(times))
     sets = [body_points(scene, name, result.mesh) for name in names]

@@ -60,8 +60,7 @@ from typing import Any
 import numpy as np
 import tomli_w
 
-from .._args import as_array, as_float, as_int
-from ..accuracy import check_tolerances
+from .._args import as_array, as_float, as_int, run_options
 from ..body import Body
 from .bodies import BODY_KEYS, build_body, default_signal_point
 from ..damper import Damper
@@ -72,6 +71,7 @@ from ..methods import DEFAULT_METHOD, METHODS
 from ..simulate import simulate
 from ..summary import Summary, summarize
 from ..results import Trajectory
+from ..system import System
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -235,6 +235,10 @@ class Scene:
     ``preset``, with ``mass``/``density``); `inertia` then holds its principal moments.
     A mesh path is kept absolute."""
 
+    given: System | None = field(default=None, compare=False, repr=False)
+    """The system itself, when the scene stages one given as a value (a trajectory drawn as a
+    scene, `dzhanibekov.scenes.staging`): its body is drawn as it is, its parts kept."""
+
     def __post_init__(self) -> None:
         _validate(self)
 
@@ -242,33 +246,42 @@ class Scene:
 
     @cached_property
     def body(self) -> Body:
-        """The body the scene names (built once)."""
+        """The body the scene names (built once): a deployment's at its first knot."""
+        if self.given is not None:
+            body = self.given.body
+            if isinstance(body, Body):
+                return body
+            return Body._restored(self.given.tensor_at(0.0), None, np.zeros(3))
         if self.body_spec is None:
             return Body(self.inertia)
         return build_body(self.body_spec)
 
+    @cached_property
+    def system(self) -> System:
+        """What the scene runs: its body (or deployment) with its damper, if any."""
+        if self.given is not None:
+            return self.given
+        body = self.deployment if self.deployment is not None else self.body
+        parts = [] if self.damper is None else [
+            Damper(self.damper.inertia, self.damper.damping, self.sigma0)]
+        return System(body, parts=parts)
+
     def run(self, **overrides: Any) -> Trajectory:
         """Simulates the scene, keeping every frame; keywords override :func:`simulate`'s."""
-        kwargs = self._run_arguments()
-        if self.damper is not None:
-            kwargs.update(damper=self.damper, sigma0=self.sigma0)
-        kwargs.update(overrides)
-        if self.deployment is not None or self.damper is not None:
-            kwargs.pop("flips", None)  # flips are located for the constant body only
-        body = self.deployment if self.deployment is not None else self.body
-        traj = simulate(body, self.omega0, **kwargs)
+        kwargs = self._run_arguments() | overrides
+        traj = simulate(self.system, self.omega0, **kwargs)
         assert isinstance(traj, Trajectory), "a scene is one run"
         return traj
 
     def summarize(self, **overrides: Any) -> Summary:
         """Simulates the scene keeping no frames (:func:`summarize`): flip times only."""
-        kwargs = self._run_arguments()
-        kwargs.update(overrides)
-        return summarize(self.body, self.omega0, **kwargs)
+        kwargs = self._run_arguments() | overrides
+        kwargs.pop("flips", None)
+        return summarize(self.system, self.omega0, **kwargs)
 
     def _run_arguments(self) -> dict[str, Any]:
         return dict(q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt,
-                    method=self.method, rtol=self.rtol, atol=self.atol)
+                    method=self.method, rtol=self.rtol, atol=self.atol, flips=self.flips)
 
     def replace(self, **changes: Any) -> Scene:
         """A copy with some fields changed (checked again).
@@ -646,7 +659,8 @@ def _validate(s: Scene) -> None:
         if value is not None:
             _set(s, key, _number(src, f"run.{key}", value, positive=True))
     try:
-        check_tolerances(s.method, s.dt, s.rtol, s.atol)
+        run_options(t_end=s.t_end, frames=s.frames, dt=s.dt, method=s.method, rtol=s.rtol,
+                    atol=s.atol, max_steps=None, flips=True, threads=None)
     except (TypeError, ValueError) as exc:
         raise SceneError(src, "run", str(exc)) from None
     if s.box is not None:
@@ -758,9 +772,6 @@ def _validate_models(s: Scene, src: str) -> None:
         _set(s, "sigma0", _vector(src, "damper.sigma", s.sigma0, 3))
     if s.deployment is not None and s.damper is not None:
         raise SceneError(src, "damper", "cannot be combined with a [deployment]")
-    if (s.deployment is not None or s.damper is not None) and s.flips:
-        raise SceneError(src, "ask.flips", "must be false with a deployment or a damper "
-                         "(flips are located for the constant body only)")
 
 
 def _build_model(s: Scene, src: str, name: str, kind: type, keys: tuple[str, ...]) -> None:

@@ -1,0 +1,396 @@
+//! The general model: a body whose inertia is constant or prescribed ([`Deployment`]), with
+//! internal parts ([`Damper`]), in the total angular momentum.
+//!
+//! **State** `[H (3), σ (3, with a damper), q (4)]`: `H` the total angular momentum in body
+//! axes, `σ` a damper's sphere rates, `q` the attitude. With `I(t)` the body's tensor (a
+//! damper's mass counted as a point at its centre) and `j` the sphere's moment,
+//!
+//! ```text
+//! ω  = I(t)⁻¹ (H − j σ)                  the body's own momentum, solved for its rates
+//! H' = H × ω                             no external torque: H is fixed in space
+//! σ' = σ × ω − (c / j) (σ − ω)           the damper (see [`Damper`])
+//! q' = ½ q ⊗ (0, ω)
+//! ```
+//!
+//! A deployment alone is `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone
+//! is Hughes's spherical damper. Both keep `|H|` and `H` in space exactly; neither keeps the
+//! energy (a deployment's internal work, a damper's loss).
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::{Error, Result};
+use crate::float::RateScale;
+use crate::ode::OdeSystem;
+
+use super::kinds::Kinds;
+use super::model::{
+    attitude, mid_axis_of, quaternion_increment, set_attitude, Conserved, MidAxis, Model,
+    MomentumProjection,
+};
+use super::{Damper, Deployment};
+
+/// A constant tensor, its inverse, and what the runs read of it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConstantInertia {
+    tensor: Matrix3<f64>,
+    inverse: Matrix3<f64>,
+    /// The principal moments when the tensor is diagonal: `I⁻¹ L` is three divisions.
+    diagonal: Option<Vector3<f64>>,
+    mid: MidAxis,
+    least: f64,
+}
+
+impl ConstantInertia {
+    /// A symmetric, positive definite, finite tensor.
+    ///
+    /// # Errors
+    /// A tensor that is not that, or whose inverse float64 cannot hold.
+    pub fn try_new(tensor: Matrix3<f64>) -> Result<Self> {
+        let symmetric = (tensor - tensor.transpose()).amax() <= 1e-12 * tensor.amax();
+        let inverse = tensor.try_inverse();
+        let unit = tensor * crate::ode::power_of_two_scale(tensor.amax());
+        let ok = tensor.iter().all(|v| v.is_finite())
+            && symmetric
+            && unit.cholesky().is_some()
+            && inverse.is_some_and(|m| m.iter().all(|v| v.is_finite()));
+        let Some(inverse) = inverse.filter(|_| ok) else {
+            return Err(Error::invalid(
+                "inertia",
+                "must be a symmetric, positive definite, finite tensor (3 × 3)",
+                tensor.as_slice(),
+            ));
+        };
+        let tensor = (tensor + tensor.transpose()) * 0.5;
+        let is_diagonal = (0..3).all(|i| (0..3).all(|j| i == j || tensor[(i, j)] == 0.0));
+        let mid = mid_axis_of(&tensor, is_diagonal);
+        Ok(Self {
+            tensor,
+            inverse,
+            diagonal: is_diagonal.then(|| tensor.diagonal()),
+            mid,
+            least: tensor.symmetric_eigenvalues().min(),
+        })
+    }
+
+    #[inline(always)]
+    fn solve(&self, l: &Vector3<f64>) -> Vector3<f64> {
+        match self.diagonal {
+            Some(d) => l.component_div(&d),
+            None => self.inverse * l,
+        }
+    }
+}
+
+/// How the body's inertia goes over a run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InertiaLaw {
+    Constant(ConstantInertia),
+    Schedule(Deployment),
+}
+
+impl InertiaLaw {
+    /// `ω = I(t)⁻¹ l`.
+    #[inline(always)]
+    pub fn omega_from(&self, t: f64, l: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            InertiaLaw::Constant(c) => c.solve(l),
+            InertiaLaw::Schedule(d) => d.omega_from_momentum(t, l),
+        }
+    }
+
+    /// `I(t)`.
+    pub fn tensor_at(&self, t: f64) -> Matrix3<f64> {
+        match self {
+            InertiaLaw::Constant(c) => c.tensor,
+            InertiaLaw::Schedule(d) => d.inertia_at(t),
+        }
+    }
+
+    /// The least principal moment over the run.
+    fn least(&self) -> f64 {
+        match self {
+            InertiaLaw::Constant(c) => c.least,
+            InertiaLaw::Schedule(d) => d.least_moment(),
+        }
+    }
+}
+
+/// The general model (see the module doc); `N` is 7, or 10 with a damper.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralModel<const N: usize> {
+    inertia: InertiaLaw,
+    /// The damper, when `N` is 10 (a placeholder otherwise, never read).
+    damper: Damper,
+    kinds: Kinds,
+}
+
+/// # Construction
+impl<const N: usize> GeneralModel<N> {
+    /// A body of inertia `inertia` with `damper`, if any (then `N` must be 10, else 7).
+    ///
+    /// # Errors
+    /// A state size that does not fit the parts (a bug in the caller).
+    pub fn try_new(inertia: InertiaLaw, damper: Option<Damper>) -> Result<Self> {
+        if N != 7 + 3 * usize::from(damper.is_some()) {
+            return Err(Error::invalid(
+                "parts",
+                "must fit the model's state (at most one damper)",
+                N,
+            ));
+        }
+        let mut kinds = match inertia {
+            InertiaLaw::Constant(_) => Kinds::NONE,
+            InertiaLaw::Schedule(_) => Kinds::DEPLOYMENT,
+        };
+        if damper.is_some() {
+            kinds = kinds.union(Kinds::DAMPER);
+        }
+        if kinds == Kinds::NONE {
+            kinds = Kinds::FREE;
+        }
+        Ok(Self {
+            inertia,
+            damper: damper.unwrap_or(Damper::try_new(1.0, 0.0)?),
+            kinds,
+        })
+    }
+
+    /// The state at `t0` from the body rates `omega0`, the damper's rates `sigma0` and the
+    /// attitude `q0`.
+    pub fn state_from(
+        &self,
+        t0: f64,
+        omega0: [f64; 3],
+        sigma0: [f64; 3],
+        q0: [f64; 4],
+    ) -> [f64; N] {
+        let omega = Vector3::from(omega0);
+        let sigma = Vector3::from(sigma0);
+        let mut h = self.inertia.tensor_at(t0) * omega;
+        if self.has_damper() {
+            h += sigma * self.damper.sphere();
+        }
+        let mut x = [0.0; N];
+        x[..3].copy_from_slice(h.as_slice());
+        if self.has_damper() {
+            x[3..6].copy_from_slice(&sigma0);
+        }
+        x[N - 4..].copy_from_slice(&q0);
+        x
+    }
+
+    /// The inertia law.
+    pub fn inertia(&self) -> &InertiaLaw {
+        &self.inertia
+    }
+
+    /// The damper, if any.
+    pub fn damper(&self) -> Option<&Damper> {
+        self.has_damper().then_some(&self.damper)
+    }
+
+    #[inline(always)]
+    const fn has_damper(&self) -> bool {
+        N == 10
+    }
+}
+
+/// # The parts of a state
+impl<const N: usize> GeneralModel<N> {
+    #[inline(always)]
+    fn sigma(x: &[f64; N]) -> Vector3<f64> {
+        Vector3::new(x[3], x[4], x[5])
+    }
+
+    /// The body's own angular momentum `H − j σ`.
+    #[inline(always)]
+    fn body_momentum(&self, x: &[f64; N]) -> Vector3<f64> {
+        let h = Vector3::new(x[0], x[1], x[2]);
+        match self.has_damper() {
+            true => h - Self::sigma(x) * self.damper.sphere(),
+            false => h,
+        }
+    }
+}
+
+impl<const N: usize> OdeSystem<N> for GeneralModel<N> {
+    #[inline(always)]
+    fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let omega = self.inertia.omega_from(t, &self.body_momentum(x));
+        let dh = h.cross(&omega) * s;
+        let mut dx = [0.0; N];
+        dx[..3].copy_from_slice(dh.as_slice());
+        if self.has_damper() {
+            let dsigma = self.damper.sigma_rate(&omega, &Self::sigma(x)) * s;
+            dx[3..6].copy_from_slice(dsigma.as_slice());
+        }
+        let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
+        dx[N - 4..].copy_from_slice(&dq);
+        dx
+    }
+}
+
+impl<const N: usize> Model<N> for GeneralModel<N> {
+    /// `|H|` and `H` in space at the start.
+    type Kept = MomentumProjection;
+
+    fn conserved(&self) -> Conserved {
+        match self.kinds == Kinds::FREE {
+            true => Conserved::FREE,
+            false => Conserved::MOMENTA,
+        }
+    }
+
+    fn kinds(&self) -> Kinds {
+        self.kinds
+    }
+
+    #[inline(always)]
+    fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+        self.inertia.omega_from(t, &self.body_momentum(x))
+    }
+
+    #[inline(always)]
+    fn momentum_body(&self, _t: f64, x: &[f64; N]) -> Vector3<f64> {
+        Vector3::new(x[0], x[1], x[2])
+    }
+
+    fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
+        let l = self.body_momentum(x);
+        let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
+        match self.has_damper() {
+            true => body + 0.5 * self.damper.sphere() * Self::sigma(x).norm_squared(),
+            false => body,
+        }
+    }
+
+    /// `|H| / λ_min` without a damper (`|ω| = |I⁻¹ H|`); `√(2T / λ_min)` with one (the
+    /// total energy `T ≥ ½ ωᵀ I ω` never rises). The sphere's rates turn at the body's; its
+    /// slip decays at the damper's own rate, the model's [`Model::stiffness`].
+    fn rate_bound(&self, x0: &[f64; N]) -> f64 {
+        let least = self.inertia.least();
+        match self.has_damper() {
+            true => (2.0 * self.energy(0.0, x0) / least).sqrt(),
+            false => self.momentum_body(0.0, x0).norm() / least,
+        }
+    }
+
+    fn stiffness(&self) -> f64 {
+        match self.has_damper() {
+            true => self.damper.slip_rate(self.inertia.least()),
+            false => 0.0,
+        }
+    }
+
+    fn intermediate_axis(&self, t: f64) -> MidAxis {
+        match &self.inertia {
+            InertiaLaw::Constant(c) => c.mid,
+            InertiaLaw::Schedule(d) => d.intermediate_axis(t),
+        }
+    }
+
+    fn knots(&self) -> &[f64] {
+        match &self.inertia {
+            InertiaLaw::Constant(_) => &[],
+            InertiaLaw::Schedule(d) => d.times(),
+        }
+    }
+
+    fn kept(&self, t0: f64, x0: &[f64; N]) -> MomentumProjection {
+        MomentumProjection::new(self.momentum_body(t0, x0), &attitude(x0))
+    }
+
+    /// `H` (and the damper's rates with it) scaled back to `|H₀|`, `q` normalised and turned
+    /// so that `H` in space has its initial direction.
+    #[inline]
+    fn project(&self, kept: &MomentumProjection, t: f64, x: &mut [f64; N]) {
+        let (factor, q) = kept.restore(&self.momentum_body(t, x), &attitude(x));
+        for v in &mut x[..N - 4] {
+            *v *= factor;
+        }
+        set_attitude(x, &q);
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let inertia = match &self.inertia {
+            InertiaLaw::Constant(c) => InertiaLaw::Constant(*c),
+            InertiaLaw::Schedule(d) => InertiaLaw::Schedule(d.in_units(scale)?),
+        };
+        let damper = match self.has_damper() {
+            true => Some(self.damper.in_units(scale)?),
+            false => None,
+        };
+        Self::try_new(inertia, damper)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    fn tilted() -> Deployment {
+        let a = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        let b = Matrix3::new(5.0, 0.4, -0.2, 0.4, 3.5, 0.0, -0.2, 0.0, 2.5);
+        Deployment::try_new(vec![1.0, 3.0], vec![a, b]).unwrap()
+    }
+
+    fn damped() -> GeneralModel<10> {
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        GeneralModel::try_new(
+            InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
+            Some(Damper::try_new(0.2, 0.05).unwrap()),
+        )
+        .unwrap()
+    }
+
+    /// The state advanced by `±h` along the right-hand side (a central difference's ends).
+    fn along<const N: usize>(m: &GeneralModel<N>, t: f64, x: &[f64; N], h: f64) -> [f64; N] {
+        let dx = m.rhs(t, x);
+        std::array::from_fn(|k| x[k] + h * dx[k])
+    }
+
+    #[test]
+    fn a_deployments_energy_changes_at_minus_half_omega_idot_omega() {
+        let m = GeneralModel::<7>::try_new(InertiaLaw::Schedule(tilted()), None).unwrap();
+        let x = m.state_from(2.2, [0.3, -0.7, 1.1], [0.0; 3], [0.5, -0.1, 0.7, 0.2]);
+        let h = 1e-6;
+        let numeric = (m.energy(2.2 + h, &along(&m, 2.2, &x, h))
+            - m.energy(2.2 - h, &along(&m, 2.2, &x, -h)))
+            / (2.0 * h);
+        let omega = m.omega_body(2.2, &x);
+        let idot = tilted().inertia_and_rate_at(2.2).1;
+        assert_relative_eq!(
+            numeric,
+            -0.5 * omega.dot(&(idot * omega)),
+            max_relative = 1e-7
+        );
+    }
+
+    #[test]
+    fn a_dampers_energy_falls_at_c_times_the_slip_squared() {
+        let m = damped();
+        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.2, 0.1, 0.9], [1.0, 0.0, 0.0, 0.0]);
+        let h = 1e-6;
+        let numeric = (m.energy(0.0, &along(&m, 0.0, &x, h))
+            - m.energy(0.0, &along(&m, 0.0, &x, -h)))
+            / (2.0 * h);
+        let slip = Vector3::new(0.2, 0.1, 0.9) - Vector3::new(0.3, -0.7, 1.1);
+        assert_relative_eq!(numeric, -0.05 * slip.norm_squared(), max_relative = 1e-7);
+    }
+
+    #[test]
+    fn the_rates_are_those_the_state_was_built_from() {
+        let m = damped();
+        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.2, 0.1, 0.9], [1.0, 0.0, 0.0, 0.0]);
+        let omega = m.omega_body(0.0, &x);
+        assert!((omega - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
+    }
+
+    #[test]
+    fn a_state_size_that_does_not_fit_the_parts_is_refused() {
+        let i = ConstantInertia::try_new(Matrix3::identity()).unwrap();
+        assert!(GeneralModel::<10>::try_new(InertiaLaw::Constant(i), None).is_err());
+    }
+}

@@ -1,0 +1,185 @@
+//! What is simulated, as the user describes it: a body (a constant tensor, or a deployment's
+//! schedule) with its internal parts, in the user's own axes. A run turns it into a model
+//! ([`super::FreeRigidBody`] or [`super::GeneralModel`]), in principal axes where the body is
+//! constant ([`crate::run::simulate_system`]).
+
+use nalgebra::{Matrix3, Quaternion, Vector3};
+
+use crate::body::Inertia;
+use crate::error::{Error, Result};
+use crate::kinematics::rotation_matrix;
+
+use super::kinds::{Kinds, MODELS};
+use super::{Conserved, Damper, Deployment};
+
+/// A system's body.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SystemBody {
+    /// A constant tensor.
+    Rigid(Inertia),
+    /// A prescribed `I(t)`.
+    Deployment(Deployment),
+}
+
+/// An internal part, with what its state starts from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Part {
+    /// A spherical viscous damper; its sphere's rates start at `sigma0` (body axes), or
+    /// co-rotating with the body (`None`).
+    Damper {
+        damper: Damper,
+        sigma0: Option<[f64; 3]>,
+    },
+}
+
+impl Part {
+    /// The part's name, as results show its state.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Part::Damper { .. } => "damper",
+        }
+    }
+
+    /// How many numbers of state it has.
+    pub fn width(&self) -> usize {
+        match self {
+            Part::Damper { .. } => 3,
+        }
+    }
+}
+
+/// A body with its parts (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct System {
+    body: SystemBody,
+    parts: Vec<Part>,
+}
+
+impl System {
+    /// `body` with `parts`.
+    ///
+    /// # Errors
+    /// More than one damper; a damper's start that is not finite.
+    pub fn try_new(body: SystemBody, parts: Vec<Part>) -> Result<Self> {
+        let dampers = parts
+            .iter()
+            .filter(|p| matches!(p, Part::Damper { .. }))
+            .count();
+        if dampers > 1 {
+            return Err(Error::invalid(
+                "parts",
+                "must hold at most one damper",
+                dampers,
+            ));
+        }
+        for part in &parts {
+            let Part::Damper { sigma0, .. } = part;
+            if let Some(s) = sigma0 {
+                if !s.iter().all(|v| v.is_finite()) {
+                    return Err(Error::invalid("sigma0", "must be three finite rates", s));
+                }
+            }
+        }
+        Ok(Self { body, parts })
+    }
+
+    /// A constant body alone.
+    pub fn rigid(inertia: Inertia) -> Self {
+        Self {
+            body: SystemBody::Rigid(inertia),
+            parts: Vec::new(),
+        }
+    }
+
+    pub fn body(&self) -> &SystemBody {
+        &self.body
+    }
+
+    pub fn parts(&self) -> &[Part] {
+        &self.parts
+    }
+
+    /// The damper and its start, if there is one.
+    pub fn damper(&self) -> Option<(Damper, Option<[f64; 3]>)> {
+        self.parts
+            .iter()
+            .map(|p| match p {
+                Part::Damper { damper, sigma0 } => (*damper, *sigma0),
+            })
+            .next()
+    }
+
+    /// The constant body alone, if the system is nothing else: the free body.
+    pub fn as_free(&self) -> Option<&Inertia> {
+        match (&self.body, self.parts.is_empty()) {
+            (SystemBody::Rigid(inertia), true) => Some(inertia),
+            _ => None,
+        }
+    }
+
+    /// The registry's models it is made of.
+    pub fn kinds(&self) -> Kinds {
+        let mut kinds = match self.body {
+            SystemBody::Rigid(_) => Kinds::NONE,
+            SystemBody::Deployment(_) => Kinds::DEPLOYMENT,
+        };
+        for part in &self.parts {
+            kinds = kinds.union(match part {
+                Part::Damper { .. } => Kinds::DAMPER,
+            });
+        }
+        match kinds == Kinds::NONE {
+            true => Kinds::FREE,
+            false => kinds,
+        }
+    }
+
+    /// What its exact motion keeps: what each of its models keeps.
+    pub fn conserved(&self) -> Conserved {
+        let kinds = self.kinds();
+        MODELS
+            .iter()
+            .filter(|m| kinds.contains(m.kind))
+            .fold(Conserved::FREE.union(Conserved::JACOBI), |c, m| {
+                c.intersection(m.keeps)
+            })
+    }
+
+    /// The numbers of state of every part, in order.
+    pub fn parts_width(&self) -> usize {
+        self.parts.iter().map(Part::width).sum()
+    }
+
+    /// The body's tensor at `t`, in the user's axes.
+    pub fn tensor_at(&self, t: f64) -> Matrix3<f64> {
+        match &self.body {
+            SystemBody::Rigid(inertia) => *inertia.tensor(),
+            SystemBody::Deployment(d) => d.inertia_at(t),
+        }
+    }
+
+    /// The energy, the total angular momentum in body axes and in space at one frame from
+    /// the body rates `omega`, the parts' state `parts` and the attitude `q` (user axes), as
+    /// the run's model defines them.
+    pub fn observe(
+        &self,
+        t: f64,
+        omega: [f64; 3],
+        parts: &[f64],
+        q: [f64; 4],
+    ) -> (f64, Vector3<f64>, Vector3<f64>) {
+        let omega = Vector3::from(omega);
+        let body_l = self.tensor_at(t) * omega;
+        let (mut energy, mut l) = (0.5 * omega.dot(&body_l), body_l);
+        let mut at = 0;
+        for part in &self.parts {
+            let Part::Damper { damper, .. } = part;
+            let sigma = Vector3::new(parts[at], parts[at + 1], parts[at + 2]);
+            energy += 0.5 * damper.sphere() * sigma.norm_squared();
+            l += sigma * damper.sphere();
+            at += part.width();
+        }
+        let world = rotation_matrix(&Quaternion::new(q[0], q[1], q[2], q[3])) * l;
+        (energy, l, world)
+    }
+}

@@ -1,0 +1,119 @@
+//! How far a run wandered from what its model's exact motion keeps.
+
+use nalgebra::Vector3;
+
+use crate::dynamics::model::attitude;
+use crate::dynamics::{Conserved, Model};
+use crate::kinematics::rotation_matrix;
+
+use super::Observer;
+
+/// The largest departure of each invariant from its initial value, over the frames.
+///
+/// Energy and `|L|` are relative; the world-frame momentum is `|L(t) - L(0)| / |L(0)|`; the
+/// quaternion's is `||q| - 1|` (the run starts from a unit quaternion); the Jacobi integral's
+/// is relative (`None` for a model without one). `kept` says which of them the model's exact
+/// motion keeps: those measure the integration error, the others the model's own change (a
+/// deployment's work on the energy, a torque's on the momentum). Computed in the run's own
+/// units (see [`crate::float`]), where no square overflows.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drift {
+    pub energy: f64,
+    pub momentum: f64,
+    pub momentum_world: f64,
+    pub q_norm: f64,
+    pub jacobi: Option<f64>,
+    /// What the model keeps (see [`Conserved`]).
+    pub kept: Conserved,
+}
+
+impl Default for Drift {
+    fn default() -> Self {
+        Self {
+            energy: 0.0,
+            momentum: 0.0,
+            momentum_world: 0.0,
+            q_norm: 0.0,
+            jacobi: None,
+            kept: Conserved::FREE,
+        }
+    }
+}
+
+impl Drift {
+    /// Whether every entry is finite: past a stability limit a run can end finite but so
+    /// large that its energy is not.
+    pub fn is_finite(&self) -> bool {
+        [self.energy, self.momentum, self.momentum_world, self.q_norm]
+            .iter()
+            .chain(&self.jacobi)
+            .all(|v| v.is_finite())
+    }
+}
+
+/// What is compared at every frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Invariants {
+    energy: f64,
+    l_body: Vector3<f64>,
+    l_world: Vector3<f64>,
+    q_norm: f64,
+    jacobi: Option<f64>,
+}
+
+fn relative(a: f64, a0: f64) -> f64 {
+    if a0 == 0.0 {
+        (a - a0).abs()
+    } else {
+        ((a - a0) / a0).abs()
+    }
+}
+
+/// Watches the invariants of a run of `sys` at every frame and keeps their [`Drift`].
+#[derive(Debug, Clone)]
+pub struct DriftMonitor<'a, S> {
+    sys: &'a S,
+    initial: Option<Invariants>,
+    pub drift: Drift,
+}
+
+impl<'a, S> DriftMonitor<'a, S> {
+    pub fn new<const N: usize>(sys: &'a S) -> Self
+    where
+        S: Model<N>,
+    {
+        Self {
+            sys,
+            initial: None,
+            drift: Drift {
+                kept: sys.conserved(),
+                ..Drift::default()
+            },
+        }
+    }
+}
+
+impl<const N: usize, S: Model<N>> Observer<N> for DriftMonitor<'_, S> {
+    fn frame(&mut self, _index: usize, t: f64, x: &[f64; N]) {
+        let q = attitude(x);
+        let l_body = self.sys.momentum_body(t, x);
+        let now = Invariants {
+            energy: self.sys.energy(t, x),
+            l_body,
+            l_world: rotation_matrix(&q) * l_body,
+            q_norm: q.norm(),
+            jacobi: self.sys.jacobi(t, x),
+        };
+        let first = *self.initial.get_or_insert(now);
+        let l0 = first.l_body.norm();
+        let d = &mut self.drift;
+        d.energy = d.energy.max(relative(now.energy, first.energy));
+        d.momentum = d.momentum.max(relative(now.l_body.norm(), l0));
+        let dl = (now.l_world - first.l_world).norm();
+        d.momentum_world = d.momentum_world.max(if l0 > 0.0 { dl / l0 } else { dl });
+        d.q_norm = d.q_norm.max((now.q_norm - 1.0).abs());
+        if let (Some(j), Some(j0)) = (now.jacobi, first.jacobi) {
+            d.jacobi = Some(d.jacobi.unwrap_or(0.0).max(relative(j, j0)));
+        }
+    }
+}

@@ -1,0 +1,429 @@
+//! The runs: planning, a batch (a single run is a batch of one), a sweep, and what a system says of its frames; their
+//! results as frozen classes of NumPy arrays.
+
+use numpy::ndarray::{Array2, Array3};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
+    PyUntypedArrayMethods,
+};
+use pyo3::prelude::*;
+
+use crate::body::{Inertia, RigidBody};
+use crate::buffer::{ensure_room, try_with_capacity};
+use crate::dynamics::System;
+use crate::ensemble::batch::Options as BatchOptions;
+use crate::ensemble::lanes::Isa;
+use crate::ensemble::plan::plan_systems;
+use crate::ensemble::sweep::{sweep as core_sweep, RunStatus, RunSummary};
+use crate::ensemble::systems::{free_starts, simulate_systems, Rows};
+use crate::error::Error;
+use crate::observe::Drift;
+use crate::ode::Stats;
+use crate::run::options::RunOptions;
+use crate::run::step_size::StepPlan;
+use crate::run::{watchdog, FrameGrid, Keep};
+
+use super::values::{PyRunOptions, PySystem};
+use super::{detach, internal};
+
+/// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
+#[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
+#[derive(Clone)]
+struct PyStepPlan {
+    /// The step the run is given (None: an adaptive method's own, or no steps).
+    dt: Option<f64>,
+    /// The step a fixed-step method takes; an adaptive one's first step.
+    step: f64,
+    /// The rate bound `Ω`.
+    rate_bound: f64,
+    /// RK4's predicted relative drift of `|q|` over the run; 0 for methods it does not threaten.
+    predicted_drift: f64,
+    /// The model's fastest decay rate (a damper's slip); 0 for none.
+    stiffness: f64,
+}
+
+impl From<StepPlan> for PyStepPlan {
+    fn from(p: StepPlan) -> Self {
+        Self {
+            dt: p.dt,
+            step: p.step,
+            rate_bound: p.rate_bound,
+            predicted_drift: p.predicted_drift,
+            stiffness: p.stiffness,
+        }
+    }
+}
+
+/// The step shared by the runs of a batch (or one run), its worst run for RK4's drift and its
+/// stiffest model (see `ensemble::plan`).
+#[pyclass(name = "BatchPlan", module = "dzhanibekov._core", frozen, get_all)]
+struct PyBatchPlan {
+    dt: Option<f64>,
+    worst_row: Option<usize>,
+    worst: Option<PyStepPlan>,
+    stiffest_row: Option<usize>,
+    stiffest: Option<PyStepPlan>,
+}
+
+/// A batch's rows as the core takes them: systems, rates, attitudes.
+type CoreRows = (Vec<System>, Vec<[f64; 3]>, Vec<[f64; 4]>);
+
+/// The systems of a batch's rows (one shared, or one each) and its starts, as the core's.
+fn rows_of(
+    systems: &[PyRef<'_, PySystem>],
+    inertia: Option<&PyReadonlyArray2<'_, f64>>,
+    omega0: &PyReadonlyArray2<'_, f64>,
+    q0: &PyReadonlyArray2<'_, f64>,
+) -> PyResult<CoreRows> {
+    let (omega, q) = (omega0.as_array(), q0.as_array());
+    let m = omega.shape()[0];
+    let given = inertia.map_or(systems.len(), |a| a.as_array().shape()[0]);
+    let widths = inertia.is_none_or(|a| a.as_array().shape()[1] == 3);
+    if omega.shape()[1] != 3 || q.shape() != [m, 4] || !(given == 1 || given == m) || !widths {
+        return Err(Error::invalid(
+            "omega0, q0",
+            "must have shapes (M, 3) and (M, 4), with one system or M",
+            (omega.shape().to_vec(), q.shape().to_vec(), given),
+        )
+        .into());
+    }
+    const HINT: &str = "run fewer starts at a time";
+    let mut s = try_with_capacity(m, "the batch's systems", HINT)?;
+    let mut w = try_with_capacity(m, "the starts", HINT)?;
+    let mut qs = try_with_capacity(m, "the starts", HINT)?;
+    for i in 0..m {
+        let k = i.min(given - 1);
+        s.push(match inertia {
+            Some(a) => {
+                let a = a.as_array();
+                let body = RigidBody::try_new([a[[k, 0]], a[[k, 1]], a[[k, 2]]])
+                    .map_err(|e| e.in_row(k))?;
+                System::rigid(Inertia::from_principal(body))
+            }
+            None => systems[k].inner.clone(),
+        });
+        w.push([omega[[i, 0]], omega[[i, 1]], omega[[i, 2]]]);
+        qs.push([q[[i, 0]], q[[i, 1]], q[[i, 2]], q[[i, 3]]]);
+    }
+    Ok((s, w, qs))
+}
+
+/// Plans the step of every row (one system or M, or rows of moments `inertia`; rates
+/// (M, 3), attitudes (M, 4)).
+#[pyfunction]
+#[pyo3(signature = (systems, omega0, q0, options, inertia = None))]
+fn plan(
+    py: Python<'_>,
+    systems: Vec<PyRef<'_, PySystem>>,
+    omega0: PyReadonlyArray2<'_, f64>,
+    q0: PyReadonlyArray2<'_, f64>,
+    options: &PyRunOptions,
+    inertia: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<PyBatchPlan> {
+    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    ensure_room(
+        systems.len() as f64 * (std::mem::size_of::<StepPlan>() + 32) as f64,
+        "the step plans",
+        "plan fewer starts at a time",
+    )?;
+    let options = options.inner;
+    let p = py.detach(|| plan_systems(&systems, &omega, &q, &options))?;
+    Ok(PyBatchPlan {
+        dt: p.dt,
+        worst_row: p.worst.map(|(row, _)| row),
+        worst: p.worst.map(|(_, plan)| plan.into()),
+        stiffest_row: p.stiffest.map(|(row, _)| row),
+        stiffest: p.stiffest.map(|(_, plan)| plan.into()),
+    })
+}
+
+/// The frame times of `grid`, as an array.
+fn frame_times(py: Python<'_>, grid: &FrameGrid) -> Py<PyArray1<f64>> {
+    let t: Vec<f64> = (0..grid.frames()).map(|i| grid.time(i)).collect();
+    PyArray1::from_vec(py, t).unbind()
+}
+
+/// `values` as an array of `shape`.
+fn shaped2(py: Python<'_>, v: Vec<f64>, shape: (usize, usize)) -> PyResult<Py<PyArray2<f64>>> {
+    Ok(Array2::from_shape_vec(shape, v)
+        .map_err(internal)?
+        .into_pyarray(py)
+        .unbind())
+}
+
+fn shaped3(
+    py: Python<'_>,
+    v: Vec<f64>,
+    shape: (usize, usize, usize),
+) -> PyResult<Py<PyArray3<f64>>> {
+    Ok(Array3::from_shape_vec(shape, v)
+        .map_err(internal)?
+        .into_pyarray(py)
+        .unbind())
+}
+
+fn keep(options: &RunOptions, frames: bool) -> Keep {
+    Keep {
+        frames,
+        flips: options.flips,
+        tilt: false,
+    }
+}
+
+/// What every run of a batch or sweep reports, one value per run in each column: the
+/// drift `(energy, momentum, momentum_world, q_norm, jacobi)` (jacobi NaN where a model has
+/// none), the names of what the models keep, the cost and the step.
+#[pyclass(name = "RunColumns", module = "dzhanibekov._core", frozen, get_all)]
+struct PyRunColumns {
+    drift: [Py<PyArray1<f64>>; 5],
+    kept: Vec<&'static str>,
+    nfev: Py<PyArray1<i64>>,
+    n_steps: Py<PyArray1<i64>>,
+    n_rejected: Py<PyArray1<i64>>,
+    dt: Py<PyArray1<f64>>,
+}
+
+impl PyRunColumns {
+    fn new(py: Python<'_>, drift: &[Drift], stats: &[Stats], dt: Vec<f64>) -> Self {
+        let of = |f: fn(&Drift) -> f64| column(py, drift.iter().map(f).collect());
+        let count = |f: fn(&Stats) -> u64| column(py, stats.iter().map(|s| f(s) as i64).collect());
+        Self {
+            drift: [
+                of(|d| d.energy),
+                of(|d| d.momentum),
+                of(|d| d.momentum_world),
+                of(|d| d.q_norm),
+                of(|d| d.jacobi.unwrap_or(f64::NAN)),
+            ],
+            kept: drift.first().map_or(Vec::new(), |d| d.kept.names()),
+            nfev: count(|s| s.nfev),
+            n_steps: count(|s| s.n_steps),
+            n_rejected: count(|s| s.n_rejected),
+            dt: column(py, dt),
+        }
+    }
+}
+
+/// Per-row values as a NumPy array.
+fn column<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyArray1<T>> {
+    PyArray1::from_vec(py, v).unbind()
+}
+
+/// A batch's output: the frame times; frames `(M, frames, ·)` and parts' state if kept; where
+/// each row ended (`(M, 3)`, `(M, 4)`, `(M, k)`; NaN where not kept); every row's flip times
+/// (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`); per-row columns.
+#[pyclass(name = "BatchResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PyBatchResult {
+    t: Py<PyArray1<f64>>,
+    omega: Option<Py<PyArray3<f64>>>,
+    q: Option<Py<PyArray3<f64>>>,
+    parts: Option<Py<PyArray3<f64>>>,
+    end_omega: Py<PyArray2<f64>>,
+    end_q: Py<PyArray2<f64>>,
+    end_parts: Py<PyArray2<f64>>,
+    flip_offsets: Py<PyArray1<i64>>,
+    flip_times: Py<PyArray1<f64>>,
+    runs: Py<PyRunColumns>,
+}
+
+fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOptions> {
+    Ok(BatchOptions {
+        threads,
+        isa: isa.map(str::parse::<Isa>).transpose()?,
+    })
+}
+
+/// Runs every row (as `plan` takes them) over one frame grid.
+#[pyfunction]
+#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate_batch(
+    py: Python<'_>,
+    systems: Vec<PyRef<'_, PySystem>>,
+    omega0: PyReadonlyArray2<'_, f64>,
+    q0: PyReadonlyArray2<'_, f64>,
+    options: &PyRunOptions,
+    keep_frames: bool,
+    isa: Option<&str>,
+    inertia: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<PyBatchResult> {
+    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let options = options.inner;
+    let (method, grid) = options.method_and_grid()?;
+    let batch = batch_options(options.threads, isa)?;
+    let rows = Rows {
+        systems: &systems,
+        omega0: &omega,
+        q0: &q,
+    };
+    let (m, f, k) = (rows.len(), grid.frames(), rows.parts_width()?);
+    let keep = keep(&options, keep_frames);
+    let long = watchdog::is_long(&method, &grid, m);
+    let out = detach(py, long, |cancel| {
+        simulate_systems(rows, &grid, method, keep, &batch, cancel)
+    })?;
+    let frames = |v: Vec<f64>, width: usize| match keep_frames && width > 0 {
+        true => shaped3(py, v, (m, f, width)).map(Some),
+        false => Ok(None),
+    };
+    let ends = |width: usize, of: &dyn Fn(&crate::observe::End) -> Vec<f64>| {
+        let v = match out.end.len() {
+            0 => vec![f64::NAN; m * width],
+            _ => out.end.iter().flat_map(of).collect(),
+        };
+        shaped2(py, v, (m, width))
+    };
+    let (end_omega, end_q, end_parts) = (
+        ends(3, &|e| e.omega.to_vec())?,
+        ends(4, &|e| e.q.to_vec())?,
+        ends(k, &|e| e.parts.clone())?,
+    );
+    let offsets = out.flip_offsets.iter().map(|&o| o as i64).collect();
+    let runs = PyRunColumns::new(py, &out.drift, &out.stats, out.dt);
+    Ok(PyBatchResult {
+        t: frame_times(py, &grid),
+        omega: frames(out.omega, 3)?,
+        q: frames(out.q, 4)?,
+        parts: frames(out.parts, k)?,
+        end_omega,
+        end_q,
+        end_parts,
+        flip_offsets: column(py, offsets),
+        flip_times: column(py, out.flip_times),
+        runs: Py::new(py, runs)?,
+    })
+}
+
+/// A sweep's per-run columns (see `crate::ensemble::sweep::RunSummary`).
+#[pyclass(name = "SweepResult", module = "dzhanibekov._core", frozen, get_all)]
+struct PySweepResult {
+    /// Flips counted; −1 for a run that did not finish (never mistaken for a stable one).
+    flips: Py<PyArray1<i64>>,
+    /// Indices into `RUN_STATUSES`.
+    status: Py<PyArray1<u8>>,
+    first_flip: Py<PyArray1<f64>>,
+    period: Py<PyArray1<f64>>,
+    exact_period: Py<PyArray1<f64>>,
+    tilt: Py<PyArray1<f64>>,
+    runs: Py<PyRunColumns>,
+}
+
+/// Free bodies' runs summarised, no frames kept (see `crate::ensemble::sweep`): rows as
+/// `simulate_batch` takes them, in the user's axes (run in principal axes).
+#[pyfunction]
+#[pyo3(signature = (systems, omega0, q0, options, isa = None, inertia = None))]
+fn sweep(
+    py: Python<'_>,
+    systems: Vec<PyRef<'_, PySystem>>,
+    omega0: PyReadonlyArray2<'_, f64>,
+    q0: PyReadonlyArray2<'_, f64>,
+    options: &PyRunOptions,
+    isa: Option<&str>,
+    inertia: Option<PyReadonlyArray2<'_, f64>>,
+) -> PyResult<PySweepResult> {
+    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let options = options.inner;
+    let (method, grid) = options.method_and_grid()?;
+    let batch = batch_options(options.threads, isa)?;
+    let rows = Rows {
+        systems: &systems,
+        omega0: &omega,
+        q0: &q,
+    };
+    let (starts, _) = free_starts(rows)?;
+    let long = watchdog::is_long(&method, &grid, starts.len());
+    let runs = detach(py, long, |cancel| {
+        core_sweep(&starts, &grid, method, &batch, cancel)
+    })?;
+    let of = |f: fn(&RunSummary) -> f64| column(py, runs.iter().map(f).collect());
+    let drift: Vec<Drift> = runs.iter().map(|r| r.drift).collect();
+    let stats: Vec<Stats> = runs.iter().map(|r| r.stats).collect();
+    let columns = PyRunColumns::new(py, &drift, &stats, runs.iter().map(|r| r.dt).collect());
+    Ok(PySweepResult {
+        flips: column(py, runs.iter().map(RunSummary::flip_count).collect()),
+        status: column(py, runs.iter().map(|r| r.status as u8).collect()),
+        first_flip: of(|r| r.flips.first),
+        period: of(|r| r.flips.mean_period()),
+        exact_period: of(|r| r.exact_period),
+        tilt: of(|r| r.tilt),
+        runs: Py::new(py, columns)?,
+    })
+}
+
+/// What a system says of frames: energy (F,), total angular momentum in body axes (F, 3) and
+/// in space (F, 3), from the times (F,), rates (F, 3), attitudes (F, 4) and parts' state (F, k).
+type Observed<'py> = (
+    Bound<'py, PyArray1<f64>>,
+    Bound<'py, PyArray2<f64>>,
+    Bound<'py, PyArray2<f64>>,
+);
+
+/// The energy and angular momenta of `system` at each frame (see [`Observed`]), without
+/// the GIL for many frames.
+#[pyfunction]
+fn observe<'py>(
+    py: Python<'py>,
+    system: &PySystem,
+    t: PyReadonlyArray1<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    q: PyReadonlyArray2<'py, f64>,
+    parts: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Observed<'py>> {
+    let (n, k) = (t.len(), system.inner.parts_width());
+    if omega.shape() != [n, 3] || q.shape() != [n, 4] || parts.shape() != [n, k] {
+        return Err(Error::invalid(
+            "omega, q, parts",
+            "must have shapes (F, 3), (F, 4) and (F, parts) for F times",
+            (
+                omega.shape().to_vec(),
+                q.shape().to_vec(),
+                parts.shape().to_vec(),
+            ),
+        )
+        .into());
+    }
+    let contiguous = |name: &str| Error::invalid("observe", "takes C-contiguous arrays", name);
+    let t = t.as_slice().map_err(|_| contiguous("t"))?;
+    let omega = omega.as_slice().map_err(|_| contiguous("omega"))?;
+    let q = q.as_slice().map_err(|_| contiguous("q"))?;
+    let parts = parts.as_slice().map_err(|_| contiguous("parts"))?;
+    let system = &system.inner;
+    let (energy, body, world) = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
+        const HINT: &str = "compute them over fewer frames at a time";
+        let mut energy = try_with_capacity(n, "the energies", HINT)?;
+        let mut body = try_with_capacity(3 * n, "the angular momenta", HINT)?;
+        let mut world = try_with_capacity(3 * n, "the angular momenta", HINT)?;
+        for i in 0..n {
+            let w = [omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]];
+            let a = [q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]];
+            let (e, l, lw) = system.observe(t[i], w, &parts[k * i..k * (i + 1)], a);
+            energy.push(e);
+            body.extend_from_slice(l.as_slice());
+            world.extend_from_slice(lw.as_slice());
+        }
+        Ok((energy, body, world))
+    })?;
+    Ok((
+        PyArray1::from_vec(py, energy),
+        shaped2(py, body, (n, 3))?.into_bound(py),
+        shaped2(py, world, (n, 3))?.into_bound(py),
+    ))
+}
+
+pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyStepPlan>()?;
+    m.add_class::<PyBatchPlan>()?;
+    m.add_class::<PyRunColumns>()?;
+    m.add_class::<PyBatchResult>()?;
+    m.add_class::<PySweepResult>()?;
+    m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(observe, m)?)?;
+    // a sweep's `status` codes index this tuple
+    m.add(
+        "RUN_STATUSES",
+        pyo3::types::PyTuple::new(m.py(), RunStatus::ALL.map(RunStatus::name))?,
+    )?;
+    Ok(())
+}

@@ -1,0 +1,323 @@
+//! A system's run in the user's axes: the change to principal axes once at each edge of the
+//! run (where the body is constant), the moments over a power of two near the largest, the
+//! model the system makes, its run, and the frames back in the user's axes.
+
+use std::sync::atomic::AtomicBool;
+
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
+
+use crate::body::Inertia;
+use crate::dynamics::model::state_to_unit;
+use crate::dynamics::{
+    state_from, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System, SystemBody,
+};
+use crate::error::{Error, Result};
+use crate::float::{exponent, RateScale, UNSCALED};
+use crate::kinematics::normalized;
+use crate::ode::controller::check_rtol;
+
+use super::registry::StepRule;
+use super::step_size::{rk4_predicted_drift, step_for_accuracy, StepPlan};
+use super::{check_rates, simulate, simulate_model, FrameGrid, Keep, Method, RunOutput};
+
+/// The change between the user's axes and the principal axes of a constant body: `R`, user
+/// axes from principal axes (`ω_p = Rᵀ ω`, `q_p = q ⊗ q_R`); none for a deployment, whose
+/// runs stay in the user's axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Edge {
+    axes: Option<(Matrix3<f64>, Quaternion<f64>)>,
+}
+
+impl Edge {
+    /// The edge of a body of tensor `inertia`.
+    pub fn of(inertia: &Inertia) -> Self {
+        let axes = (!inertia.is_principal()).then(|| {
+            let r = inertia.axes();
+            let q = UnitQuaternion::from_matrix(&r).into_inner();
+            (r, q)
+        });
+        Self { axes }
+    }
+
+    /// No change of axes.
+    pub const IDENTITY: Self = Self { axes: None };
+
+    /// A vector of the user's axes in principal axes: `Rᵀ v`.
+    pub fn vector_in(&self, v: [f64; 3]) -> [f64; 3] {
+        match &self.axes {
+            Some((r, _)) => (r.transpose() * Vector3::from(v)).into(),
+            None => v,
+        }
+    }
+
+    /// An attitude of the user's axes as one of the principal axes: `q ⊗ q_R`.
+    pub fn attitude_in(&self, q: [f64; 4]) -> [f64; 4] {
+        match &self.axes {
+            Some((_, qr)) => {
+                let p = Quaternion::new(q[0], q[1], q[2], q[3]) * qr;
+                [p.w, p.i, p.j, p.k]
+            }
+            None => q,
+        }
+    }
+
+    /// Frames of a run in principal axes back in the user's: `ω = R ω_p` and every 3-vector
+    /// of the parts' state (`width` numbers a frame) likewise, `q = q_p ⊗ q_R*`.
+    pub fn frames_out(&self, omega: &mut [f64], q: &mut [f64], parts: &mut [f64], width: usize) {
+        let Some((r, qr)) = &self.axes else { return };
+        let turn = |v: &mut [f64]| {
+            let out = r * Vector3::new(v[0], v[1], v[2]);
+            v.copy_from_slice(out.as_slice());
+        };
+        omega.chunks_exact_mut(3).for_each(turn);
+        if width > 0 {
+            parts.chunks_exact_mut(3).for_each(turn);
+        }
+        let conj = qr.conjugate();
+        for f in q.chunks_exact_mut(4) {
+            let p = Quaternion::new(f[0], f[1], f[2], f[3]) * conj;
+            f.copy_from_slice(&[p.w, p.i, p.j, p.k]);
+        }
+    }
+}
+
+/// The model a system makes for a run, with its start, in principal axes where the body is
+/// constant (see [`Edge`]) and with its moments over a power of two near the largest.
+enum Built {
+    /// The free body, its start in principal axes (its run scales itself).
+    Free(crate::body::RigidBody, [f64; 3], [f64; 4]),
+    Plain(GeneralModel<7>, [f64; 7]),
+    Damped(GeneralModel<10>, [f64; 10]),
+}
+
+/// The largest moment's binary exponent, if beyond `2^±UNSCALED`: moments over `2^m` then.
+fn moment_exponent(system: &System) -> i32 {
+    let largest = match system.body() {
+        SystemBody::Rigid(inertia) => inertia.principal().inertia_body().max(),
+        SystemBody::Deployment(d) => d.tensors().iter().map(|t| t.amax()).fold(0.0, f64::max),
+    };
+    let m = exponent(largest);
+    if m.abs() <= UNSCALED {
+        0
+    } else {
+        m
+    }
+}
+
+/// The model of `system` and its start from the body rates `omega0` and attitude `q0` (the
+/// user's axes; `q0` normalised here).
+fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge)> {
+    check_rates(omega0)?;
+    let q0 = normalized(q0)?;
+    // the moments over a power of two near the largest, before any is inverted
+    let m = moment_exponent(system);
+    let scaled = |x: f64| crate::float::ldexp(x, -m);
+    let (law, edge) = match system.body() {
+        SystemBody::Rigid(inertia) => {
+            let edge = Edge::of(inertia);
+            if system.as_free().is_some() {
+                let built = Built::Free(
+                    *inertia.principal(),
+                    edge.vector_in(omega0),
+                    edge.attitude_in(q0),
+                );
+                return Ok((built, edge));
+            }
+            let moments = inertia.principal().inertia_body().map(scaled);
+            let tensor = Matrix3::from_diagonal(&moments);
+            (
+                InertiaLaw::Constant(ConstantInertia::try_new(tensor)?),
+                edge,
+            )
+        }
+        SystemBody::Deployment(d) => (
+            InertiaLaw::Schedule(d.with_moments_scaled(m)?),
+            Edge::IDENTITY,
+        ),
+    };
+    let (omega, q) = (edge.vector_in(omega0), edge.attitude_in(q0));
+    let built = match system.damper() {
+        None => {
+            let model = GeneralModel::<7>::try_new(law, None)?;
+            let x0 = model.state_from(0.0, omega, [0.0; 3], q);
+            Built::Plain(model, x0)
+        }
+        Some((damper, sigma0)) => {
+            let damper = damper.with_moments_scaled(m)?;
+            let model = GeneralModel::<10>::try_new(law, Some(damper))?;
+            let sigma = edge.vector_in(sigma0.unwrap_or(omega0));
+            let x0 = model.state_from(0.0, omega, sigma, q);
+            Built::Damped(model, x0)
+        }
+    };
+    if let Built::Plain(_, x) = &built {
+        finite_start(x)?;
+    }
+    if let Built::Damped(_, x) = &built {
+        finite_start(x)?;
+    }
+    Ok((built, edge))
+}
+
+/// A start whose momenta float64 holds.
+fn finite_start<const N: usize>(x: &[f64; N]) -> Result<()> {
+    match x.iter().all(|v| v.is_finite()) {
+        true => Ok(()),
+        false => Err(Error::invalid(
+            "omega0",
+            "must give an angular momentum that float64 holds (the moments times the rates)",
+            &x[..N - 4],
+        )),
+    }
+}
+
+/// Simulates `system` from body rates `omega0` and attitude `q0`, both of the user's own axes
+/// (`q0` normalised here), over `grid` with `method`, keeping what `keep` asks: the one run of
+/// every system. The frames come back in the user's axes; the parts' state (a damper's σ)
+/// too.
+///
+/// # Errors
+/// A method that cannot run the system ([`Error::Unsupported`]), bad starts, and the errors
+/// of [`simulate`] and [`simulate_model`].
+pub fn simulate_system(
+    system: &System,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
+    method.for_kinds(system.kinds())?;
+    let (built, edge) = build(system, omega0, q0)?;
+    let mut out = match built {
+        Built::Free(body, omega, q) => simulate(&body, omega, q, grid, method, keep, cancel)?,
+        Built::Plain(model, x0) => simulate_model(&model, x0, grid, method, keep, cancel)?,
+        Built::Damped(model, x0) => simulate_model(&model, x0, grid, method, keep, cancel)?,
+    };
+    let width = system.parts_width();
+    edge.frames_out(&mut out.omega, &mut out.q, &mut out.parts, width);
+    let end = &mut out.end;
+    edge.frames_out(&mut end.omega, &mut end.q, &mut end.parts, width);
+    Ok(out)
+}
+
+/// The step a run of `system` from `omega0` (with `q0`) will take and what it predicts:
+/// `dt` if given, else the step predicted to meet `rtol` (fixed-step methods, by the method's
+/// rule in the registry and the model's rate bound) or the automatic first step (adaptive
+/// ones), with RK4's predicted drift of `|q|` and the model's stiffness (a damper's slip rate).
+///
+/// # Errors
+/// A method that cannot run the system; bad starts, `t_end`, `frames`, `dt` or `rtol`.
+#[allow(clippy::too_many_arguments)]
+pub fn plan_system(
+    system: &System,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+    frames: usize,
+    method: Method,
+    dt: Option<f64>,
+    rtol: f64,
+) -> Result<StepPlan> {
+    method.for_kinds(system.kinds())?;
+    let (built, _) = build(system, omega0, q0)?;
+    let (rate, stiffness) = match &built {
+        Built::Free(body, omega, q) => {
+            let model = FreeRigidBody::new(*body);
+            (rate_in_units(&model, &state_from(*omega, *q))?, 0.0)
+        }
+        Built::Plain(model, x0) => (rate_in_units(model, x0)?, 0.0),
+        Built::Damped(model, x0) => {
+            let rate = rate_in_units(model, x0)?;
+            (rate, model.stiffness())
+        }
+    };
+    plan_step(rate, stiffness, t_end, frames, method, dt, rtol)
+}
+
+/// The model's rate bound from `x0`, taken in the motion's own units (where its squares stay
+/// in float64) and given back in the user's.
+///
+/// # Errors
+/// A model whose times leave float64 in those units.
+fn rate_in_units<const N: usize, S: Model<N>>(sys: &S, x0: &[f64; N]) -> Result<f64> {
+    let scale = RateScale::of(sys.omega_body(0.0, x0).into());
+    let rate = match scale.is_identity() {
+        true => sys.rate_bound(x0),
+        false => {
+            let x = state_to_unit(x0, scale);
+            scale.rate_from_unit(sys.in_units(scale)?.rate_bound(&x))
+        }
+    };
+    match rate.is_finite() {
+        true => Ok(rate),
+        false => Err(Error::invalid(
+            "omega0",
+            "must give a rate bound √(2E / I_min) that float64 holds",
+            x0[..3].to_vec(),
+        )),
+    }
+}
+
+/// The plan of a run whose rates are bounded by `rate` (see [`plan_system`]).
+///
+/// # Errors
+/// Bad `t_end`, `frames`, `dt` or `rtol`.
+pub(crate) fn plan_step(
+    rate: f64,
+    stiffness: f64,
+    t_end: f64,
+    frames: usize,
+    method: Method,
+    dt: Option<f64>,
+    rtol: f64,
+) -> Result<StepPlan> {
+    let info = method.info();
+    let constant = match info.step_rule {
+        StepRule::NoSteps => {
+            FrameGrid::try_frames(t_end, frames)?;
+            return Ok(StepPlan {
+                dt: None,
+                step: 0.0,
+                rate_bound: rate,
+                predicted_drift: 0.0,
+                stiffness,
+            });
+        }
+        StepRule::Adaptive { error_order } => {
+            FrameGrid::frames_only(t_end, frames)?;
+            check_rtol(rtol)?;
+            let a = method.adaptive_settings().unwrap_or_default();
+            let a = match dt {
+                Some(h) => a.with_first_step(h)?,
+                None => a,
+            };
+            let h = a.first_step_for(error_order, rate, t_end);
+            return Ok(StepPlan {
+                dt,
+                step: h,
+                rate_bound: rate,
+                predicted_drift: 0.0,
+                stiffness,
+            });
+        }
+        StepRule::Accuracy { constant } => constant,
+    };
+    let dt = match dt {
+        Some(dt) => dt,
+        None => step_for_accuracy(method.order(), constant, rate, t_end, rtol)?,
+    };
+    let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX)?;
+    let predicted_drift = match info.rk4_dissipation {
+        true => rk4_predicted_drift(grid.step_size(), rate, grid.n_steps() as f64),
+        false => 0.0,
+    };
+    Ok(StepPlan {
+        dt: Some(dt),
+        step: grid.step_size(),
+        rate_bound: rate,
+        predicted_drift,
+        stiffness,
+    })
+}
