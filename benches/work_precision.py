@@ -593,9 +593,13 @@ def plot_projection(path: Path, rows: list[dict], case: Case) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=80)
     plt.close(fig)
+    from PIL.PngImagePlugin import PngInfo
+
+    info = PngInfo()
+    info.add_text("Description", note)  # the subtitle, for the docs' test to compare
     with Image.open(path) as image:
-        image.convert("RGB").quantize(colors=64, dither=Image.Dither.NONE).save(path,
-                                                                                optimize=True)
+        image.convert("RGB").quantize(colors=64, dither=Image.Dither.NONE).save(
+            path, optimize=True, pnginfo=info)
 
 
 def checks(runs: list[Run], cases: tuple[Case, ...]) -> list[str]:
@@ -825,9 +829,13 @@ def plot(path: Path, runs: list[Run], cases: tuple[Case, ...], note: str) -> Non
     fig.tight_layout(rect=(0, 0.07, 1, 1))
     fig.savefig(path, dpi=80)
     plt.close(fig)
+    from PIL.PngImagePlugin import PngInfo
+
+    info = PngInfo()
+    info.add_text("Description", note)  # the subtitle, for the docs' test to compare
     with Image.open(path) as image:
-        image.convert("RGB").quantize(colors=64, dither=Image.Dither.NONE).save(path,
-                                                                                optimize=True)
+        image.convert("RGB").quantize(colors=64, dither=Image.Dither.NONE).save(
+            path, optimize=True, pnginfo=info)
 
 
 def main() -> None:

@@ -18,60 +18,190 @@ is one line on stderr with exit code 2, and DIR is left as it was.
 from __future__ import annotations
 
 import argparse
+import math
+import re
 import sys
+import textwrap
 import time
-from collections.abc import Sequence
+import warnings
+from collections.abc import Callable, Sequence
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from ._core import __version__
+from .methods import is_adaptive
+from .render import PAPER_RENDER, CommittedInterrupt
 from .scenes.plan import SceneResult
-from .scenes.scene import SCENES, SceneError, load_scene
+from .scenes.scene import SCENES, Scene, SceneError, load_scene
 from .simulate import METHODS
 
 __all__ = ["main"]
 
 
-def _table(results: Sequence[SceneResult], seconds: float) -> None:
-    print(f"{'scene':<16} {'steps':>9} {'flips':>5}  {'first flip times':<28}"
-          f" {'dE/E':>8} {'d|L|/|L|':>8} {'dL_world':>8} {'d|q|':>8}")
+def _table(results: Sequence[SceneResult], seconds: float) -> str:
+    """The summary table: per scene its steps, flips (the count and the first four) and the
+    invariants' drift, each column as wide as its widest entry. It reads only what it prints:
+    a run of 10⁸ flips costs four."""
+    head = ("scene", "steps", "flips", "first flip times", "dE/E", "d|L|/|L|", "dL_world",
+            "d|q|")
+    rows: list[tuple[str, ...]] = [head]
     for r in results:
         run = r.trajectory if r.trajectory is not None else r.summary
         assert run is not None
-        times = [] if r.flip_times is None else list(r.flip_times)
-        flips = ", ".join(f"{t:.3f}" for t in times[:4]) + (", …" if len(times) > 4 else "")
+        times = r.flip_times
+        count = "?" if times is None else str(len(times))
+        first = [] if times is None else [float(t) for t in np.asarray(times[:4])]
+        more = times is not None and len(times) > 4
+        flips = ", ".join(f"{t:.3f}" for t in first) + (", …" if more else "")
         d = r.drift
-        count = "?" if r.flip_times is None else str(len(times))
-        print(f"{r.scene.name:<16} {run.n_steps:>9} {count:>5}  {flips:<28}"
-              f" {d.energy:>8.1e} {d.momentum:>8.1e} {d.momentum_world:>8.1e} {d.q_norm:>8.1e}")
-    print(f"rendered in {seconds:.1f} s")
+        rows.append((r.scene.name, str(run.n_steps), count, flips,
+                     *(f"{x:.1e}" for x in (d.energy, d.momentum, d.momentum_world, d.q_norm))))
+    least = (16, 9, 5, 28, 8, 8, 8, 8)
+    widths = [max(least[k], *(len(row[k]) for row in rows)) for k in range(len(head))]
+    gaps = ("", " ", " ", "  ", " ", " ", " ", " ")  # before each column
+    left = (0, 3)  # the names and the flip times read from the left; numbers from the right
+    lines = ["".join(gap + (cell.ljust(w) if k in left else cell.rjust(w))
+                     for k, (gap, cell, w) in enumerate(zip(gaps, row, widths)))
+             for row in rows]
+    lines.append(f"rendered in {seconds:.1f} s")
+    return "\n".join(lines)
 
 
 def _step(text: str) -> float | str:
-    """`--dt`: a number, or "none" (the step picked for an accuracy)."""
+    """`--dt`: a positive number, or "none" (the step picked for an accuracy)."""
     if text.strip().lower() == "none":
         return "none"
+    return _positive(text)
+
+
+def _positive(text: str) -> float:
+    """A positive, finite number."""
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be a number or 'none', got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"must be a positive number, got {text!r}")
+    return value
+
+
+def _whole(low: int, high: int) -> Callable[[str], int]:
+    """An integer in [low, high]."""
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"must be a whole number, got {text!r}") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be from {low} to {high}, got {value}")
+        return value
+    return parse
 
 
 def _progress(args: argparse.Namespace) -> bool | None:
     return False if args.no_progress else None
 
 
+def _say(line: str) -> None:
+    """A line of progress, on stderr (the results go to stdout)."""
+    print(line, file=sys.stderr, flush=True)
+
+
+_STEP = (re.compile(r"\ba smaller dt\b"), "a smaller --dt")
+_DRIFT = (re.compile(r"\bMAX_PREDICTED_DRIFT = ([0-9eE.+-]*[0-9])"), r"the \1 allowed")
+_METHOD = r"(?:\bmethod='([\w-]+)'|(?<=\(such as )'([\w-]+)')"
+"""A method the API's advice names: ``method='splitting'`` or ``(such as 'splitting', …)``."""
+_API_TO_CLI: dict[str, list[tuple[re.Pattern[str], str]]] = {
+    "run": [(re.compile(r"\bdt=None\b"), "--dt none"),
+            (re.compile(_METHOD), r"--method \1\2"), _STEP, _DRIFT],
+    "paper": [(re.compile(r"\bdt=None\b"), "`dzhanibekov run SCENE --dt none`"),
+              (re.compile(_METHOD), r"`dzhanibekov run SCENE --method \1\2`"),
+              _STEP, _DRIFT],
+    # a sweep's step is fixed and its method RK4: only a smaller --dt is the map's to take
+    "map": [(re.compile(r", dt=None to pick the step for an accuracy, or [^.]*?(?:method='[\w-]+'"
+                        r"|\(such as '[\w-]+'[^)]*\))\."), "."), _STEP, _DRIFT],
+}
+"""Advice written for the Python API, said in each command's terms."""
+
+
+def cli_terms(text: str, command: str) -> str:
+    """`text` (a warning of the Python API) with its advice in the terms of `command`'s
+    options, on one line."""
+    for pattern, replacement in _API_TO_CLI.get(command, []):
+        text = pattern.sub(replacement, text)
+    return " ".join(text.split())
+
+
+def _warn_all(args: argparse.Namespace) -> None:
+    """Prints each warning raised (once), one line in the command's terms, on stderr; empties
+    the list."""
+    seen = set()
+    for w in args.caught:
+        line = cli_terms(str(w.message), args.command)
+        if line not in seen:
+            seen.add(line)
+            print(f"dzhanibekov: warning: {line}", file=sys.stderr, flush=True)
+    args.caught.clear()
+
+
+def _note_steps(results: Sequence[SceneResult], dt: float | None) -> None:
+    """Warns where a run took steps other than `--dt`: a step never spans more than the
+    time between two frames, and the span between frames is cut into equal steps."""
+    if dt is None:
+        return
+    for r in results:
+        run = r.trajectory if r.trajectory is not None else r.summary
+        assert run is not None
+        if run.n_steps == 0:
+            warnings.warn(f"--dt {dt:g} is ignored by --method {run.method}, which takes no "
+                          "steps", UserWarning, stacklevel=2)
+        elif not is_adaptive(run.method) and abs(run.dt - dt) > 1e-12 * dt:
+            spacing = r.scene.t_end / (r.scene.frames - 1)
+            warnings.warn(f"--dt {dt:g} became {run.dt:g} in {r.scene.name}: a run goes from "
+                          f"frame to frame (every {spacing:g}) in equal steps no longer than "
+                          "--dt", UserWarning, stacklevel=2)
+
+
+_OPTIONS = {"t_end": "--t-end", "frames": "--frames", "dt": "--dt", "method": "--method"}
+"""The scene fields `run` overrides, and their options."""
+
+
+def _override(scene: Scene, overrides: dict[str, Any]) -> Scene:
+    """`scene` with the command line's overrides, each checked as the scene file's key is and
+    an error naming the option, not the key."""
+    try:
+        return scene.replace(**overrides)
+    except SceneError as exc:
+        field = (exc.key or "").removeprefix("run.")
+        if field in overrides:
+            raise ValueError(f"`{_OPTIONS[field]}` {cli_terms(exc.detail, 'run')}") from None
+        if exc.key == "run":  # the options together (a step and a tolerance)
+            raise ValueError(f"{scene.name}: {cli_terms(exc.detail, 'run')}") from None
+        raise
+
+
 def _paper(args: argparse.Namespace) -> int:
     from .render import output_folder, render_paper
 
+    if args.dt is not None:
+        for name in PAPER_RENDER:  # every scene takes the step, before anything runs
+            _override(SCENES[name], {"dt": args.dt})
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         files, results = render_paper(tmp, dt=args.dt, progress=_progress(args),
-                                      fps=args.fps, size=args.gif_size)
-    _table(results, time.perf_counter() - start)
-    print(f"wrote {len(files)} files to {args.out}")
+                                      fps=args.fps, size=args.gif_size,
+                                      animation=not args.no_animation, workers=args.jobs,
+                                      report=_say)
+        _note_steps(results, args.dt)
+        # the last step that can fail, before anything is moved into `--out`
+        text = (_table(results, time.perf_counter() - start)
+                + f"\nwrote {len(files)} files to {args.out}")
+    args.committed = True
+    _warn_all(args)
+    print(text)
     return 0
 
 
@@ -80,17 +210,23 @@ def _run(args: argparse.Namespace) -> int:
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
-    overrides = {key: getattr(args, key) for key in ("method", "t_end", "frames", "dt")
-                 if getattr(args, key) is not None}
+    overrides = {key: getattr(args, key) for key in _OPTIONS if getattr(args, key) is not None}
     if overrides:
-        scene = scene.replace(**overrides)  # checked as the scene file's keys are
+        scene = _override(scene, overrides)
     start = time.perf_counter()
     with output_folder(args.out) as tmp:
         result = compute(scene)
+        step = overrides.get("dt")
+        _note_steps([result], step if isinstance(step, float) else None)
         files = render_scene(result, tmp, progress=_progress(args), flip_times=args.flip_times,
-                             fps=args.fps, size=args.gif_size)
-    _table([result], time.perf_counter() - start)
-    print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
+                             fps=args.fps, size=args.gif_size, animation=not args.no_animation,
+                             report=_say)
+        text = (_table([result], time.perf_counter() - start)
+                + f"\nwrote {len(files)} files to {args.out}: "
+                + ", ".join(f.name for f in files))
+    args.committed = True
+    _warn_all(args)
+    print(text)
     return 0
 
 
@@ -103,24 +239,47 @@ def _map(args: argparse.Namespace) -> int:
     with output_folder(args.out) as tmp:
         files, results = render_maps(tmp, kinds, size=args.size, t_end=args.t_end, dt=args.dt,
                                      progress=_progress(args))
-    print(f"{'map':<10} {'runs':>7} {'flipped':>8} {'turned over':>12} {'steps per run':>14}")
-    for kind, r in zip(kinds, results):
-        turned = int((r.tilt > np.pi / 2).sum())
-        print(f"{kind:<10} {len(r):>7} {int((r.flips > 0).sum()):>8} {turned:>12}"
-              f" {int(r.n_steps.flat[0]):>14}")
-    print(f"rendered in {time.perf_counter() - start:.1f} s")
-    print(f"wrote {len(files)} files to {args.out}: " + ", ".join(f.name for f in files))
+        lines = [f"{'map':<10} {'runs':>7} {'flipped':>8} {'turned over':>12}"
+                 f" {'steps per run':>14}"]
+        for kind, r in zip(kinds, results):
+            turned = int((r.tilt > np.pi / 2).sum())
+            lines.append(f"{kind:<10} {len(r):>7} {int((r.flips > 0).sum()):>8} {turned:>12}"
+                         f" {int(r.n_steps.flat[0]):>14}")
+        lines.append(f"rendered in {time.perf_counter() - start:.1f} s")
+        lines.append(f"wrote {len(files)} files to {args.out}: "
+                     + ", ".join(f.name for f in files))
+    args.committed = True
+    _warn_all(args)
+    print("\n".join(lines))
     return 0
 
 
 def _view(args: argparse.Namespace) -> int:
+    from .render import OutputError, _missing_ancestors
     from .viewer import write_html
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
     out = Path(args.out)
     if out.is_dir():
         raise ValueError(f"`--out` must be an HTML file, but {out} is a folder")
-    path = write_html(scene, out, frames=args.frames)
+    for parent in out.parents:  # its folder is created, as `run`, `map` and `paper` do
+        if parent.exists():
+            if not parent.is_dir():
+                raise OutputError(out, f"{parent} is a file, not a folder")
+            break
+    created = _missing_ancestors(out.parent)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        path = write_html(scene, out, frames=args.frames)
+    except BaseException:
+        for folder in created:  # deepest first; only those still empty
+            try:
+                folder.rmdir()
+            except OSError:
+                break
+        raise
+    args.committed = True
+    _warn_all(args)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.1f} MB): open it in a browser")
     return 0
 
@@ -138,12 +297,51 @@ def _scenes(args: argparse.Namespace) -> int:
     return 0
 
 
+def _movie_option(name: str) -> Callable[[str], int]:
+    """`--fps` or `--gif-size`, checked against the animation's limits whatever the scene."""
+    def parse(text: str) -> int:
+        from .plotting.movie import FPS_LIMITS, SIZE_LIMITS
+
+        low, high = FPS_LIMITS if name == "fps" else SIZE_LIMITS
+        return _whole(low, high)(text)
+    return parse
+
+
 def _movie_options(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--fps", type=int, default=None,
+    parser.add_argument("--fps", type=_movie_option("fps"), default=None,
                         help="animation frames per second (default: the scene's, else 20)")
-    parser.add_argument("--gif-size", type=int, default=None, dest="gif_size", metavar="PX",
+    parser.add_argument("--gif-size", type=_movie_option("size"), default=None,
+                        dest="gif_size", metavar="PX",
                         help="animation width and height in pixels (default: the scene's, "
-                        "else 560)")
+                        "else 480)")
+    parser.add_argument("--no-animation", action="store_true", dest="no_animation",
+                        help="draw the figures only, no animation")
+
+
+def _paper_description() -> str:
+    """What `paper` renders, from the scenes themselves."""
+    animated = [n for n in PAPER_RENDER if SCENES[n].draw.animation]
+    lines = [f"Simulate {_count(len(PAPER_RENDER))} scenes and render, into DIR, their "
+             f"figures ({sum(len(SCENES[n].draw.figures) for n in PAPER_RENDER)} PNG files, "
+             "SCENE-FIGURE.png), fig3.png (Fig. 3 a-c side by side) and stable.png (the "
+             f"stable counter-examples), {_count(len(animated))} animations (SCENE.gif, and "
+             "SCENE.mp4 where an ffmpeg is found) and a JSON summary of each scene (flip "
+             "times, verdict, drift); then print a table of the flip times and the "
+             "invariants' drift. Figures and animations are drawn in parallel processes "
+             "(--jobs); a line on stderr says when each is done."]
+    lines = [textwrap.fill(lines[0], 79), "", "The scenes:"]
+    for name in PAPER_RENDER:
+        scene = SCENES[name]
+        what = ", ".join(scene.draw.figures) + (" + animation" if scene.draw.animation else "")
+        lines.append(f"  {name:<16} {scene.title}")
+        lines.append(f"  {'':<16}   ({what})")
+    return "\n".join(lines)
+
+
+def _count(n: int) -> str:
+    words = ("no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine",
+             "ten", "eleven", "twelve")
+    return words[n] if n < len(words) else str(n)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -158,17 +356,19 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     paper = commands.add_parser(
         "paper",
-        help="render every figure of the paper and its animation",
-        description="Simulate the paper's scenes (Fig. 2 and Fig. 3a-c) and two stable "
-        "counter-examples, render their figures, the animation (GIF; MP4 too when ffmpeg is "
-        "found) and a JSON summary of each into DIR, and print flip times and the "
-        "invariants' drift.",
+        help="render the paper's figures and animations (nine scenes, four animated)",
+        description=_paper_description(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     paper.add_argument("--out", required=True, type=Path, metavar="DIR",
                        help="folder to write into (created; files of the same name replaced)")
-    paper.add_argument("--dt", type=float, default=None,
+    paper.add_argument("--dt", type=_positive, default=None,
                        help="step for every scene (default: each scene's own)")
-    paper.add_argument("--no-progress", action="store_true", help="no progress bar")
+    paper.add_argument("--jobs", type=_whole(1, 1024), default=None, metavar="N",
+                       help="processes to draw in (default: one per CPU this process may "
+                       "use)")
+    paper.add_argument("--no-progress", action="store_true",
+                       help="no progress bars (the line per scene stays)")
     _movie_options(paper)
     paper.set_defaults(run=_paper)
 
@@ -245,16 +445,31 @@ def main(argv: Sequence[str] | None = None) -> int:
     scenes.set_defaults(run=_scenes)
 
     args = parser.parse_args(argv)
-    try:
-        return int(args.run(args))
-    except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
-        # OSError: the output folder cannot be written (render.OutputError names the path)
-        print(f"dzhanibekov: error: {exc}", file=sys.stderr)
-        return 2
-    except MemoryError as exc:
-        print(f"dzhanibekov: error: out of memory{f': {exc}' if str(exc) else ''}; nothing "
-              "written", file=sys.stderr)
-        return 2
-    except KeyboardInterrupt:
-        print("dzhanibekov: interrupted; nothing written", file=sys.stderr)
-        return 130
+    args.committed = False  # set once the output is in place
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        args.caught = caught
+        try:
+            return int(args.run(args))
+        except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
+            # OSError: the output folder cannot be written (render.OutputError names the path)
+            _warn_all(args)
+            print(f"dzhanibekov: error: {exc}", file=sys.stderr)
+            return 2
+        except MemoryError as exc:
+            _warn_all(args)
+            print(f"dzhanibekov: error: out of memory{f': {exc}' if str(exc) else ''}; "
+                  f"{_what_was_written(args)}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt as exc:
+            if isinstance(exc, CommittedInterrupt):
+                args.committed = True
+            print(f"dzhanibekov: interrupted; {_what_was_written(args)}", file=sys.stderr)
+            return 130
+
+
+def _what_was_written(args: argparse.Namespace) -> str:
+    """The truth about `--out` after a failure."""
+    if args.committed:
+        return f"every file was written to {args.out}"
+    return "nothing written"

@@ -92,8 +92,11 @@ def test_spin_about_the_intermediate_axis_flips():
 
 
 def test_the_command_line_rejects_a_bad_step(capsys, tmp_path):
-    assert main(["paper", "--out", str(tmp_path / "figures"), "--dt", "-1"]) == 2
-    assert "`run.dt` must be positive" in capsys.readouterr().err
+    # named by its option (issue 24: it said `run.dt`), before anything runs
+    with pytest.raises(SystemExit) as exit_:
+        main(["paper", "--out", str(tmp_path / "figures"), "--dt", "-1"])
+    assert exit_.value.code == 2
+    assert "argument --dt: must be a positive number" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
 
 

@@ -15,6 +15,7 @@ import dzhanibekov as dz
 from dzhanibekov.plotting import movie
 from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.cli import main
+from dzhanibekov.render import PAPER_RENDER
 
 
 def assert_picture(path):
@@ -40,19 +41,32 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     assert {p.name for p in out.iterdir()} == expected
     for path in out.glob("*.png"):
         assert_picture(path)
-    with Image.open(out / "example.gif") as gif:
-        # at least a frame per scene frame, and the body turning at most 10° from one to
-        # the next (at its fastest)
-        scene = dz.SCENES["example"]
-        rate = np.linalg.norm(scene.run().omega, axis=1).max()
-        assert gif.n_frames >= scene.frames
-        assert rate * scene.t_end / (gif.n_frames - 1) <= np.radians(10.0) * (1 + 1e-9)
+    for name in dz.SCENES:
+        if not dz.SCENES[name].draw.animation:
+            continue
+        with Image.open(out / f"{name}.gif") as gif:
+            # no more frames than the budget (they were 641 to 901), and no fewer than it
+            # takes to turn the body at most 10° from one to the next
+            scene = dz.SCENES[name]
+            rate = np.linalg.norm(scene.run().omega, axis=1).max()
+            needed = np.ceil(rate * scene.t_end / np.radians(10.0)) + 1
+            assert gif.n_frames == min(movie.MAX_FRAMES, needed)
     summary = json.loads((out / "fig3a.json").read_text())
     assert summary["verdict"] == "2 flips in [0, 100]" and len(summary["flip_times"]) == 2
     assert json.loads((out / "stable-largest.json").read_text())["flip_times"] == []
-    table = capsys.readouterr().out
+    captured = capsys.readouterr()
+    table = captured.out
     for name in dz.SCENES:
         assert name in table
+    # a line on stderr as each scene's figures and each animation are done (not a terminal:
+    # no bars), counted; the table comes after them, on stdout
+    lines = captured.err.strip().splitlines()
+    tasks = len(PAPER_RENDER) + 2 + sum(dz.SCENES[n].draw.animation for n in PAPER_RENDER)
+    assert len(lines) == tasks and lines[-1].startswith(f"[{tasks}/{tasks}] ")
+    for name in PAPER_RENDER:
+        assert any(line.split("] ", 1)[1].startswith(f"{name}: ") for line in lines), name
+    assert sum("animation" in line and ".gif" in line for line in lines) == \
+        sum(dz.SCENES[n].draw.animation for n in PAPER_RENDER)
     # nothing else beside the output folder: the temporary one is gone; and the folder has
     # the usual mode, not the temporary folder's 0700
     assert [p.name for p in tmp_path.iterdir()] == ["figures"]
@@ -165,6 +179,133 @@ def test_run_overrides_the_scenes_method_end_frames_and_step(tmp_path, capsys):
     assert (report["method"], report["dt"], report["n_steps"]) == ("splitting", 0.01, 5000)
     capsys.readouterr()
     assert main(["run", "fig3a", "--out", str(out), "--frames", "1"]) == 2
-    assert "run.frames" in capsys.readouterr().err
+    assert "`--frames` must be" in capsys.readouterr().err
     with pytest.raises(SystemExit):
         main(["run", "fig3a", "--out", str(out), "--dt", "soon"])
+
+
+def test_paper_without_animations_asks_for_the_figures_only(tmp_path, monkeypatch, capsys):
+    """`--no-animation` reaches the render (which draws no animation when told: see
+    `test_run_without_animation`; the full `paper` render runs above)."""
+    import dzhanibekov.render as render
+
+    asked = {}
+
+    def fake(folder, **kwargs):
+        asked.update(kwargs)
+        return [], []
+
+    monkeypatch.setattr(render, "render_paper", fake)
+    assert main(["paper", "--out", str(tmp_path / "out"), "--no-animation", "--jobs", "1"]) == 0
+    assert asked["animation"] is False and asked["workers"] == 1
+    assert main(["paper", "--out", str(tmp_path / "out")]) == 0
+    assert asked["animation"] is True and asked["workers"] is None
+    capsys.readouterr()
+
+
+def test_run_without_animation(tmp_path):
+    out = tmp_path / "out"
+    assert main(["run", "example", "--out", str(out), "--no-animation", "--t-end", "20",
+                 "--no-progress"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == sorted(
+        [f"example-{f}.png" for f in dz.SCENES["example"].draw.figures] + ["example.json"])
+
+
+def test_paper_help_says_what_it_renders(capsys):
+    """Nine scenes, four animated: each named with its title and what it draws."""
+    with pytest.raises(SystemExit):
+        main(["paper", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    animated = [n for n in PAPER_RENDER if dz.SCENES[n].draw.animation]
+    assert (len(PAPER_RENDER), len(animated)) == (9, 4)
+    assert "Simulate nine scenes" in text and "four animations" in text
+    for name in PAPER_RENDER:
+        scene = dz.SCENES[name]
+        assert f"{name} {scene.title}" in text
+        assert ", ".join(scene.draw.figures) + (" + animation" if name in animated else "") \
+            in text
+    assert "--no-animation" in text and "--jobs" in text
+
+
+def merged(argv: list[str], **kwargs) -> subprocess.CompletedProcess[str]:
+    """The command line in a process of its own, stderr into stdout (in the order written)."""
+    return subprocess.run([sys.executable, "-m", "dzhanibekov", *argv], stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, text=True, timeout=300, **kwargs)
+
+
+def test_cli_warnings_are_one_line_in_cli_terms_before_the_result(tmp_path):
+    """`run fig3a --dt 5` printed a raw StepSizeWarning (a site-packages path, its source
+    line, advice in API terms) after the table, and turned the step into 0.5 silently."""
+    done = merged(["run", "fig3a", "--dt", "5", "--out", str(tmp_path / "out"),
+                   "--no-progress"])
+    assert done.returncode == 0, done.stdout
+    lines = done.stdout.splitlines()
+    warned = [k for k, line in enumerate(lines) if line.startswith("dzhanibekov: warning: ")]
+    result = next(k for k, line in enumerate(lines) if line.startswith("rendered in"))
+    assert len(warned) == 2 and max(warned) < result
+    assert not [line for line in lines if "Warning" in line or "site-packages" in line
+                or "warnings.warn" in line]
+    step, = (lines[k] for k in warned if "became" in lines[k])
+    drift, = (lines[k] for k in warned if "too large" in lines[k])
+    assert "--dt 5 became 0.5 in fig3a" in step and "every 0.5" in step
+    assert "--dt none" in drift and "--method splitting" in drift and "--dt" in drift
+    assert "dt=None" not in drift and "method=" not in drift and "MAX_PREDICTED" not in drift
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["--fps", "0"], "--fps"), (["--fps", "1001"], "--fps"), (["--gif-size", "7"], "--gif-size"),
+    (["--gif-size", "5000"], "--gif-size"), (["--dt", "0"], "--dt"), (["--dt", "-1"], "--dt"),
+    (["--dt", "nan"], "--dt")])
+@pytest.mark.parametrize("command", ["run fig3a", "paper"])
+def test_every_option_is_checked_whatever_the_scene(command, argv, option, tmp_path, capsys):
+    """fig3a has no animation: `--fps 0` and `--gif-size 7` passed silently."""
+    out = tmp_path / "out"
+    with pytest.raises(SystemExit) as exit_:
+        main([*command.split(), "--out", str(out), *argv])
+    assert exit_.value.code == 2
+    assert f"argument {option}: must be" in capsys.readouterr().err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--t-end", "-1"], "`--t-end` must be"), (["--frames", "1"], "`--frames` must be"),
+    (["--method", "rk5"], "`--method` must be one of"),
+    (["--method", "exact", "--dt", "0.1"], None)])
+def test_an_override_is_named_by_its_option(argv, says, tmp_path, capsys):
+    out = tmp_path / "out"
+    code = main(["run", "fig3a", "--out", str(out), "--no-progress", *argv])
+    err = capsys.readouterr().err
+    if says is None:  # allowed: the exact solution takes no steps, and says so
+        assert code == 0 and "--dt 0.1 is ignored by --method exact" in err
+        return
+    assert code == 2 and says in err and "run." not in err
+    assert not out.exists()
+
+
+def test_view_creates_its_folder_as_the_other_commands_do(tmp_path, capsys):
+    pytest.importorskip("plotly")
+    out = tmp_path / "new" / "deeper" / "flip.html"
+    assert main(["view", "fig3b", "--out", str(out), "--frames", "11"]) == 0
+    assert out.stat().st_size > 10_000
+    (tmp_path / "plain").write_text("x")
+    assert main(["view", "fig3b", "--out", str(tmp_path / "plain" / "flip.html")]) == 2
+    assert "is a file" in capsys.readouterr().err
+
+
+def test_each_command_gives_the_apis_advice_in_its_own_options():
+    """The step warning's advice (`dt=None`, a method such as 'splitting') in each command's terms:
+    `run` has --dt none and --method; `paper` points to `run`; `map` has only --dt."""
+    from dzhanibekov.cli import cli_terms
+
+    with pytest.warns(dz.StepSizeWarning) as caught:
+        dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=100.0, dt=0.5)
+    message = str(caught[0].message)
+    assert "dt=None" in message and "'splitting'" in message
+    said = {command: cli_terms(message, command) for command in ("run", "paper", "map")}
+    for text in said.values():
+        assert "dt=None" not in text and "method=" not in text and "a smaller --dt" in text
+        assert "'splitting'" not in text
+        assert "\n" not in text
+    assert "--dt none" in said["run"] and "--method splitting" in said["run"]
+    assert "`dzhanibekov run SCENE --method splitting`" in said["paper"]
+    assert said["map"].endswith("Take a smaller --dt.")

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import resource
 import subprocess
 import sys
@@ -33,7 +34,8 @@ def snapshot(folder: Path) -> dict[str, bytes | None]:
 
 
 def one_line_error(err: str, *fragments: str) -> None:
-    lines = err.strip().splitlines()
+    """`err` is one line of error (after the progress lines "[k/n] …" of what was drawn)."""
+    lines = [line for line in err.strip().splitlines() if not re.match(r"\[ *\d+/\d+\] ", line)]
     assert len(lines) == 1, f"not one line: {err!r}"
     assert lines[0].startswith("dzhanibekov: error: "), err
     assert "Traceback" not in err
@@ -223,3 +225,155 @@ def test_a_short_flip_list_is_listed_in_full(tmp_path):
     assert main(["run", str(path), "--out", str(out), "--no-progress"]) == 0
     about = json.loads((out / "mine.json").read_text())
     assert about["flips"]["count"] == len(about["flip_times"])
+
+
+class Guarded(np.ndarray):
+    """Flip times that may not be walked through: a table that lists them all fails."""
+
+    def __iter__(self):
+        if len(self) > 4:
+            raise AssertionError("walked through every flip time")
+        return super().__iter__()
+
+    def tolist(self):
+        if len(self) > 4:
+            raise AssertionError("listed every flip time")
+        return super().tolist()
+
+
+def test_the_table_reads_only_what_it_prints():
+    """Issue 25: `list(r.flip_times)` of 9.2·10⁷ flips took 30 s and 4.4 GB to print four."""
+    from types import SimpleNamespace
+
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    real = compute(dz.SCENES["fig3a"])
+    # 10¹² flip times that take no memory (one number, seen 10¹² times)
+    times = np.lib.stride_tricks.as_strided(np.array([0.5]), shape=(10**12,),
+                                            strides=(0,)).view(Guarded)
+    fake = SimpleNamespace(scene=real.scene, trajectory=real.trajectory, summary=None,
+                           flip_times=times, drift=real.drift)
+    text = _table([fake], 1.0)
+    row = text.splitlines()[1]
+    assert " 1000000000000  " in row and "0.500, 0.500, 0.500, 0.500, …" in row
+
+
+def test_the_tables_columns_line_up_past_long_flip_times():
+    """A deployment's first four flips (112.117, 122.212, …, and "…") ran past the flip
+    column and pushed its drift out from under the header."""
+    from types import SimpleNamespace
+
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    real = compute(dz.SCENES["fig3a"])
+    long = np.array([112.117, 122.212, 1132.306, 1142.401, 1150.0])
+    fake = SimpleNamespace(scene=real.scene, trajectory=real.trajectory, summary=None,
+                           flip_times=long, drift=real.drift)
+    head, short, wide = _table([real, fake], 1.0).splitlines()[:3]
+    assert "1142.401, …" in wide
+    for name, value in (("dE/E", real.drift.energy), ("d|q|", real.drift.q_norm)):
+        end = head.index(name) + len(name)  # numbers are right-aligned under their name
+        cell = f"{value:.1e}"
+        for row in (short, wide):
+            assert row[end - len(cell):end] == cell, (name, row)
+
+
+def test_a_failure_after_the_run_leaves_nothing_written(tmp_path, monkeypatch, capsys):
+    """Issue 25: the table came after the output was moved into `--out`, so "out of memory;
+    nothing written" (or "interrupted; nothing written") was false: the JSON was there."""
+    import dzhanibekov.cli as cli
+
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    for failure, code, says in ((MemoryError, 2, "out of memory; nothing written"),
+                                (KeyboardInterrupt, 130, "interrupted; nothing written")):
+        def table(*args, failure=failure):
+            raise failure()
+
+        monkeypatch.setattr(cli, "_table", table)
+        assert main(["run", str(scene), "--out", str(out), "--no-progress"]) == code
+        assert says in capsys.readouterr().err
+        assert not out.exists()
+
+
+def test_ctrl_c_while_the_files_move_in_waits_for_all_of_them(tmp_path, monkeypatch, capsys):
+    """Ctrl-C half-way through moving the files in left some replaced and said "nothing
+    written"; now the move finishes and the message says every file is there."""
+    import signal
+
+    import dzhanibekov.render as render
+
+    scene = tiny_scene(tmp_path)
+    out = tmp_path / "out"
+    real = os.replace
+    calls = []
+
+    def replace(source, target):
+        calls.append(target)
+        if len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, as the first file moves in
+        real(source, target)
+
+    monkeypatch.setattr(render.os, "replace", replace)
+    assert main(["run", str(scene), "--out", str(out), "--no-progress"]) == 130
+    err = capsys.readouterr().err
+    assert f"interrupted; every file was written to {out}" in err
+    assert sorted(p.name for p in out.iterdir()) == ["mine-omega.png", "mine.json"]
+    assert len(calls) == 2
+
+
+def test_a_failure_in_a_drawing_process_is_one_line_and_nothing_is_written(tmp_path):
+    """`paper` draws in worker processes: a file they cannot write (`ulimit -f`) is reported
+    as in one process, and `--out` is left as it was."""
+    out = tmp_path / "out"
+    done = run_cli(["paper", "--out", str(out), "--no-progress", "--no-animation", "--jobs",
+                    "2"], preexec_fn=limit_file_size)
+    assert done.returncode == 2, done.stderr
+    one_line_error(done.stderr, "File too large", ".png")
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == []
+
+
+def processes_marked(mark: str) -> list[int]:
+    """The processes whose environment holds `mark`."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if mark.encode() in (entry / "environ").read_bytes():
+                    found.append(int(entry.name))
+            except OSError:
+                pass
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs /proc")
+def test_ctrl_c_during_paper_ends_its_drawing_processes_and_writes_nothing(tmp_path):
+    import signal
+    import time
+
+    out = tmp_path / "out"
+    mark = f"DZ_TEST_MARK={os.getpid()}-{time.monotonic_ns()}"
+    env = dict(os.environ, DZ_TEST_MARK=mark.split("=", 1)[1])
+    with subprocess.Popen([sys.executable, "-m", "dzhanibekov", "paper", "--out", str(out),
+                           "--no-progress", "--no-animation", "--jobs", "2"],
+                          stderr=subprocess.PIPE,
+                          stdout=subprocess.DEVNULL, text=True, env=env) as proc:
+        try:
+            assert proc.stderr is not None
+            first = proc.stderr.readline()  # the first drawing is done: the workers are busy
+            assert first.startswith("[ 1/"), first
+            assert len(processes_marked(mark)) >= 3  # this one and its two workers
+            proc.send_signal(signal.SIGINT)
+            rest = proc.stderr.read()
+            assert proc.wait(timeout=60) == 130, rest
+        finally:
+            proc.kill()
+    assert "dzhanibekov: interrupted; nothing written" in rest and "Traceback" not in rest
+    assert not out.exists()
+    deadline = time.monotonic() + 10
+    while processes_marked(mark) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert processes_marked(mark) == []

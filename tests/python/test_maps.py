@@ -119,3 +119,22 @@ def test_map_command_refuses_bad_arguments_and_writes_nothing(tmp_path, capsys):
         main(["map", "--help"])
     assert exit_.value.code == 0
     assert "--kind" in capsys.readouterr().out
+
+
+def test_the_grey_of_a_map_is_explained_on_it(rate_sweep):
+    """Starts without a period (fewer than two flips by t_end) are grey: the legend says so,
+    below the map where it covers none of it."""
+    fig = maps.stability_map(rate_sweep, quantity="period")
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    assert not np.isfinite(rate_sweep.period).all()  # there is grey to explain
+    legend = ax.get_legend()
+    labels = [t.get_text() for t in legend.get_texts()]
+    assert labels == ["separatrix", maps.NO_VALUE_MEANS["period"]]
+    patch = legend.legend_handles[1]
+    assert patch.get_facecolor()[:3] == pytest.approx(
+        tuple(int(maps.NO_VALUE[i:i + 2], 16) / 255 for i in (1, 3, 5)))
+    assert not legend.get_window_extent().overlaps(ax.get_window_extent())
+    # a map with a value everywhere has nothing grey to explain
+    fig = maps.stability_map(rate_sweep, quantity="flips")
+    assert [t.get_text() for t in fig.axes[0].get_legend().get_texts()] == ["separatrix"]

@@ -284,3 +284,17 @@ def test_a_shipped_scene_can_be_shortened_and_its_copy_is_not_the_file():
     assert "<scene example, modified>" in str(info.value)
     assert "scenes/example.toml" not in str(info.value)
     assert example.replace(dt=None).dt is None
+
+
+def test_a_saved_scene_writes_its_arrays_on_one_line(tmp_path):
+    """`scene.save()` wrote one number per line (tomli_w's arrays); now as the shipped files
+    do, and read back to the same scene."""
+    for name, scene in dz.SCENES.items():
+        text = scene.save(tmp_path / f"{name}.toml").read_text()
+        assert f"omega = [{', '.join(repr(w) for w in scene.omega0)}]" in text
+        assert f"q = [{', '.join(repr(x) for x in scene.q0)}]" in text
+        assert f"figures = [{', '.join(repr(f).replace(chr(39), chr(34)) for f in scene.draw.figures)}]" in text
+        assert dz.load_scene(tmp_path / f"{name}.toml") == scene.replace(
+            source=str(tmp_path / f"{name}.toml"))
+    deployment = dz.SCENES["deployment"].to_toml()
+    assert "    [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]],\n" in deployment

@@ -18,16 +18,16 @@ import math
 
 import textwrap
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from matplotlib.animation import FuncAnimation
 from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.colors import LightSource
+from matplotlib.colors import LightSource, to_rgba
 from matplotlib.figure import Figure
 from mpl_toolkits.mplot3d import Axes3D  # type: ignore[import-untyped]
 from mpl_toolkits.mplot3d.art3d import (  # type: ignore[import-untyped]
@@ -86,6 +86,37 @@ LIGHT = LightSource(azdeg=300, altdeg=40)
 
 Drawable = Scene | SceneResult | Trajectory
 """What the figures take: a scene, a computed scene, or a trajectory with its body."""
+
+
+class Units(NamedTuple):
+    """The units a scene's numbers are in, for axis labels; empty strings: any consistent
+    set (the package assumes none, see the conventions)."""
+
+    time: str = ""
+    length: str = ""
+    mass: str = ""
+
+    def label(self, what: str, unit: str) -> str:
+        """`what` with `unit` in parentheses, or "consistent units" when there is none."""
+        return f"{what} ({unit})" if unit else f"{what} (consistent units)"
+
+    @property
+    def rate(self) -> str:
+        """The unit of ω."""
+        return f"rad/{self.time}" if self.time else ""
+
+
+PRESET_UNITS = {"wing-nut": Units(time="s", length="mm", mass="g")}
+"""The units of the bodies a scene names by `body.preset` (:meth:`~dzhanibekov.Body.wing_nut`:
+millimetres and grams; its scene's times are seconds)."""
+
+
+def units_of(scene: Scene) -> Units:
+    """The units of `scene`'s numbers: its preset body's, else any consistent set."""
+    spec = scene.body_spec
+    if spec is not None and isinstance(spec.get("preset"), str):
+        return PRESET_UNITS.get(spec["preset"], Units())
+    return Units()
 
 
 def compute(scene: Drawable, *, animation: bool = False) -> SceneResult:
@@ -211,6 +242,183 @@ def _unit(v: np.ndarray) -> np.ndarray:
     return unit
 
 
+TRAIL_TURNS = 3.0
+"""An animation's path fades over the last three turns of the body (at its rate then)…"""
+TRAIL_SPAN = 0.25
+"""… and over at most a quarter of the run: the path shows where the point has just been,
+not a tangle of the whole run."""
+TRAIL_SEGMENTS = 400
+"""The most line segments a fading path is drawn with in one frame…"""
+TRAIL_SHADES = 24
+"""… in this many shades, from transparent (oldest) to opaque (now)."""
+
+
+class Frames(NamedTuple):
+    """The drawn body's points at an animation's frames."""
+
+    times: np.ndarray
+    """(N,) the frames' times."""
+    rates: np.ndarray
+    """(N,) ``|ω|`` at each frame (how far back the fading path reaches)."""
+    points: Mapping[str, np.ndarray]
+    """Point set name → (N, P, 3) world points (see :data:`~dzhanibekov.scenes.plan.POINT_SETS`)."""
+
+
+def stored_frames(result: SceneResult, frames: np.ndarray | None = None) -> Frames:
+    """The scene's own frames (indices `frames`, default all) as :class:`Frames`; the scene
+    must have been computed for an animation (every point set rotated at every frame)."""
+    traj = result.trajectory
+    assert traj is not None, "an animation needs frames"
+    index = np.arange(len(traj.t)) if frames is None else np.asarray(frames)
+    points = {}
+    for name, w in result.world.items():
+        if len(w.frames) != len(traj.t):
+            raise ValueError(f"scene {result.scene.name!r} was not computed for an animation "
+                             f"(point set {name!r} is rotated at {len(w.frames)} of its "
+                             f"{len(traj.t)} frames)")
+        points[name] = w.points[index]
+    rates = np.sqrt((traj.omega[index] ** 2).sum(axis=1))
+    return Frames(traj.t[index], rates, points)
+
+
+class BodyView:
+    """The body drawn in one 3-D axes, its artists made once and moved from frame to frame:
+    what an animation draws (:func:`animation`, :func:`dzhanibekov.plotting.movie.animate`).
+
+    The box or the body's own shape (its faces shaded for the light as they turn), the
+    inertia ellipsoid, the body axes, the signal point on its mast, the angular momentum and
+    the signal point's path — fading over the last :data:`TRAIL_TURNS` turns of the body (at
+    most :data:`TRAIL_SPAN` of the run), drawn from the run's smooth path
+    (:attr:`~dzhanibekov.scenes.plan.SceneResult.dense_path`).
+
+    Parameters
+    ----------
+    ax : Axes3D
+    result : SceneResult
+        The computed scene (its drawing flags, mesh, shape and smooth path).
+    frames : Frames
+        The points at each frame (:func:`stored_frames`, or resampled).
+    """
+
+    def __init__(self, ax: Axes3D, result: SceneResult, frames: Frames) -> None:
+        self.ax, self.result, self.frames = ax, result, frames
+        scene, d = result.scene, result.scene.draw
+        pts = frames.points
+        self.artists: dict[str, Any] = {}
+        if "ellipsoid" in pts:
+            assert result.mesh is not None
+            self._quads = result.mesh[1]
+            self.artists["ellipsoid"] = ax.add_collection3d(Poly3DCollection(
+                pts["ellipsoid"][0][self._quads], facecolor=COLORS["ellipsoid"],
+                edgecolor="#8a5a12", linewidths=0.3, alpha=0.35, label="inertia ellipsoid"))
+        self._faces = None
+        if "box" in pts:
+            shape = scene.drawn_shape
+            if shape is not None and shape.faces is not None:
+                self._faces = shape.faces
+                self._face_rgba = _rgba(COLORS["faces"], 0.45)
+                self.artists["faces"] = ax.add_collection3d(Poly3DCollection(
+                    pts["box"][0][shape.faces], linewidths=0.0))
+            self._edges = shape.edges if shape is not None else box_edges()
+            self.artists["box"] = ax.add_collection3d(Line3DCollection(
+                pts["box"][0][self._edges], colors=COLORS["box"],
+                linewidths=1.4 if len(self._edges) < 60 else 0.8,
+                label="body" if self._faces is not None else "box"))
+        if "body_axes" in pts:
+            self.artists["body_axes"] = ax.add_collection3d(Line3DCollection(
+                self._axis_segments(0), colors=COLORS["axes"], linewidths=1.0,
+                label="body axes"))
+        if d.momentum and result.trajectory is not None:
+            tip = _unit(result.momentum_world) * extent(result)
+            (self.artists["momentum"],) = ax.plot(*np.stack([-tip, tip]).T,
+                                                  color=COLORS["momentum"], lw=0.8, ls="--",
+                                                  label="L (angular momentum)")
+        self._path: tuple[np.ndarray, np.ndarray] | None = None
+        if "signal" in pts and d.path and result.trajectory is not None:
+            self._path = result.dense_path
+            self._span = TRAIL_SPAN * float(frames.times[-1] - frames.times[0])
+            here = frames.points["signal"][0][0]
+            self.artists["trail"] = ax.add_collection3d(Line3DCollection(
+                [np.stack([here, here])], linewidths=1.3, color=COLORS["path"],
+                label="signal point's path"), autolim=False)
+        if "signal" in pts and d.signal_point:
+            (self.artists["mast"],) = ax.plot([0.0, 0.0], [0.0, 0.0], [0.0, 0.0],
+                                              color=COLORS["signal"], lw=1.0)
+            (self.artists["signal"],) = ax.plot([0.0], [0.0], [0.0], "o",
+                                                color=COLORS["signal"], ms=4,
+                                                label="signal point")
+        self.show(0)
+
+    def _axis_segments(self, k: int) -> np.ndarray:
+        tips = self.frames.points["body_axes"][k]
+        return np.stack([np.zeros_like(tips), tips], axis=1)
+
+    def trail(self, k: int) -> np.ndarray:
+        """The fading path's points at frame `k`, oldest first, shape (M, 3): the smooth path
+        over the window that ends at the frame's time, then the signal point itself."""
+        assert self._path is not None
+        times, path = self._path
+        t = float(self.frames.times[k])
+        rate = float(self.frames.rates[k])
+        window = min(self._span, TRAIL_TURNS * 2 * math.pi / rate) if rate > 0 else self._span
+        i0 = int(np.searchsorted(times, t - window, side="left"))
+        i1 = int(np.searchsorted(times, t, side="right"))
+        stride = max(1, -(-(i1 - i0) // TRAIL_SEGMENTS))
+        here = self.frames.points["signal"][k]
+        kept: np.ndarray = np.concatenate([path[i0:i1:stride], here])
+        return kept
+
+    def show(self, k: int) -> list[Any]:
+        """Moves every artist to frame index `k`; returns them."""
+        pts = self.frames.points
+        a = self.artists
+        if "ellipsoid" in a:
+            a["ellipsoid"].set_verts(pts["ellipsoid"][k][self._quads])
+        if "box" in a:
+            corners = pts["box"][k]
+            if self._faces is not None:
+                tri = corners[self._faces]
+                a["faces"].set_verts(tri)
+                a["faces"].set_facecolor(_shaded(self._face_rgba, tri))
+            a["box"].set_segments(corners[self._edges])
+        if "body_axes" in a:
+            a["body_axes"].set_segments(self._axis_segments(k))
+        if "trail" in a:
+            line = self.trail(k)
+            if len(line) < 2:
+                line = np.concatenate([line, line])
+            # a few polylines, each a shade lighter than the next: the path fades
+            cuts = np.unique(np.linspace(0, len(line) - 1, TRAIL_SHADES + 1).round().astype(int))
+            pieces = [line[i:j + 1] for i, j in zip(cuts[:-1], cuts[1:])]
+            colors = np.tile(_rgba(COLORS["path"]), (len(pieces), 1))
+            colors[:, 3] = np.linspace(0.0, 1.0, len(pieces) + 1)[1:]
+            a["trail"].set_segments(pieces)
+            a["trail"].set_color(colors)
+        if "signal" in a:
+            p = pts["signal"][k][0]
+            a["mast"].set_data_3d(*np.stack([np.zeros(3), p]).T)
+            a["signal"].set_data_3d([p[0]], [p[1]], [p[2]])
+        return list(a.values())
+
+
+def _rgba(color: Any, alpha: float | None = None) -> np.ndarray:
+    """A colour as an (4,) RGBA array."""
+    rgba: np.ndarray = np.array([*to_rgba(color, alpha)])
+    return rgba
+
+
+def _shaded(rgba: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """`rgba` shaded for :data:`LIGHT` on each of `triangles` (F, 3, 3) as they face it now
+    (the shading of matplotlib's ``shade=True``, recomputed as the body turns)."""
+    normals = np.cross(triangles[:, 0] - triangles[:, 1], triangles[:, 1] - triangles[:, 2])
+    length = np.linalg.norm(normals, axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        light = np.where(length > 0, (normals @ LIGHT.direction) / length, 0.0)
+    colors = np.tile(rgba, (len(triangles), 1))
+    colors[:, :3] *= (0.3 + 0.35 * (light + 1.0))[:, None]
+    return colors
+
+
 def phases_figure(scene: Drawable, *, columns: int = 4,
                   save: str | Path | None = None) -> Figure:
     """Fig. 2: the body (box, inertia ellipsoid, signal point …) at the scene's instants,
@@ -244,14 +452,49 @@ def phases_figure(scene: Drawable, *, columns: int = 4,
         draw_body(ax, result, frame)
         _limits(ax, size)
         ax.set_axis_off()
-        ax.set_title(f"t = {result.trajectory.t[frame]:g}" if result.trajectory is not None
-                     else "", fontsize=9)
+        unit = units_of(result.scene).time
+        ax.set_title(f"t = {result.trajectory.t[frame]:g}{f' {unit}' if unit else ''}"
+                     if result.trajectory is not None else "", fontsize=9)
     fig.suptitle(_title(result), fontsize=10)
+    handles, labels = _handles(fig.axes[:1])
+    if handles:  # what each drawn thing is, once for every panel, below them
+        fig.legend(handles, labels, loc="outside lower center", ncols=min(len(handles), 5),
+                   fontsize=8, frameon=False)
     return _saved(fig, save)
 
 
+def _handles(axes: Sequence[Axes]) -> tuple[list[Any], list[str]]:
+    """The labelled artists of `axes`, each label once (a legend's handles and labels)."""
+    handles, labels = [], []
+    for ax in axes:
+        for handle, label in zip(*ax.get_legend_handles_labels()):
+            if label not in labels:
+                handles.append(handle)
+                labels.append(label)
+    return handles, labels
+
+
+def _headline(result: SceneResult) -> str | None:
+    """What the scene's run did, for its title: for a damped body (a scene about
+    reorientation) when the spin went flat; else how often it flipped (None if flips were not
+    located)."""
+    traj = result.trajectory
+    if traj is not None and "damper" in traj.system.kinds:  # the run's own system's parts
+        t_flat = flat_spin_time(traj)
+        unit = units_of(result.scene).time
+        if math.isfinite(t_flat):
+            return f"flat spin from t ≈ {t_flat:.0f}" + (f" {unit}" if unit else "")
+        return f"not yet flat by t = {result.scene.t_end:g}"
+    return result.verdict
+
+
+def _width(fig: Figure) -> int:
+    """The characters of a 9-point title that fit across `fig`."""
+    return int(12.5 * fig.get_figwidth())
+
+
 def _title(result: SceneResult, width: int = 0) -> str:
-    verdict = result.verdict
+    verdict = _headline(result)
     title = result.scene.title + (f" — {verdict}" if verdict else "")
     if not width or len(title) <= width:
         return title
@@ -260,7 +503,7 @@ def _title(result: SceneResult, width: int = 0) -> str:
     return f"{head} —\n{verdict}" if verdict else head
 
 
-def path_figure(scene: Drawable, *, ax: Axes3D | None = None,
+def path_figure(scene: Drawable, *, ax: Axes3D | None = None, legend: bool = True,
                 save: str | Path | None = None) -> Figure:
     """Fig. 3: the signal point's path in space, in 3-D, with its start and end.
 
@@ -274,15 +517,20 @@ def path_figure(scene: Drawable, *, ax: Axes3D | None = None,
         A scene that draws the path (``"path"`` in `draw.figures`).
     ax : Axes3D, optional
         Draw into this axes instead of a new figure.
+    legend : bool
+        Say what each line is: below the axes in a new figure, in its corner in a given
+        `ax`.
     save : str or Path, optional
         Where to save the figure.
 
     Returns
     -------
     Figure
+        The axes are labelled in the scene's units where it has them (the wing nut's mm).
     """
     result = compute(scene)
     _need(result, "path figure", "signal")
+    own = ax is None
     if ax is None:
         fig = Figure(figsize=(5.2, 5.2), layout="constrained")
         ax = _axes3d(fig, 1, 1, 1)
@@ -320,23 +568,32 @@ def path_figure(scene: Drawable, *, ax: Axes3D | None = None,
             setter(c - half, c + half)
     else:
         _limits(ax, size)
-    ax.set_xlabel("X")
-    ax.set_ylabel("Y")
-    ax.set_zlabel("Z")
+    length = units_of(result.scene).length
+    ax.set_xlabel(f"X ({length})" if length else "X")
+    ax.set_ylabel(f"Y ({length})" if length else "Y")
+    ax.set_zlabel(f"Z ({length})" if length else "Z")
     # wrapped to the panel's width: a second line of a 3-D axes' title is cut off at the top
     spec = ax.get_subplotspec()
     columns = spec.get_gridspec().ncols if spec is not None else 1
     # inside the panel's top margin: constrained layout does not make room above a 3-D box
-    ax.set_title(_title(result, int(15 * fig.get_figwidth() / columns)), fontsize=9, y=0.93)
-    ax.legend(loc="upper left", bbox_to_anchor=(0.0, 0.83), fontsize=7)
+    ax.set_title(_title(result, int(13 * fig.get_figwidth() / columns)), fontsize=9, y=0.93)
+    if legend and own:  # below the 3-D box, where it covers none of it
+        fig.legend(*_handles([ax]), loc="outside lower center", ncols=3, fontsize=7,
+                   frameon=False)
+    elif legend:
+        ax.legend(loc="upper left", fontsize=7)
     return _saved(fig, save)
 
 
 def fig3_figure(scenes: Sequence[Drawable], *, save: str | Path | None = None) -> Figure:
-    """Fig. 3 a–c side by side: :func:`path_figure` of each scene in one row."""
+    """Fig. 3 a–c side by side: :func:`path_figure` of each scene in one row, with one legend
+    below them."""
     fig = Figure(figsize=(4.6 * len(scenes), 4.8), layout="constrained")
     for k, scene in enumerate(scenes):
-        path_figure(scene, ax=_axes3d(fig, 1, len(scenes), k + 1))
+        path_figure(scene, ax=_axes3d(fig, 1, len(scenes), k + 1), legend=False)
+    handles, labels = _handles(fig.axes)
+    fig.legend(handles, labels, loc="outside lower center", ncols=len(handles), fontsize=8,
+               frameon=False)
     return _saved(fig, save)
 
 
@@ -378,10 +635,12 @@ def omega_figure(scene: Drawable, *, ax: Axes | None = None,
         ax.plot(traj.t, traj.omega[:, k], color=COLORS["omega"][k], lw=1.1, label=name)
     for k, t in enumerate(traj.flip_times if traj.flip_times is not None else ()):
         ax.axvline(float(t), color="#555555", lw=0.8, ls=":", label="flip" if k == 0 else None)
-    ax.set_xlabel("t")
-    ax.set_ylabel("ω (body frame)")
+    units = units_of(result.scene)
+    ax.set_xlabel(units.label("t", units.time))
+    ax.set_ylabel(f"ω ({units.rate}, body frame)" if units.rate
+                  else "ω (rad per unit of time, body frame)")
     ax.set_xlim(0, traj.t[-1])
-    ax.set_title(_title(result), fontsize=9)
+    ax.set_title(_title(result, _width(fig)), fontsize=9)
     # beside the axes, where it covers no curve
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     return _saved(fig, save)
@@ -418,10 +677,12 @@ def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
     for label, values in series.items():
         ax.plot(traj.t, np.where(values > 0, values, np.nan), lw=0.9, label=label)
     ax.set_yscale("log")
-    ax.set_xlabel("t")
-    ax.set_ylabel("drift")
+    units = units_of(result.scene)
+    ax.set_xlabel(units.label("t", units.time))
+    ax.set_ylabel("drift (relative)")
     ax.set_xlim(0, traj.t[-1])
-    ax.set_title(f"{result.scene.title}: invariants' drift ({traj.method}, dt = {traj.dt:g})",
+    step = f"dt = {traj.dt:g}" if traj.n_steps > 0 else "no steps"
+    ax.set_title(f"{result.scene.title}: invariants' drift ({traj.method}, {step})",
                  fontsize=9)
     ax.legend(loc="lower right", fontsize=7, ncols=2)
     return _saved(fig, save)
@@ -564,9 +825,11 @@ def polhode_figure(scene: Drawable, *, ax: Axes3D | None = None,
         ax.view_init(*view_of_planes(separatrix))
     _limits(ax, 1.1 * float(semi.max()) if semi.max() > 0 else 1.0)
     principal = "" if traj.body.is_principal else " (principal axes)"
-    ax.set_xlabel("ω₁" if principal else "u")
-    ax.set_ylabel("ω₂" if principal else "v")
-    ax.set_zlabel("ω₃" if principal else "w")
+    rate = units_of(result.scene).rate
+    unit = f" ({rate})" if rate else ""
+    ax.set_xlabel(("ω₁" if principal else "u") + unit)
+    ax.set_ylabel(("ω₂" if principal else "v") + unit)
+    ax.set_zlabel(("ω₃" if principal else "w") + unit)
     ax.set_title(f"{result.scene.title}: polhode{principal}", fontsize=9)
     ax.legend(loc="upper left", fontsize=7)
     return _saved(fig, save)
@@ -634,13 +897,15 @@ def shares_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
                 lw=1.0, ls="--", label="on the major axes")
         t_flat = flat_spin_time(traj)
         if math.isfinite(t_flat):
-            ax.axvline(t_flat, color="#555555", lw=0.8, ls=":", label=f"flat, t = {t_flat:.0f}")
-    ax.set_xlabel("t")
+            ax.axvline(t_flat, color="#555555", lw=0.8, ls=":", label=f"flat, t ≈ {t_flat:.0f}")
+    units = units_of(result.scene)
+    ax.set_xlabel(units.label("t", units.time))
     ax.set_ylabel("share of |L| (body axes)")
     ax.set_xlim(0, traj.t[-1])
     ax.set_ylim(-1.05, 1.05)
-    ax.set_title(_title(result), fontsize=9)
-    ax.legend(loc="lower left", fontsize=8, ncols=5)
+    ax.set_title(_title(result, _width(fig)), fontsize=9)
+    # beside the axes: the shares reach ±1, and a legend inside would cover them
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
     return _saved(fig, save)
 
 
@@ -665,14 +930,15 @@ def energy_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     scale = e0 if e0 > 0 else 1.0
     ax.plot(traj.t, energy / scale, color="#1f3b73", lw=1.3,
             label="E(t) / E(0)" if e0 > 0 else "E(t)")
-    ax.set_xlabel("t")
+    units = units_of(result.scene)
+    ax.set_xlabel(units.label("t", units.time))
     ax.set_ylabel("total kinetic energy / E(0)" if e0 > 0 else "total kinetic energy")
     ax.set_xlim(0, traj.t[-1])
     l_world = traj.momentum_world
     l0 = float(np.linalg.norm(l_world[0]))
     drift = np.linalg.norm(l_world - l_world[0], axis=1).max() / (l0 if l0 > 0 else 1.0)
-    ax.set_title(_title(result) + f"\n|L_world(t) − L_world(0)| / |L| ≤ {drift:.1e}",
-                 fontsize=9)
+    ax.set_title(_title(result, _width(fig))
+                 + f"\n|L_world(t) − L_world(0)| / |L| ≤ {drift:.1e}", fontsize=9)
     ax.legend(loc="best", fontsize=8)
     return _saved(fig, save)
 
@@ -739,6 +1005,19 @@ def animation(scene: Drawable, *, size: int = 480, fps: float = 20.0, dpi: float
     n = result.scene.frames
     count = n if frames is None else as_int("frames", frames, minimum=1, maximum=n)
     indices = np.unique(np.round(np.linspace(0, n - 1, count)).astype(int))
+    fig, draw = animation_figure(result, stored_frames(result, indices), size=size, dpi=dpi)
+    position = {int(frame): k for k, frame in enumerate(indices)}
+    # its frames are the run's frame indices, as it has always said
+    return FuncAnimation(fig, lambda frame: draw(position[int(frame)]),
+                         frames=[int(i) for i in indices], init_func=lambda: [],
+                         interval=1000.0 / fps, blit=False, cache_frame_data=False)
+
+
+def animation_figure(result: SceneResult, frames: Frames, *, size: int, dpi: float = 100.0
+                     ) -> tuple[Figure, Callable[[int], list[Any]]]:
+    """The figure of an animation (an Agg canvas, `size` pixels a side) with the body at
+    `frames` (:class:`BodyView`) and a clock, and the function that moves everything to frame
+    index ``k`` (returning the artists it moved); draw the canvas to render it."""
     fig = Figure(figsize=(size / dpi, size / dpi), dpi=dpi)
     FigureCanvasAgg(fig)
     fig.subplots_adjust(0, 0, 1, 0.93)
@@ -747,17 +1026,12 @@ def animation(scene: Drawable, *, size: int = 480, fps: float = 20.0, dpi: float
     _limits(ax, extent(result))
     fig.suptitle(_title(result, max(20, int(size / 5.5))), fontsize=8)
     clock = fig.text(0.02, 0.02, "", fontsize=8)
-    drawn: list[Any] = []
-    times = result.trajectory.t
+    view = BodyView(ax, result, frames)
+    unit = units_of(result.scene).time
 
-    def draw(frame: int) -> list[Any]:
-        for artist in drawn:
-            artist.remove()
-        drawn.clear()
-        drawn.extend(draw_body(ax, result, int(frame)).values())
-        drawn.extend(line for line in ax.lines if line not in drawn)  # the faint full path
-        clock.set_text(f"t = {times[frame]:.1f}")
-        return drawn + [clock]
+    def draw(k: int) -> list[Any]:
+        moved = view.show(int(k))
+        clock.set_text(f"t = {frames.times[k]:.1f}{f' {unit}' if unit else ''}")
+        return moved + [clock]
 
-    return FuncAnimation(fig, draw, frames=[int(i) for i in indices], init_func=lambda: [],
-                         interval=1000.0 / fps, blit=False, cache_frame_data=False)
+    return fig, draw

@@ -38,9 +38,12 @@ __all__ = [
 ]
 
 PARAMETERS: dict[str, tuple[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]] = {
-    "u0": ("u₀ (initial rate about x)", lambda inertia, omega: omega[..., 0]),
-    "v0": ("v₀ (initial rate about y)", lambda inertia, omega: omega[..., 1]),
-    "w0": ("w₀ (initial rate about z)", lambda inertia, omega: omega[..., 2]),
+    "u0": ("u₀, initial rate about x (rad per unit of time)",
+           lambda inertia, omega: omega[..., 0]),
+    "v0": ("v₀, initial rate about y (rad per unit of time)",
+           lambda inertia, omega: omega[..., 1]),
+    "w0": ("w₀, initial rate about z (rad per unit of time)",
+           lambda inertia, omega: omega[..., 2]),
     "iy": ("iy = Iy / Ix", lambda inertia, omega: inertia[..., 1] / inertia[..., 0]),
     "iz": ("iz = Iz / Ix", lambda inertia, omega: inertia[..., 2] / inertia[..., 0]),
 }
@@ -48,6 +51,16 @@ PARAMETERS: dict[str, tuple[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]
 
 QUANTITIES = ("period", "tilt", "flips", "exact_period")
 """What a map can colour by."""
+
+NO_VALUE = "#d9d9d9"
+"""The colour of a start without a value (grey)."""
+NO_VALUE_MEANS = {
+    "period": "no period: fewer than two flips by t_end",
+    "exact_period": "no period: the motion never flips",
+    "tilt": "no tilt measured",
+    "flips": "no flip count",
+}
+"""What a grey start means on each map, as its legend says."""
 
 
 def separatrix_gap(inertia: np.ndarray, omega: np.ndarray) -> np.ndarray:
@@ -130,7 +143,8 @@ def _values(result: Sweep, quantity: str) -> tuple[np.ndarray, str, Normalize, s
         norm: Normalize = (LogNorm(float(finite.min()), float(finite.max()))
                            if finite.size and finite.min() > 0 and finite.max() > finite.min()
                            else Normalize())
-        label = "flip period (measured)" if quantity == "period" else "flip period (exact)"
+        label = ("flip period (measured" if quantity == "period" else "flip period (exact") \
+            + ", units of time)"
         return values, label, norm, "viridis"
     raise ValueError(f"`quantity` must be one of {QUANTITIES}, got {quantity!r}")
 
@@ -160,7 +174,8 @@ def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool =
     -------
     Figure
         One mesh of colours (with a colour bar) and, if asked, the separatrix as a contour
-        labelled ``separatrix``.
+        labelled ``separatrix``; starts without a value (a period where fewer than two flips
+        came) are grey, and the legend says so.
 
     Raises
     ------
@@ -183,12 +198,21 @@ def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool =
         fig = Figure(figsize=(6.4, 5.0), layout="constrained")
         ax = fig.add_subplot()
     fig = _figure_of(ax)
-    ax.set_facecolor("#d9d9d9")  # runs without a value (no flips) show grey
+    ax.set_facecolor(NO_VALUE)  # runs without a value show grey, and the legend says why
     mesh = ax.pcolormesh(x, y, np.ma.masked_invalid(values).T, shading="nearest", norm=norm,
                          cmap=cmap)
     fig.colorbar(mesh, ax=ax, label=label)
-    if separatrix:
-        _draw_separatrix(ax, result, (x_name, x), (y_name, y))
+    handles = []
+    if separatrix and _draw_separatrix(ax, result, (x_name, x), (y_name, y)):
+        handles.append(_line("separatrix"))
+    if not np.isfinite(values).all():
+        from matplotlib.patches import Patch
+
+        handles.append(Patch(facecolor=NO_VALUE, edgecolor="#999999", lw=0.5,
+                             label=NO_VALUE_MEANS[quantity]))
+    if handles:  # below the map, where it covers none of it
+        ax.legend(handles=handles, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                  ncols=len(handles), fontsize=8, frameon=False)
     ax.set_xlabel(x_label)
     ax.set_ylabel(y_label)
     ax.set_title(_title(result, (x_name, y_name)), fontsize=9)
@@ -197,7 +221,8 @@ def stability_map(result: Sweep, *, quantity: str = "period", separatrix: bool =
 
 
 def _draw_separatrix(ax: Axes, result: Sweep, x: tuple[str, np.ndarray],
-                     y: tuple[str, np.ndarray]) -> None:
+                     y: tuple[str, np.ndarray]) -> bool:
+    """Draws the separatrix where it crosses the map; returns whether it does."""
     fine_x = np.linspace(x[1].min(), x[1].max(), 4 * len(x[1]))
     fine_y = np.linspace(y[1].min(), y[1].max(), 4 * len(y[1]))
     gx, gy = np.meshgrid(fine_x, fine_y, indexing="ij")
@@ -212,7 +237,8 @@ def _draw_separatrix(ax: Axes, result: Sweep, x: tuple[str, np.ndarray],
     if np.nanmin(gap) < 0 < np.nanmax(gap):
         lines = ax.contour(gx, gy, gap, levels=[0.0], colors="#c0392b", linewidths=1.4)
         lines.set_label("separatrix")
-        ax.legend(handles=[_line("separatrix")], loc="upper right", fontsize=8)
+        return True
+    return False
 
 
 def _line(label: str) -> Any:

@@ -1,40 +1,71 @@
-"""Animation files: the flipping body, its inertia ellipsoid and the signal point's trail as a
-GIF (and an MP4).
+"""Animation files: the flipping body, its inertia ellipsoid and the signal point's fading
+path as a GIF (always) and an MP4 (where an ffmpeg is found).
 
-The frames are those of :func:`dzhanibekov.plotting.animation` (a matplotlib
-``FuncAnimation``), each drawn once with Agg and handed to each writer: a GIF through
-Pillow always, an MP4 through ffmpeg when an ffmpeg executable is found (on the PATH or
-matplotlib's ``animation.ffmpeg_path``, else the one the optional ``imageio-ffmpeg``
-package ships: ``pip install dzhanibekov[video]``). The positions of all the body's points
-at all frames come from one call to the core's `rotate` (the scene's plan), before drawing.
+Why a GIF first: it plays wherever a picture does — a README, slides, a chat, a browser
+offline — with no player, so it is the file every scene gets. It is kept small (every
+shipped animation under 3 MB at the default size): at most :data:`MAX_FRAMES` frames,
+evenly spread over the run (fewer when the body turns slowly: no more than one per
+10° of turn), one palette of :data:`PALETTE_COLOURS` colours for all of them (from a sample
+of the frames, without dithering, so unchanged pixels stay unchanged), and only the pixels
+that change stored from one frame to the next (Pillow's ``optimize``). The MP4 beside it (H.264 through
+ffmpeg: on the PATH or matplotlib's ``animation.ffmpeg_path``, else the one the optional
+``imageio-ffmpeg`` package ships, ``pip install dzhanibekov[video]``) is smaller still and in
+full colour, for a player or a web page; it is made from the same rendered frames. WebP is
+not written: its animations play in browsers but not in most slide and document tools,
+and they add nothing the MP4 does not.
+
+Each frame is drawn once, by moving the artists of one figure
+(:class:`~dzhanibekov.plotting.figures.BodyView`), not by rebuilding them; the body's
+attitude at each frame's time comes from the run's interpolant (:mod:`dzhanibekov.dense`),
+and the positions of all its drawn points at all frames from one call to the core's
+`rotate`.
 """
 
 from __future__ import annotations
 
+import math
 import shutil
 import subprocess
 import warnings
-from pathlib import Path
+from collections.abc import Callable
 from typing import Any
+from pathlib import Path
 
 import numpy as np
-from matplotlib.animation import AbstractMovieWriter, FFMpegWriter
+from matplotlib.animation import FFMpegWriter
+from matplotlib.collections import Collection
 from matplotlib.figure import Figure
 from PIL import Image
 from tqdm import tqdm
 
 from .._args import as_float, as_int
+from ..dense import attitudes_at
 from ..results import Trajectory
-from ..scenes.plan import SceneResult, densified
+from ..scenes.plan import SceneResult, body_points
 from ..scenes.scene import Scene
-from .figures import animation, compute
+from ..simulate import rotate
+from .figures import Frames, animation_figure, compute
 
-__all__ = ["animate", "ffmpeg_path"]
+__all__ = ["animate", "ffmpeg_path", "frame_times", "resampled", "MAX_FRAMES", "SIZE_PX",
+           "FPS", "FPS_LIMITS", "SIZE_LIMITS"]
 
-SIZE_PX = 560
+SIZE_PX = 480
 """Default width and height of the animation, in pixels (even, as H.264 needs)."""
 FPS = 20
 """Default frames per second."""
+MAX_FRAMES = 200
+"""The most frames an animation has by default: 10 seconds at :data:`FPS`."""
+FPS_LIMITS = (1, 1000)
+"""The frame rates an animation may have."""
+SIZE_LIMITS = (64, 4096)
+"""The sizes (pixels a side) an animation may have."""
+PALETTE_COLOURS = 127
+"""The GIF's colours: its pictures are lines and flat, shaded faces on white, and fewer
+colours compress better (255 make the paper's example 13 % larger, no better to the eye).
+They are chosen by Pillow's maximum-coverage quantizer, which keeps the white background
+and the drawing's own colours exact (median cut greys the white)."""
+PALETTE_SAMPLES = 6
+"""Frames rendered first to choose the GIF's one palette from."""
 
 
 def ffmpeg_path() -> str | None:
@@ -54,14 +85,45 @@ def ffmpeg_path() -> str | None:
         return None
 
 
+def frame_times(traj: Trajectory, max_turn: float, most: int) -> np.ndarray:
+    """The times of an animation's frames: evenly spaced over the run, as many as it takes
+    for the body to turn at most `max_turn` radians from one to the next at its largest rate,
+    but at least 2 and at most `most` (then it turns further between frames)."""
+    rate = float(np.sqrt((traj.omega ** 2).sum(axis=1)).max()) if len(traj.t) else 0.0
+    span = float(traj.t[-1] - traj.t[0])
+    needed = math.ceil(rate * span / max_turn) + 1 if math.isfinite(rate * span) else most
+    return np.linspace(float(traj.t[0]), float(traj.t[-1]), max(2, min(most, needed)))
+
+
+def resampled(result: SceneResult, times: np.ndarray) -> Frames:
+    """The drawn point sets of `result` at `times` (within its run): attitudes from the run's
+    interpolant, every set rotated at every time in one call to the core's `rotate`."""
+    traj = result.trajectory
+    if traj is None:
+        raise ValueError(f"scene {result.scene.name!r} kept no frames to interpolate")
+    q, omega = attitudes_at(traj.t, traj.omega, traj.q, times)
+    names = tuple(result.world)
+    sets = [body_points(result.scene, name, result.mesh) for name in names]
+    points: dict[str, np.ndarray] = {}
+    if sets:
+        out = rotate(q, np.concatenate(sets))
+        start = 0
+        for name, pts in zip(names, sets):
+            points[name] = out[:, start:start + len(pts)]
+            start += len(pts)
+    return Frames(times, np.sqrt((omega ** 2).sum(axis=1)), points)
+
+
 def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
             fps: int | None = None, size: int | None = None, max_turn_deg: float = 10.0,
-            mp4: bool | None = None, progress: bool | None = None) -> list[Path]:
-    """Writes the scene's animation (:func:`dzhanibekov.plotting.animation`), with enough
-    frames that the body turns at most 10° from one to the next (at least one per scene
-    frame): the attitudes between the run's frames come from its interpolant
-    (:func:`dzhanibekov.scenes.plan.densified`). Each frame is rendered once and handed to
-    both writers.
+            max_frames: int = MAX_FRAMES, mp4: bool | None = None,
+            progress: bool | None = None,
+            on_frame: Callable[[int, int], None] | None = None) -> list[Path]:
+    """Writes the scene's animation: a GIF, and an MP4 beside it where ffmpeg is found.
+
+    The frames are evenly spread over the run (:func:`frame_times`): enough that the body
+    turns at most `max_turn_deg` from one to the next, at most `max_frames`. Each is drawn
+    once (:func:`~dzhanibekov.plotting.figures.animation_figure`) and handed to both files.
 
     Parameters
     ----------
@@ -70,19 +132,23 @@ def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     path : str or Path
         The GIF to write; the MP4 goes beside it with the suffix ``.mp4``.
     fps : int, optional
-        Frames per second: the scene's `draw.fps`, else 20.
+        Frames per second: the scene's `draw.fps`, else :data:`FPS`.
     size : int, optional
-        Width and height in pixels (even): the scene's `draw.animation_size`, else 560.
+        Width and height in pixels (made even, as H.264 needs): the scene's
+        `draw.animation_size`, else :data:`SIZE_PX`.
     max_turn_deg : float
-        The most the body turns from one frame to the next, in degrees (at its fastest).
+        The most the body turns from one frame to the next, in degrees (at its fastest),
+        while `max_frames` allows.
+    max_frames : int
+        The most frames, at least 2 (default :data:`MAX_FRAMES`).
     mp4 : bool, optional
         Also write an MP4: None (default) when ffmpeg is found, True to insist (ValueError
         without ffmpeg), False never.
     progress : bool, optional
         Show a progress bar (tqdm, on stderr) while frames render: None (default) only on a
         terminal.
-    size : int
-        Width and height in pixels (even, as H.264 needs).
+    on_frame : callable, optional
+        Called as ``on_frame(done, total)`` after each frame is rendered.
 
     Returns
     -------
@@ -92,7 +158,8 @@ def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     Raises
     ------
     ValueError
-        The scene was not computed for an animation, or `mp4` is True without ffmpeg.
+        The scene was not computed for an animation, an argument out of range, or `mp4` is
+        True without ffmpeg.
     RuntimeError
         `mp4` is True and ffmpeg failed; when `mp4` is None a failure only warns
         (RuntimeWarning) and the GIF is kept.
@@ -101,28 +168,46 @@ def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     if not result.scene.draw.animation or result.trajectory is None:
         raise ValueError(f"scene {result.scene.name!r} does not ask for an animation; set "
                          "`draw.animation = true` in its scene file")
-    fps = as_int("fps", fps if fps is not None else result.scene.draw.fps or FPS, minimum=1,
-                 maximum=1000)
+    fps = as_int("fps", fps if fps is not None else result.scene.draw.fps or FPS,
+                 minimum=FPS_LIMITS[0], maximum=FPS_LIMITS[1])
     size = as_int("size", size if size is not None else
-                  result.scene.draw.animation_size or SIZE_PX, minimum=64, maximum=4096)
+                  result.scene.draw.animation_size or SIZE_PX, minimum=SIZE_LIMITS[0],
+                  maximum=SIZE_LIMITS[1])
     size += size % 2
-    result = densified(result, np.radians(as_float("max_turn_deg", max_turn_deg,
-                                                   positive=True)))
-    assert result.trajectory is not None, "a densified result keeps its frames"
+    max_turn = np.radians(as_float("max_turn_deg", max_turn_deg, positive=True))
+    most = as_int("max_frames", max_frames, minimum=2, maximum=100_000)
     gif = Path(path)
     ffmpeg = ffmpeg_path() if mp4 is not False else None
     if mp4 and ffmpeg is None:
         raise ValueError("`mp4=True` needs ffmpeg: install it, or `pip install imageio-ffmpeg`")
-    anim = animation(result, size=size, fps=fps)
+    frames = resampled(result, frame_times(result.trajectory, max_turn, most))
+    n = len(frames.times)
+    fig, draw = animation_figure(result, frames, size=size)
+    blit = _Blitter(fig, draw(0))
+
+    def render(k: int) -> np.ndarray:
+        draw(k)
+        return blit.render()
+
+    samples = np.unique(np.linspace(0, n - 1, min(n, PALETTE_SAMPLES)).round().astype(int))
+    palette = _palette([render(int(k))[..., :3] for k in samples])
     video = _Video(ffmpeg, gif.with_suffix(".mp4"), fps) if ffmpeg else None
     images: list[Image.Image] = []
     try:
-        bar = tqdm(total=result.scene.frames, desc=f"animation {result.scene.name}",
-                   unit="frame", disable=None if progress is None else not progress)
+        bar = tqdm(total=n, desc=f"animation {result.scene.name}", unit="frame",
+                   disable=None if progress is None else not progress)
         with bar:
-            anim.save(str(gif), writer=_Frames(images, video, bar, fps))
+            for k in range(n):
+                rgba = render(k)
+                images.append(Image.fromarray(rgba[..., :3]).quantize(
+                    palette=palette, dither=Image.Dither.NONE))
+                if video is not None:
+                    video.write(rgba)
+                bar.update()
+                if on_frame is not None:
+                    on_frame(k + 1, n)
         images[0].save(gif, save_all=True, append_images=images[1:],
-                       duration=round(1000 / fps), loop=0, optimize=False)
+                       duration=round(1000 / fps), loop=0, optimize=True)
         written = [gif]
         if video is not None:
             try:
@@ -137,29 +222,39 @@ def animate(scene: Scene | SceneResult | Trajectory, path: str | Path, *,
     return written
 
 
-class _Frames(AbstractMovieWriter):
-    """A matplotlib movie writer that hands each rendered frame to the GIF's frame list and
-    to the ffmpeg process, so that the animation is drawn once for both files."""
+class _Blitter:
+    """Renders an animation's frames by drawing its moving artists only: the rest of the
+    figure (the title: its text is the costliest thing to draw) is drawn once and its pixels
+    restored for every frame."""
 
-    def __init__(self, images: list[Image.Image], video: _Video | None, bar: Any,
-                 fps: int) -> None:
-        super().__init__(fps=fps)
-        self.images, self.video, self.bar = images, video, bar
+    def __init__(self, fig: Figure, moving: list[Any]) -> None:
+        self.fig, self.moving = fig, moving
+        for artist in moving:
+            artist.set_animated(True)
+        fig.canvas.draw()
+        self.background = fig.canvas.copy_from_bbox(fig.bbox)  # type: ignore[attr-defined]
 
-    def setup(self, fig: Figure, outfile: str | Path, dpi: float | None = None) -> None:
-        super().setup(fig, outfile, dpi)
+    def render(self) -> np.ndarray:
+        """The figure's pixels (RGBA, a view of the canvas' buffer) with every moving artist
+        where it is now: 3-D collections back to front (as a 3-D axes sorts them), then
+        lines and text."""
+        canvas = self.fig.canvas
+        canvas.restore_region(self.background)  # type: ignore[attr-defined]
+        collections: list[Any] = [a for a in self.moving if isinstance(a, Collection)]
+        for artist in sorted(collections, key=lambda a: a.do_3d_projection(), reverse=True):
+            artist.axes.draw_artist(artist)
+        for artist in self.moving:
+            if not isinstance(artist, Collection):
+                (artist.axes or self.fig).draw_artist(artist)
+        rgba: np.ndarray = np.asarray(canvas.buffer_rgba())  # type: ignore[attr-defined]
+        return rgba
 
-    def grab_frame(self, **savefig_kwargs: Any) -> None:
-        # the animation has just drawn the frame (its draw_idle renders at once on Agg):
-        # take the pixels without rendering them a second time
-        rgba = np.asarray(self.fig.canvas.buffer_rgba())  # type: ignore[attr-defined]
-        self.images.append(Image.fromarray(rgba[..., :3]).quantize(colors=128))
-        if self.video is not None:
-            self.video.write(rgba)
-        self.bar.update()
 
-    def finish(self) -> None:
-        pass
+def _palette(samples: list[np.ndarray]) -> Image.Image:
+    """One palette of :data:`PALETTE_COLOURS` colours for every frame, from sample frames
+    (RGB) stacked: an index stays free for the GIF's "unchanged" pixels."""
+    return Image.fromarray(np.concatenate(samples, axis=0)).quantize(
+        colors=PALETTE_COLOURS, method=Image.Quantize.MAXCOVERAGE, dither=Image.Dither.NONE)
 
 
 class _Video:

@@ -108,9 +108,10 @@ _DEFAULT_PHASES = 6
 
 MAX_SCENE_BYTES = 1 << 20
 """The largest scene file :func:`load_scene` reads (1 MiB); scenes are a few hundred bytes."""
-MAX_ANIMATION_FRAMES = 2000
-"""Most frames (`run.frames`) of a scene that draws an animation: each frame is drawn and
-kept (about 0.3 MB) until the GIF is written. For longer runs, store fewer frames."""
+MAX_ANIMATION_FRAMES = 20_000
+"""Most frames (`run.frames`) of a scene that draws an animation: its plan rotates every
+drawn point at every frame. (The animation itself draws at most
+:data:`dzhanibekov.plotting.movie.MAX_FRAMES` frames, whatever the scene stores.)"""
 MAX_PHASES = 24
 """Most instants (`draw.phases`) of the phases panel: each is one 3-D panel of the figure."""
 MAX_DRAWN_SIZE = 1e100
@@ -173,9 +174,11 @@ class Draw:
     phases: tuple[float, ...] = ()
     """Instants of the phases panel; empty: evenly spread over the run."""
     fps: int | None = None
-    """The animation's frames per second; None: the default (20)."""
+    """The animation's frames per second; None: the default
+    (:data:`dzhanibekov.plotting.movie.FPS`)."""
     animation_size: int | None = None
-    """The animation's width and height in pixels; None: the default (560)."""
+    """The animation's width and height in pixels; None: the default
+    (:data:`dzhanibekov.plotting.movie.SIZE_PX`)."""
 
     @property
     def objects(self) -> tuple[str, ...]:
@@ -371,8 +374,10 @@ class Scene:
         return out
 
     def to_toml(self) -> str:
-        """The scene as TOML text that :meth:`from_toml` reads back to an equal scene."""
-        return tomli_w.dumps(self.to_dict())
+        """The scene as TOML text that :meth:`from_toml` reads back to an equal scene; short
+        arrays on one line, as the shipped files write them (``omega = [0.01, 0.01, 1.0]``).
+        """
+        return _inline_arrays(tomli_w.dumps(self.to_dict()))
 
     def save(self, path: str | Path) -> Path:
         """Writes the scene to `path` (its stem should be the scene's name), all or nothing:
@@ -717,7 +722,7 @@ def _validate(s: Scene) -> None:
                   f"the {convention} ellipsoid's largest semi-axis")
     if flags["animation"] and s.frames > MAX_ANIMATION_FRAMES:
         raise SceneError(src, "run.frames", f"must be at most {MAX_ANIMATION_FRAMES} for an "
-                         f"animation (each frame is drawn and kept until the GIF is written), "
+                         f"animation (every drawn point is rotated at every frame), "
                          f"got {s.frames}; store fewer frames or set `draw.animation = false`")
 
 
@@ -768,6 +773,30 @@ def _drawable_text(source: str, key: str, text: str) -> None:
         first = str(exc).strip().splitlines()
         raise SceneError(source, key, "is mathtext ($…$) that matplotlib cannot draw: "
                          f"{first[-1] if first else type(exc).__name__}") from None
+
+
+_ARRAY = re.compile(r"\[\n((?:[ ]+[^ \]\n][^\n]*,\n)+)[ ]*\]")
+"""An array that tomli_w wrote one item a line, each item on one line."""
+_INLINE_WIDTH = 96
+"""The longest line an array is put on."""
+
+
+def _inline_arrays(text: str) -> str:
+    """`text` (TOML from tomli_w) with each array that fits on one line put there, inner
+    arrays first; the same data (checked by reading both)."""
+    def one_line(match: re.Match[str]) -> str:
+        items = ", ".join(line.strip().removesuffix(",") for line in match.group(1).splitlines())
+        start = text.rfind("\n", 0, match.start()) + 1  # the line the array opens on
+        fits = match.start() - start + len(items) + 2 <= _INLINE_WIDTH
+        return f"[{items}]" if fits else match.group(0)
+
+    written = compact = text
+    while True:
+        text = compact
+        compact = _ARRAY.sub(one_line, text)
+        if compact == text:
+            break
+    return compact if tomllib.loads(compact) == tomllib.loads(written) else written
 
 
 def _drawable(source: str, key: str, size: float, what: str = "") -> None:
