@@ -620,7 +620,8 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
         name=draw(st.from_regex(NAME_RE, fullmatch=True)),
-        title=draw(st.text(min_size=1, max_size=20).filter(lambda s: s.strip())),
+        # plain text: a title with `$`s is mathtext, valid only if matplotlib parses it
+        title=draw(st.text(min_size=1, max_size=20).filter(lambda s: s.strip() and "$" not in s)),
         inertia=tuple(inertia.tolist()),
         omega0=tuple(omega0.tolist()),
         t_end=t_end,
