@@ -5,7 +5,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{amax, dot, mul, rotate_back, solve3, Norms};
+use super::lie::{amax, dot, mul, rotate_back, scale_momentum, solve3, Norms};
 
 /// Newton's iteration stops once its correction is below this fraction of the unknown: the
 /// error left is then about the square of it, round-off.
@@ -206,31 +206,13 @@ impl<const MODIFIED: bool> Stepper<7, FreeRigidBody> for DiscreteMoserVeselov<MO
     /// `L = I ω`.
     #[inline(always)]
     fn to_internal(&self, _sys: &FreeRigidBody, x: &State) -> State {
-        let i = &self.inertia;
-        [
-            i[0] * x[0],
-            i[1] * x[1],
-            i[2] * x[2],
-            x[3],
-            x[4],
-            x[5],
-            x[6],
-        ]
+        scale_momentum(&self.inertia, x)
     }
 
     /// `ω = L / I`.
     #[inline(always)]
     fn to_state(&self, _sys: &FreeRigidBody, x: &State) -> State {
-        let w = &self.inv_inertia;
-        [
-            w[0] * x[0],
-            w[1] * x[1],
-            w[2] * x[2],
-            x[3],
-            x[4],
-            x[5],
-            x[6],
-        ]
+        scale_momentum(&self.inv_inertia, x)
     }
 }
 

@@ -184,6 +184,21 @@ impl Norms {
     }
 }
 
+/// The state with its first three entries scaled by `s`: `L = I ω` (s the moments) or
+/// `ω = L / I` (s their inverses), the attitude as it is. The steppers on `[L, q]` convert with it.
+#[inline(always)]
+pub fn scale_momentum(s: &[f64; 3], x: &[f64; 7]) -> [f64; 7] {
+    [
+        s[0] * x[0],
+        s[1] * x[1],
+        s[2] * x[2],
+        x[3],
+        x[4],
+        x[5],
+        x[6],
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -4,7 +4,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{cross, exp, mul, rotate_back, Norms};
+use super::lie::{cross, exp, mul, rotate_back, scale_momentum, Norms};
 
 /// The classical fourth-order Runge–Kutta method lifted to the rotation group by Munthe-Kaas's
 /// construction (RKMK4), explicit, working on `[L, q]` (observers see `[ω, q]`).
@@ -97,30 +97,12 @@ impl Stepper<7, FreeRigidBody> for Rkmk4 {
     /// `L = I ω`.
     #[inline(always)]
     fn to_internal(&self, _sys: &FreeRigidBody, x: &State) -> State {
-        let i = &self.inertia;
-        [
-            i[0] * x[0],
-            i[1] * x[1],
-            i[2] * x[2],
-            x[3],
-            x[4],
-            x[5],
-            x[6],
-        ]
+        scale_momentum(&self.inertia, x)
     }
 
     /// `ω = L / I`.
     #[inline(always)]
     fn to_state(&self, _sys: &FreeRigidBody, x: &State) -> State {
-        let w = &self.inv_inertia;
-        [
-            w[0] * x[0],
-            w[1] * x[1],
-            w[2] * x[2],
-            x[3],
-            x[4],
-            x[5],
-            x[6],
-        ]
+        scale_momentum(&self.inv_inertia, x)
     }
 }
