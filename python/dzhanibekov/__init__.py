@@ -30,17 +30,8 @@ from .flips import flip_period
 from .io import ReadError, load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
-from .scenes import (
-    PAPER_SCENES,
-    SCENES,
-    Plan,
-    Scene,
-    SceneError,
-    SceneResult,
-    execute,
-    load_scene,
-    make_plan,
-)
+from . import scenes
+from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
 from .montecarlo import MonteCarlo, StudyError, monte_carlo
 from .simulate import rotate, simulate
@@ -84,10 +75,6 @@ __all__ = [
     "SCENES",
     "PAPER_SCENES",
     "load_scene",
-    "make_plan",
-    "execute",
-    "Plan",
-    "SceneResult",
     "ellipsoid_mesh",
     "ellipsoid_semi_axes",
     "Batch",

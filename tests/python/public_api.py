@@ -789,7 +789,7 @@ def check_loaded(kwargs: dict[str, Any], scene: Any, caught: list[warnings.Warni
 def check_plan(kwargs: dict[str, Any], plan: Any, caught: list[warnings.WarningMessage]) -> None:
     from dzhanibekov.scenes.plan import POINT_SETS
     scene = kwargs["scene"]
-    assert isinstance(plan, dz.Plan) and plan.scene is scene
+    assert isinstance(plan, dz.scenes.Plan) and plan.scene is scene
     assert plan.keep_frames == (bool(scene.draw.figures) or scene.draw.animation)
     rotated = plan.rotated
     assert len(rotated) == len(set(rotated)) and set(rotated) <= set(POINT_SETS)
@@ -799,7 +799,7 @@ def check_plan(kwargs: dict[str, Any], plan: Any, caught: list[warnings.WarningM
 def check_result(kwargs: dict[str, Any], result: Any, caught: list[warnings.WarningMessage]) -> None:
     plan = kwargs["plan"]
     scene = plan.scene
-    assert isinstance(result, dz.SceneResult)
+    assert isinstance(result, dz.scenes.SceneResult)
     assert (result.trajectory is not None) == plan.keep_frames
     if result.trajectory is not None:
         assert np.isfinite(result.trajectory.omega).all() and np.isfinite(result.trajectory.q).all()
@@ -1395,19 +1395,19 @@ ENTRIES: dict[str, Entry] = {
         min_success=0.9,
     ),
     "make_plan": Entry(
-        call=dz.make_plan,
+        call=dz.scenes.make_plan,
         valid=scene_fields().map(quiet_scene).map(lambda s: {"scene": s}),
         hostile={"scene": hostile_scene_objects()},
         check=check_plan,
-        covers=(dz.make_plan, dz.Plan),
+        covers=(dz.scenes.make_plan, dz.scenes.Plan),
         min_success=1.0,
     ),
     "execute": Entry(
-        call=dz.execute,
-        valid=scene_fields().map(quiet_scene).map(lambda s: {"plan": dz.make_plan(s)}),
+        call=dz.scenes.execute,
+        valid=scene_fields().map(quiet_scene).map(lambda s: {"plan": dz.scenes.make_plan(s)}),
         hostile={"plan": st.one_of(hostile_scene_objects(), st.just(dz.SCENES["fig3a"]))},
         check=check_result,
-        covers=(dz.execute, dz.SceneResult),
+        covers=(dz.scenes.execute, dz.scenes.SceneResult),
         aliases={"plan": SCENE_WORDS},
         warns=(dz.StepSizeWarning, dz.InertiaWarning),
         min_success=0.3,

@@ -103,7 +103,7 @@ def _results():
     sweep = dz.sweep(PAPER, dz.grid([0.0, 0.1], 0.01, 1.0), t_end=40.0, progress=False)
     summary = dz.summarize(PAPER, (0.01, 0.01, 1.0), t_end=40.0)
     scene = dz.SCENES["fig3a"]
-    result = dz.execute(dz.make_plan(dataclasses.replace(scene, t_end=20.0, frames=21)))
+    result = dz.scenes.execute(dz.scenes.make_plan(dataclasses.replace(scene, t_end=20.0, frames=21)))
     deployments = [dz.Deployment([1.0, 2.0], [(1, 2, 3), (1, 3, r)]) for r in (2.0, 4.0)]
     model_batch = dz.simulate(deployments, (0.01, 0.01, 1.0), t_end=5.0, frames=6, dt=1e-2)
     model_batch.momentum_world  # the invariants travel with it

@@ -35,9 +35,9 @@ def keep_frames(call):  # _core.simulate_batch(systems, omega0, q0, options, kee
 
 def test_a_path_only_scene_rotates_the_signal_point_alone(core_calls):
     scene = dz.SCENES["fig3a"]
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.rotations == (Rotation(None, ("signal",)),) and plan.meshes == ()
-    result = dz.execute(plan)
+    result = dz.scenes.execute(plan)
     assert len(core_calls["simulate_batch"]) == 1 and keep_frames(core_calls["simulate_batch"][0])
     assert core_calls["ellipsoid_mesh"] == []
     ((q, points),) = core_calls["rotate"]
@@ -50,10 +50,10 @@ def test_a_path_only_scene_rotates_the_signal_point_alone(core_calls):
 def test_a_scene_asking_only_for_flip_times_keeps_no_frames(core_calls):
     full = dz.SCENES["fig3a"]
     scene = full.replace(draw=Draw())
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert not plan.keep_frames and plan.keep_flips
     assert plan.rotations == () and plan.meshes == () and not plan.invariants
-    result = dz.execute(plan)
+    result = dz.scenes.execute(plan)
     (call,) = core_calls["simulate_batch"]
     assert keep_frames(call) is False
     assert core_calls["rotate"] == [] and core_calls["ellipsoid_mesh"] == []
@@ -65,10 +65,10 @@ def test_a_scene_asking_only_for_flip_times_keeps_no_frames(core_calls):
 
 def test_an_animation_rotates_every_point_for_every_frame_in_one_call(core_calls):
     scene = dz.SCENES["example"]
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.rotations == (Rotation(None, ("box", "ellipsoid", "signal")),)
     assert plan.meshes == ("ellipsoid",)
-    result = dz.execute(plan)
+    result = dz.scenes.execute(plan)
     (mesh_call,) = core_calls["ellipsoid_mesh"]
     np.testing.assert_allclose(mesh_call[0], np.sqrt(dz.PAPER_INERTIA))  # the paper's
     assert mesh_call[1:] == (24, 12)
@@ -88,19 +88,19 @@ def test_the_phases_panel_alone_rotates_its_objects_at_its_instants_only(core_ca
     scene = dz.SCENES["example"].replace(
         draw=Draw(box=True, ellipsoid=True, signal_point=True, figures=("phases",),
                   phases=(0.0, 46.0, 100.0)))
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.rotations == (Rotation((0, 92, 200), ("box", "ellipsoid", "signal")),)
-    dz.execute(plan)
+    dz.scenes.execute(plan)
     ((q, points),) = core_calls["rotate"]
     assert q.shape == (3, 4) and points.shape == (8 + 24 * 11 + 2 + 1, 3)
 
 
 def test_with_its_path_the_panel_takes_the_signal_point_from_the_path(core_calls):
     scene = dz.SCENES["stable-largest"]
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.rotations == (Rotation((0, 50, 100, 150), ("box", "ellipsoid")),
                               Rotation(None, ("signal",)))
-    result = dz.execute(plan)
+    result = dz.scenes.execute(plan)
     assert [(q.shape, p.shape) for q, p in core_calls["rotate"]] == [
         ((4, 4), (8 + 266, 3)), ((201, 4), (1, 3))]
     np.testing.assert_array_equal(result.at("signal", 50), result.path[50][None])
@@ -108,9 +108,9 @@ def test_with_its_path_the_panel_takes_the_signal_point_from_the_path(core_calls
 
 def test_no_ellipsoid_is_built_or_rotated_for_a_scene_without_one(core_calls):
     scene = dz.SCENES["example"].replace(draw=Draw(box=True, path=True, animation=True))
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.meshes == () and "ellipsoid" not in plan.rotated
-    dz.execute(plan)
+    dz.scenes.execute(plan)
     assert core_calls["ellipsoid_mesh"] == []
     ((q, points),) = core_calls["rotate"]
     assert points.shape == (8 + 1, 3)
@@ -118,16 +118,16 @@ def test_no_ellipsoid_is_built_or_rotated_for_a_scene_without_one(core_calls):
 
 def test_plots_of_omega_alone_need_frames_but_no_rotation(core_calls):
     scene = dz.SCENES["fig3a"].replace(draw=Draw(figures=("omega",)))
-    plan = dz.make_plan(scene)
+    plan = dz.scenes.make_plan(scene)
     assert plan.keep_frames and plan.keep_flips and plan.rotations == ()
-    dz.execute(plan)
+    dz.scenes.execute(plan)
     assert core_calls["rotate"] == [] and core_calls["ellipsoid_mesh"] == []
 
 
 def test_flips_are_located_only_when_asked_or_drawn(core_calls):
     scene = dz.SCENES["fig3a"].replace(flips=False, draw=Draw(figures=("path",)))
-    assert not dz.make_plan(scene).keep_flips
-    result = dz.execute(dz.make_plan(scene))
+    assert not dz.scenes.make_plan(scene).keep_flips
+    result = dz.scenes.execute(dz.scenes.make_plan(scene))
     assert core_calls["simulate_batch"][0][3].flips is False
     assert result.flip_times is None and result.verdict is None
 

@@ -157,9 +157,9 @@ def test_points_that_would_overflow_are_refused_and_the_largest_allowed_are_not(
 
 def test_plans_and_results_take_only_their_own_kind():
     with pytest.raises(TypeError, match="`scene` must be a Scene, got int"):
-        dz.make_plan(3)
+        dz.scenes.make_plan(3)
     with pytest.raises(TypeError, match="`plan` must be a Plan"):
-        dz.execute(dz.SCENES["fig3a"])
+        dz.scenes.execute(dz.SCENES["fig3a"])
     with pytest.raises(TypeError, match="`scene` must be a Scene or a SceneResult"):
         plotting.path_figure(np.zeros(3))
 

@@ -1,6 +1,6 @@
-"""Scenes: what is drawn and what is asked (:mod:`.scene`, loaded from TOML; the shipped scenes
-are the ``*.toml`` files of this folder), and the planner that computes only that
-(:mod:`.plan`)."""
+"""Scenes: what is drawn and what is asked (:mod:`.scene`, loaded from TOML and checked by
+:mod:`.parse`; the shipped scenes are the ``*.toml`` files of this folder), and the planner
+that computes only that (:mod:`.plan`)."""
 
 from .plan import Plan, SceneResult, execute, make_plan
 from .scene import (

@@ -1,0 +1,91 @@
+"""A scene is parsed, then constructed: `Scene(...)`, `replace` and files go through the same
+pure checks (`dzhanibekov.scenes.parse`), and a Scene holds only checked values."""
+
+import inspect
+
+import pytest
+
+import dzhanibekov as dz
+from dzhanibekov.scenes import parse
+from dzhanibekov.scenes.scene import Draw, EllipsoidStyle
+
+
+def test_python_values_are_normalised_as_a_files_are():
+    s = dz.Scene("mine", "mine", [1, 2, 3], [0, 1, 0], 10, 3, q0=[2, 0, 0, 0],
+                 draw={"path": True, "figures": ["path"], "phases": [0, 5]},
+                 ellipsoid={"mesh": [8, 4]})
+    assert s.inertia == (1.0, 2.0, 3.0) and all(type(x) is float for x in s.inertia)
+    assert s.omega0 == (0.0, 1.0, 0.0) and type(s.omega0) is tuple
+    assert s.q0 == (2.0, 0.0, 0.0, 0.0) and type(s.t_end) is float and s.t_end == 10.0
+    assert s.draw == Draw(path=True, figures=("path",), phases=(0.0, 5.0))
+    assert s.ellipsoid == EllipsoidStyle("gyration", (8, 4))
+    text = """
+        title = "mine"
+        [body]
+        inertia = [1, 2, 3]
+        [start]
+        omega = [0, 1, 0]
+        q = [2, 0, 0, 0]
+        [run]
+        t_end = 10
+        frames = 3
+        [draw]
+        path = true
+        figures = ["path"]
+        phases = [0, 5]
+        [ellipsoid]
+        mesh = [8, 4]
+    """
+    assert dz.Scene.from_toml(text, "mine") == s
+
+
+def test_checked_leaves_its_input_alone_and_fills_the_defaults():
+    values = dict(name="x", title="x", inertia=[1, 2, 3], omega0=(0, 0, 1), t_end=1, frames=2,
+                  q0=(1, 0, 0, 0), dt="none", method="rk4", box=None, signal_point=None,
+                  flips=True, draw={}, ellipsoid=EllipsoidStyle(), about="", deployment=None,
+                  damper=None, sigma0=None, source="", rtol=None, atol=None, body_spec=None,
+                  given=None)
+    before = dict(values)
+    fields, body = parse.checked(values)
+    assert values == before
+    assert fields["dt"] is None and fields["draw"] == Draw() and fields["t_end"] == 1.0
+    assert body.inertia == (1.0, 2.0, 3.0)
+    # the signal point left out: on the intermediate (y) axis, beyond the body
+    x, y, z = fields["signal_point"]
+    assert x == 0.0 and z == 0.0 and y != 0.0
+
+
+def test_a_bad_value_reads_the_same_from_python_and_from_a_file(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(dz.SCENES["fig3a"].to_toml().replace("frames = 201", "frames = 1"))
+    with pytest.raises(dz.SceneError) as from_file:
+        dz.load_scene(path)
+    with pytest.raises(dz.SceneError) as from_python:
+        dz.SCENES["fig3a"].replace(frames=1)
+    assert from_file.value.key == from_python.value.key == "run.frames"
+    assert from_file.value.detail == from_python.value.detail == "must be at least 2, got 1"
+
+
+def test_a_deployment_table_is_built_when_the_file_is_read():
+    table = dz.SCENES["deployment"].to_dict()
+    del table["deployment"]["times"]
+    with pytest.raises(dz.SceneError, match="`deployment.times` is missing"):
+        dz.Scene.from_dict(table, "deployment")
+    with pytest.raises(dz.SceneError, match="`deployment` must be a Deployment"):
+        dz.SCENES["fig3a"].replace(deployment={"times": [0, 1], "inertia": [[1, 2, 3]] * 2})
+
+
+def test_the_body_is_built_once_when_the_scene_is_checked(monkeypatch):
+    calls = []
+    real = parse.build_body
+    monkeypatch.setattr(parse, "build_body", lambda spec: calls.append(spec) or real(spec))
+    scene = dz.Scene.from_toml(dz.SCENES["wing-nut"].to_toml(), "wing-nut")
+    assert scene.body.shape is not None and scene.body is scene.body
+    assert len(calls) == 1
+
+
+def test_the_signature_is_the_fields():
+    params = list(inspect.signature(dz.Scene).parameters)
+    assert params[:6] == ["name", "title", "inertia", "omega0", "t_end", "frames"]
+    with pytest.raises(TypeError, match="Scene\\(\\): .*unexpected keyword argument 'colour'"):
+        dz.Scene("x", "x", (1, 2, 3), (0, 0, 1), 1.0, 2, colour="red")
