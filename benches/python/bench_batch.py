@@ -105,12 +105,12 @@ def main() -> None:
             label = f"batch, {threads} thread{'s' if threads > 1 else ''}" + (
                 ", flips located" if flips else "")
             rows.append((label, seconds / work * 1e9))
-    q = np.array([[1.0, 0.0, 0.0, 0.0]])
-    inertia = INERTIA[None, :]
+    q = np.tile([1.0, 0.0, 0.0, 0.0], (len(omega), 1))
+    system = [dz.System(dz.Body(INERTIA))._core]
+    options = _core.RunOptions(t_end, 2, dt=1e-3, method="rk4", flips=False, threads=1)
     for isa in _core.instruction_sets():
         seconds = median_seconds(lambda: _core.simulate_batch(
-            inertia, omega, q, t_end, 2, 1e-3, "rk4", 10**12, True, False, 1e-9, 1e-12, 1, isa),
-            args.repeat)
+            system, omega, q, options, True, isa), args.repeat)
         rows.append((f"core batch, 1 thread, {isa} kernel", seconds / work * 1e9))
     seconds = median_seconds(lambda: dz.sweep(INERTIA, omega, t_end=t_end, frames=2, dt=1e-3),
                              args.repeat)
