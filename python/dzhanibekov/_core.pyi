@@ -14,6 +14,7 @@ __all__ = [
     "DEFAULT_RTOL",
     "Damper",
     "Deployment",
+    "ENERGY_GROWTH_TOL",
     "MAX_MOMENT_RATIO",
     "METHODS",
     "MethodInfo",
@@ -47,6 +48,7 @@ DEFAULT_METHOD: str
 DEFAULT_RTOL: float
 DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
+ENERGY_GROWTH_TOL: float
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 RUN_STATUSES: tuple[str, ...]

@@ -60,7 +60,9 @@ class DzhanibekovError(ValueError):
 
 class DivergedError(DzhanibekovError):
     """The state stopped being finite: the step is beyond the method's stability limit, or the
-    rates are too large for float64."""
+    rates are too large for float64; or a fixed-step run of a damped body gained energy
+    (more than :data:`~dzhanibekov.damper.ENERGY_GROWTH_TOL` of its start at a frame), which a
+    damper cannot give: the step is beyond the method's stability limit for the damper."""
 
 
 class TooLargeError(DzhanibekovError, MemoryError):

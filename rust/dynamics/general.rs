@@ -283,6 +283,12 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
         }
     }
 
+    /// A damper only takes energy (`T' = −c |σ − ω|²`); a deployment's internal forces can
+    /// give it.
+    fn energy_never_grows(&self) -> bool {
+        self.has_damper() && matches!(self.inertia, InertiaLaw::Constant(_))
+    }
+
     fn intermediate_axis(&self, t: f64) -> MidAxis {
         match &self.inertia {
             InertiaLaw::Constant(c) => c.mid,

@@ -101,6 +101,13 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync + Sized {
         0.0
     }
 
+    /// Whether the exact motion can only lose energy (a damped body with no deployment and
+    /// no torque): a run whose energy grows beyond its error has then diverged (see
+    /// [`crate::observe::DriftMonitor::watching_growth`]).
+    fn energy_never_grows(&self) -> bool {
+        false
+    }
+
     /// The intermediate principal axis at `t`.
     fn intermediate_axis(&self, t: f64) -> MidAxis;
 

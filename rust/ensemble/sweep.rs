@@ -78,7 +78,7 @@ impl RunStatus {
     fn of(error: &Error) -> Option<Self> {
         match error {
             Error::Row { error, .. } => Self::of(error),
-            Error::Diverged { .. } => Some(RunStatus::Diverged),
+            Error::Diverged { .. } | Error::EnergyGrew { .. } => Some(RunStatus::Diverged),
             Error::TooLarge { what, .. } if what.contains("flip") => Some(RunStatus::TooManyFlips),
             Error::TooLarge { .. } => Some(RunStatus::TooManySteps),
             Error::InvalidArgument { .. } | Error::Unsupported { .. } | Error::Interrupted => None,

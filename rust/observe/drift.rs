@@ -75,6 +75,11 @@ pub struct DriftMonitor<'a, S> {
     sys: &'a S,
     initial: Option<Invariants>,
     pub drift: Drift,
+    /// The relative energy gain beyond which a model that only loses energy has diverged;
+    /// `None` watches none (see [`DriftMonitor::watching_growth`]).
+    growth_tol: Option<f64>,
+    /// The first frame time at which the energy grew beyond `growth_tol`, and `E / E₀` there.
+    pub grew: Option<(f64, f64)>,
 }
 
 impl<'a, S> DriftMonitor<'a, S> {
@@ -89,6 +94,22 @@ impl<'a, S> DriftMonitor<'a, S> {
                 kept: sys.conserved(),
                 ..Drift::default()
             },
+            growth_tol: None,
+            grew: None,
+        }
+    }
+
+    /// The same monitor, also noting ([`DriftMonitor::grew`]) the first frame at which the
+    /// energy exceeds `E₀ (1 + tol)`, if the model's energy can only fall
+    /// ([`Model::energy_never_grows`]): growth it cannot have, a run past the method's
+    /// stability limit.
+    pub fn watching_growth<const N: usize>(self, tol: f64) -> Self
+    where
+        S: Model<N>,
+    {
+        Self {
+            growth_tol: self.sys.energy_never_grows().then_some(tol),
+            ..self
         }
     }
 }
@@ -106,6 +127,12 @@ impl<const N: usize, S: Model<N>> Observer<N> for DriftMonitor<'_, S> {
         };
         let first = *self.initial.get_or_insert(now);
         let l0 = first.l_body.norm();
+        if let (Some(tol), None) = (self.growth_tol, self.grew) {
+            // a NaN energy counts as grown
+            if now.energy.is_nan() || now.energy > first.energy * (1.0 + tol) {
+                self.grew = Some((t, now.energy / first.energy));
+            }
+        }
         let d = &mut self.drift;
         d.energy = d.energy.max(relative(now.energy, first.energy));
         d.momentum = d.momentum.max(relative(now.l_body.norm(), l0));

@@ -38,7 +38,7 @@ fn python_error(py: Python<'_>, e: Error) -> PyErr {
         error => (None, error),
     };
     let class = match error {
-        Error::Diverged { .. } => "DivergedError",
+        Error::Diverged { .. } | Error::EnergyGrew { .. } => "DivergedError",
         Error::TooLarge { .. } => "TooLargeError",
         _ => "DzhanibekovError",
     };
@@ -162,6 +162,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_RTOL", DEFAULT_RTOL)?;
     m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
     m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
+    m.add("ENERGY_GROWTH_TOL", crate::run::ENERGY_GROWTH_TOL)?;
     m.add("MAX_MOMENT_RATIO", crate::body::MAX_MOMENT_RATIO)?;
     m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

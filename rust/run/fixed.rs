@@ -1,4 +1,14 @@
 //! Driving a fixed-step method over a frame grid.
+//!
+//! **Knots** ([`crate::dynamics::Model::knots`]): the equal substeps do not stop at a model's
+//! knots, so a substep may straddle one. A method of order `p` keeps its order across a point
+//! where the solution is `C^p`, and loses it there otherwise: one straddling step's local
+//! error is `O(h^(m+1))` for a solution that is only `C^m` there. A deployment's law is `C²` in
+//! time at its knots (the smootherstep), its solution `C³`: a straddling RK4 step errs by
+//! `O(h⁴)`, the size of RK4's global error, so the run stays of order 4 (`rk4` and
+//! `rk4_projected` are the fixed-step methods that run deployments). A right-hand side with a
+//! jump at a knot would make the straddling step order 1 there (`O(h)` times the jump); the
+//! adaptive methods end a step on every knot ([`crate::run::adaptive`]).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 

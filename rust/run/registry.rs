@@ -540,8 +540,28 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
     let run = match method {
         Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel),
         Method::Rk4Projected => integrate(&Rk4Projected::new(sys, &x0), sys, x0, grid, obs, cancel),
-        Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units(), obs, cancel),
-        Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units(), obs, cancel),
+        Method::Dopri5(a) => integrate_adaptive(
+            &Dopri5,
+            sys,
+            x0,
+            grid,
+            &a,
+            &units(),
+            sys.knots(),
+            obs,
+            cancel,
+        ),
+        Method::Dop853(a) => integrate_adaptive(
+            &Dop853,
+            sys,
+            x0,
+            grid,
+            &a,
+            &units(),
+            sys.knots(),
+            obs,
+            cancel,
+        ),
         Method::Exact
         | Method::Splitting
         | Method::Splitting4
