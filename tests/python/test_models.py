@@ -355,7 +355,7 @@ def test_a_deployment_of_many_knots_is_checked_all_at_once(monkeypatch):
     tensors = np.tile(np.diag([1.0, 2.0, 3.0]), (k, 1, 1))
     tensors[k - 3, 0, 1] = tensors[k - 3, 1, 0] = 5.0
     with pytest.raises(ValueError, match=rf"`inertia` must hold symmetric, positive definite.* "
-                                         rf"got inertia\[{k - 3}\] = "):
+                                         rf"got \"?inertia\[{k - 3}\] = "):
         dz.Deployment(times, tensors)
     times[k - 2] = times[k - 3]
     with pytest.raises(ValueError, match=rf"times\[{k - 3}\] = {k - 3} then "
