@@ -26,10 +26,14 @@
 
 use nalgebra::{Matrix3, Vector3};
 
+use crate::buffer::try_collect;
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 
 use super::model::{mid_axis_of as axis_of, MidAxis};
+
+/// What to say when a deployment's knots cannot be copied.
+const KNOTS_HINT: &str = "give fewer knots";
 
 /// A prescribed, smooth inertia tensor `I(t)` given at knots (see the module doc).
 #[derive(Debug, Clone, PartialEq)]
@@ -132,8 +136,9 @@ impl Deployment {
                 ));
             }
         }
-        let tensors: Vec<Matrix3<f64>> =
-            tensors.iter().map(|m| (m + m.transpose()) * 0.5).collect();
+        // halves first: a moment near the largest float64 would overflow in `m + mᵀ`
+        let symmetric = tensors.iter().map(|m| m * 0.5 + m.transpose() * 0.5);
+        let tensors = try_collect(symmetric, tensors.len(), "the knots", KNOTS_HINT)?;
         let diagonal = tensors
             .iter()
             .all(|m| (0..3).all(|i| (0..3).all(|j| i == j || m[(i, j)] == 0.0)));
@@ -154,10 +159,10 @@ impl Deployment {
     /// # Errors
     /// As [`Deployment::try_new`].
     pub fn from_moments(times: Vec<f64>, moments: &[[f64; 3]]) -> Result<Self> {
-        let tensors = moments
+        let diagonal = moments
             .iter()
-            .map(|m| Matrix3::from_diagonal(&Vector3::from(*m)))
-            .collect();
+            .map(|m| Matrix3::from_diagonal(&Vector3::from(*m)));
+        let tensors = try_collect(diagonal, moments.len(), "the knots", KNOTS_HINT)?;
         Self::try_new(times, tensors)
     }
 }
@@ -244,12 +249,14 @@ impl Deployment {
 
     /// The same deployment with its tensors over `2^m` (see [`crate::float`]).
     pub fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        let tensors = self
+        let k = self.tensors.len();
+        let scaled = self
             .tensors
             .iter()
-            .map(|t| t.map(|v| crate::float::ldexp(v, -m)))
-            .collect();
-        Self::try_new(self.times.clone(), tensors)
+            .map(|t| t.map(|v| crate::float::ldexp(v, -m)));
+        let tensors = try_collect(scaled, k, "the knots", KNOTS_HINT)?;
+        let times = try_collect(self.times.iter().copied(), k, "the knots", KNOTS_HINT)?;
+        Self::try_new(times, tensors)
     }
 
     /// The same deployment with its knot times in the units of `scale`.
@@ -257,7 +264,9 @@ impl Deployment {
     /// # Errors
     /// [`Error::TooLarge`] when a knot time leaves float64.
     pub(crate) fn in_units(&self, scale: RateScale) -> Result<Self> {
-        let times: Vec<f64> = self.times.iter().map(|t| scale.time_to_unit(*t)).collect();
+        let k = self.times.len();
+        let unit = self.times.iter().map(|t| scale.time_to_unit(*t));
+        let times: Vec<f64> = try_collect(unit, k, "the knots", KNOTS_HINT)?;
         if !times.iter().all(|t| t.is_finite()) {
             return Err(Error::TooLarge {
                 what: "the deployment",
@@ -270,7 +279,8 @@ impl Deployment {
                 hint: "take knot times within t_end, or smaller rates",
             });
         }
-        Self::try_new(times, self.tensors.clone())
+        let tensors = try_collect(self.tensors.iter().copied(), k, "the knots", KNOTS_HINT)?;
+        Self::try_new(times, tensors)
     }
 }
 

@@ -60,7 +60,8 @@ impl ConstantInertia {
                 tensor.as_slice(),
             ));
         };
-        let tensor = (tensor + tensor.transpose()) * 0.5;
+        // halves first: a moment near the largest float64 would overflow in `m + mᵀ`
+        let tensor = tensor * 0.5 + tensor.transpose() * 0.5;
         let is_diagonal = (0..3).all(|i| (0..3).all(|j| i == j || tensor[(i, j)] == 0.0));
         let mid = mid_axis_of(&tensor, is_diagonal);
         Ok(Self {

@@ -145,6 +145,20 @@ impl System {
             })
     }
 
+    /// About how many bytes a copy of the system holds on the heap (its parts, a
+    /// deployment's knots), with the allocator's headers: what a batch of one system per row
+    /// adds for each row.
+    pub fn heap_bytes(&self) -> usize {
+        let block = |bytes: usize| if bytes == 0 { 0 } else { bytes.max(16) + 16 };
+        let knots = match &self.body {
+            SystemBody::Rigid(_) => 0,
+            SystemBody::Deployment(d) => {
+                block(std::mem::size_of_val(d.times())) + block(std::mem::size_of_val(d.tensors()))
+            }
+        };
+        knots + block(std::mem::size_of_val(self.parts.as_slice()))
+    }
+
     /// The numbers of state of every part, in order.
     pub fn parts_width(&self) -> usize {
         self.parts.iter().map(Part::width).sum()

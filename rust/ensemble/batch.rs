@@ -129,6 +129,17 @@ impl Options {
         pool(n.min(runs.max(1)).min(MAX_THREADS))?.install(work)
     }
 
+    /// How many threads a call of `runs` runs uses at most (for its memory: one row's
+    /// frames each).
+    pub(crate) fn threads_for(&self, runs: usize) -> usize {
+        match self.threads {
+            Some(n) => n.min(runs.max(1)).min(MAX_THREADS),
+            None => std::thread::available_parallelism()
+                .map_or(1, |n| n.get())
+                .min(runs.max(1)),
+        }
+    }
+
     /// The instruction set to run.
     ///
     /// # Errors
@@ -227,7 +238,13 @@ impl<'a> Stop<'a> {
                 e => e,
             });
         }
-        Ok(parts.into_iter().filter_map(Result::ok).collect())
+        let n = parts.len();
+        crate::buffer::try_collect(
+            parts.into_iter().filter_map(Result::ok),
+            n,
+            "the batch's rows",
+            "run fewer starts at a time",
+        )
     }
 }
 
@@ -580,8 +597,13 @@ pub fn simulate_batch(
         } else {
             single_rows(starts, grid, method, keep, &mut omega, &mut q, &stop)
         };
-        stop.gather(parts)
-            .map(|p| p.into_iter().flatten().collect())
+        let parts = stop.gather(parts)?;
+        crate::buffer::try_collect(
+            parts.into_iter().flatten(),
+            m,
+            "the runs' results",
+            "run fewer starts at a time",
+        )
     })?;
     let total_flips = rows.iter().map(|r| r.flip_times.len()).sum();
     const FLIPS_HINT: &str = "take a shorter t_end, or do not ask for the flips (`flips=False`)";

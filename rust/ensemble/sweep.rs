@@ -176,7 +176,8 @@ pub fn sweep(
         "sweep fewer starts at a time",
     )?;
     let stop = Stop::new(cancel);
-    options.install(starts.len(), || {
+    let m = starts.len();
+    options.install(m, || {
         let parts: Vec<Result<Vec<RunSummary>>> = if method.info().batch {
             starts
                 .par_chunks(LANES)
@@ -196,8 +197,13 @@ pub fn sweep(
                 })
                 .collect()
         };
-        stop.gather(parts)
-            .map(|p| p.into_iter().flatten().collect())
+        let parts = stop.gather(parts)?;
+        crate::buffer::try_collect(
+            parts.into_iter().flatten(),
+            m,
+            "the runs' results",
+            "run fewer starts at a time",
+        )
     })
 }
 

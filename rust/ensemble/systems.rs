@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 
 use rayon::prelude::*;
 
-use crate::buffer::{try_with_capacity, zeroed_for};
+use crate::buffer::{try_collect, try_with_capacity, zeroed_for};
 use crate::dynamics::System;
 use crate::error::{Error, Result};
 use crate::run::{simulate_system, Edge, FrameGrid, Keep, Method};
@@ -87,6 +87,11 @@ pub fn simulate_systems(
     }
     let m = rows.len();
     let frames = grid.frames();
+    crate::buffer::ensure_room(
+        batch_bytes(m, frames, width, keep, options.threads_for(m)),
+        "the batch",
+        FRAMES_HINT,
+    )?;
     let values = |w: usize| -> Result<Vec<f64>> {
         if !keep.frames || w == 0 {
             return Ok(Vec::new());
@@ -105,36 +110,35 @@ pub fn simulate_systems(
     let (mut omega, mut q, mut parts) = (values(3)?, values(4)?, values(width)?);
     let stop = Stop::new(cancel);
     let outputs = options.install(m, || {
-        let slots = slots(&mut omega, &mut q, &mut parts, m, frames, width);
-        let results: Vec<Result<Row>> = slots
-            .into_par_iter()
-            .enumerate()
-            .map(|(i, slot)| {
-                stop.check()?;
-                let run = simulate_system(
-                    &rows.systems[i],
-                    rows.omega0[i],
-                    rows.q0[i],
-                    grid,
-                    method,
-                    keep,
-                    stop.cancel,
-                );
-                let run = stop.watch(run.map_err(|e| e.in_row(i)))?;
-                if let Some((o, qq, p)) = slot {
-                    o.copy_from_slice(&run.omega);
-                    qq.copy_from_slice(&run.q);
-                    p.copy_from_slice(&run.parts);
-                }
-                Ok(Row {
-                    flip_times: run.flip_times,
-                    drift: run.drift,
-                    stats: run.stats,
-                    dt: run.dt,
-                    end: run.end,
-                })
+        let slots = slots(&mut omega, &mut q, &mut parts, m, frames, width)?;
+        let mut results: Vec<Result<Row>> =
+            try_with_capacity(m, "the batch's rows", "run fewer starts at a time")?;
+        // room for every row is there already: `par_extend` allocates nothing
+        results.par_extend(slots.into_par_iter().enumerate().map(|(i, slot)| {
+            stop.check()?;
+            let run = simulate_system(
+                &rows.systems[i],
+                rows.omega0[i],
+                rows.q0[i],
+                grid,
+                method,
+                keep,
+                stop.cancel,
+            );
+            let run = stop.watch(run.map_err(|e| e.in_row(i)))?;
+            if let Some((o, qq, p)) = slot {
+                o.copy_from_slice(&run.omega);
+                qq.copy_from_slice(&run.q);
+                p.copy_from_slice(&run.parts);
+            }
+            Ok(Row {
+                flip_times: run.flip_times,
+                drift: run.drift,
+                stats: run.stats,
+                dt: run.dt,
+                end: run.end,
             })
-            .collect();
+        }));
         stop.gather(results)
     })?;
     let mut out = BatchOutput {
@@ -149,6 +153,38 @@ pub fn simulate_systems(
         out.end.push(row.end);
     }
     Ok(out)
+}
+
+/// About how many bytes a batch of `m` rows of systems with parts of `width` numbers holds
+/// beyond its inputs, on `threads` threads, at its largest: its frames (if kept, plus one
+/// row's on each thread), each row's slot and outcome (twice: as run, then gathered), its
+/// end's parts, the batch's columns, and their conversion to NumPy arrays (ends, columns,
+/// frame times). The flip times are not counted: they are checked as they are gathered.
+pub fn batch_bytes(m: usize, frames: usize, width: usize, keep: Keep, threads: usize) -> f64 {
+    use std::mem::size_of;
+    let f64s = |n: usize| n as f64 * 8.0;
+    let frame_values = match keep.frames {
+        true => f64s(frames) * (7 + width) as f64,
+        false => 0.0,
+    };
+    // each heap block of an end's parts, with the allocator's header
+    let end_parts = f64s(width).max(16.0) + 16.0;
+    let per_row = frame_values
+        + (size_of::<Option<(&mut [f64], &mut [f64], &mut [f64])>>() + size_of::<&mut [f64]>())
+            as f64
+        + 2.0 * size_of::<Result<Row>>() as f64
+        + end_parts
+        + (size_of::<crate::observe::End>()
+            + size_of::<crate::observe::Drift>()
+            + size_of::<crate::ode::Stats>()
+            + 2 * size_of::<f64>()) as f64
+        // NumPy: the ends (ω, q, parts), the flip offsets and the nine columns
+        + f64s(7 + width + 1 + 9);
+    let frame_times = match keep.frames {
+        true => f64s(frames),
+        false => 0.0,
+    };
+    m as f64 * per_row + threads as f64 * frame_values + frame_times
 }
 
 /// A batch of one row: its single run, whose frames become the batch's without a copy (a
@@ -210,20 +246,26 @@ fn slots<'a>(
     m: usize,
     frames: usize,
     width: usize,
-) -> Vec<Option<(&'a mut [f64], &'a mut [f64], &'a mut [f64])>> {
+) -> Result<Vec<Option<(&'a mut [f64], &'a mut [f64], &'a mut [f64])>>> {
+    const HINT: &str = "run fewer starts at a time";
     if omega.is_empty() {
-        return (0..m).map(|_| None).collect();
+        return try_collect((0..m).map(|_| None), m, "the batch's rows", HINT);
     }
-    let mut parts_rows: Vec<&'a mut [f64]> = match width {
-        0 => (0..m).map(|_| <&mut [f64]>::default()).collect(),
-        w => parts.chunks_mut(frames * w).collect(),
+    let parts_rows: Vec<&'a mut [f64]> = match width {
+        0 => try_collect(
+            (0..m).map(|_| <&mut [f64]>::default()),
+            m,
+            "the batch's rows",
+            HINT,
+        )?,
+        w => try_collect(parts.chunks_mut(frames * w), m, "the batch's rows", HINT)?,
     };
-    omega
+    let rows = omega
         .chunks_mut(frames * 3)
         .zip(q.chunks_mut(frames * 4))
-        .zip(parts_rows.drain(..))
-        .map(|((o, qq), p)| Some((o, qq, p)))
-        .collect()
+        .zip(parts_rows)
+        .map(|((o, qq), p)| Some((o, qq, p)));
+    try_collect(rows, m, "the batch's rows", HINT)
 }
 
 /// A batch of free bodies: their starts in principal axes through the batch kernel, each

@@ -5,6 +5,7 @@
 //! ([`numerics`]); this one holds the error mapping, the GIL release and the module.
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
+mod arrays;
 mod numerics;
 mod runs;
 mod values;

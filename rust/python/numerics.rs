@@ -1,9 +1,9 @@
 //! The numerics Python calls directly: rotating points, meshes, the exact flip period and the
 //! elliptic functions behind it, the SIMD instruction sets.
 
-use numpy::ndarray::Array2;
+use numpy::ndarray::{Ix1, Ix2};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
+    PyArray1, PyArray2, PyArray3, PyArrayMethods, PyReadonlyArray1, PyReadonlyArray2,
     PyReadwriteArray3, PyUntypedArrayMethods,
 };
 use pyo3::exceptions::PyValueError;
@@ -16,8 +16,10 @@ use crate::kinematics::rotate_points_until;
 use crate::mesh::ellipsoid;
 use crate::run::{watchdog, Edge};
 
+use super::arrays::owned;
 use super::values::PyRigidBody;
 use super::{detach, internal};
+use crate::buffer::{try_collect, try_with_capacity};
 
 /// `M(q_i) · X_j` for every quaternion and point, into `out` if given.
 #[pyfunction]
@@ -79,9 +81,10 @@ fn ellipsoid_mesh<'py>(
     let long = n_around.saturating_mul(n_along) > watchdog::LONG_MESH;
     let mesh = detach(py, long, |_| ellipsoid(semi_axes, n_around, n_along))?;
     let (v, c) = (mesh.n_vertices(), mesh.n_cells());
-    let vertices = Array2::from_shape_vec((v, 3), mesh.vertices).map_err(internal)?;
-    let quads = Array2::from_shape_vec((c, 4), mesh.quads).map_err(internal)?;
-    Ok((vertices.into_pyarray(py), quads.into_pyarray(py)))
+    Ok((
+        owned(py, mesh.vertices, Ix2(v, 3))?,
+        owned(py, mesh.quads, Ix2(c, 4))?,
+    ))
 }
 
 /// The flip period `2K(m)/λ` of `body` spun at `omega0` (its user's axes; infinite when the
@@ -109,19 +112,27 @@ fn ellipj<'py>(
 ) -> PyResult<Triple<'py>> {
     check_parameter(m, m1)?;
     let jacobi = Jacobi::new(m, m1);
-    let u = u.as_array().to_vec();
-    let (sn, (cn, dn)): (Vec<f64>, (Vec<f64>, Vec<f64>)) = py.detach(|| {
-        u.iter()
-            .map(|&x| {
-                let (s, c, d) = jacobi.sn_cn_dn(x);
-                (s, (c, d))
-            })
-            .unzip()
-    });
+    let n = u.len();
+    let u = try_collect(u.as_array().iter().copied(), n, "the arguments", HINT)?;
+    const HINT: &str = "evaluate fewer points at a time";
+    let (sn, cn, dn) = py.detach(|| -> crate::error::Result<_> {
+        let (mut sn, mut cn, mut dn) = (
+            try_with_capacity(n, "sn", HINT)?,
+            try_with_capacity(n, "cn", HINT)?,
+            try_with_capacity(n, "dn", HINT)?,
+        );
+        for &x in &u {
+            let (s, c, d) = jacobi.sn_cn_dn(x);
+            sn.push(s);
+            cn.push(c);
+            dn.push(d);
+        }
+        Ok((sn, cn, dn))
+    })?;
     Ok((
-        PyArray1::from_vec(py, sn),
-        PyArray1::from_vec(py, cn),
-        PyArray1::from_vec(py, dn),
+        owned(py, sn, Ix1(n))?,
+        owned(py, cn, Ix1(n))?,
+        owned(py, dn, Ix1(n))?,
     ))
 }
 

@@ -1,15 +1,14 @@
 //! The runs: planning, a batch (a single run is a batch of one), a sweep, and what a system says of its frames; their
 //! results as frozen classes of NumPy arrays.
 
-use numpy::ndarray::{Array2, Array3};
+use numpy::ndarray::{Ix1, Ix2, Ix3};
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2,
-    PyUntypedArrayMethods,
+    PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
 };
 use pyo3::prelude::*;
 
 use crate::body::{Inertia, RigidBody};
-use crate::buffer::{ensure_room, try_with_capacity};
+use crate::buffer::{ensure_room, try_collect, try_with_capacity};
 use crate::dynamics::System;
 use crate::ensemble::batch::Options as BatchOptions;
 use crate::ensemble::lanes::Isa;
@@ -23,8 +22,9 @@ use crate::run::options::RunOptions;
 use crate::run::step_size::StepPlan;
 use crate::run::{watchdog, FrameGrid, Keep};
 
+use super::arrays::owned;
+use super::detach;
 use super::values::{PyRunOptions, PySystem};
-use super::{detach, internal};
 
 /// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
 #[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
@@ -88,6 +88,15 @@ fn rows_of(
         .into());
     }
     const HINT: &str = "run fewer starts at a time";
+    // each row's copy of its system (and what the copy holds on the heap) and its start,
+    // checked at once before any is made
+    let copies: f64 = match inertia {
+        Some(_) => 0.0,
+        None if given == 1 => m as f64 * systems[0].inner.heap_bytes() as f64,
+        None => systems.iter().map(|s| s.inner.heap_bytes() as f64).sum(),
+    };
+    let row = std::mem::size_of::<System>() + std::mem::size_of::<([f64; 3], [f64; 4])>();
+    ensure_room(copies + (m * row) as f64, "the batch's systems", HINT)?;
     let mut s = try_with_capacity(m, "the batch's systems", HINT)?;
     let mut w = try_with_capacity(m, "the starts", HINT)?;
     let mut qs = try_with_capacity(m, "the starts", HINT)?;
@@ -137,18 +146,26 @@ fn plan(
     })
 }
 
-/// The frame times of `grid`, as an array.
-fn frame_times(py: Python<'_>, grid: &FrameGrid) -> Py<PyArray1<f64>> {
-    let t: Vec<f64> = (0..grid.frames()).map(|i| grid.time(i)).collect();
-    PyArray1::from_vec(py, t).unbind()
+/// The frame times of `grid`, as an array; none (an empty array) for a run that keeps no
+/// frames, whose frames may be far more than memory holds (a sweep's `frames` only set where
+/// its drift is measured).
+fn frame_times(py: Python<'_>, grid: &FrameGrid, kept: bool) -> PyResult<Py<PyArray1<f64>>> {
+    let n = if kept { grid.frames() } else { 0 };
+    let t = try_collect(
+        (0..n).map(|i| grid.time(i)),
+        n,
+        "the frame times",
+        FRAMES_HINT,
+    )?;
+    Ok(owned(py, t, Ix1(n))?.unbind())
 }
+
+/// What to say when a result's arrays do not fit.
+const FRAMES_HINT: &str = "ask for fewer runs or frames";
 
 /// `values` as an array of `shape`.
 fn shaped2(py: Python<'_>, v: Vec<f64>, shape: (usize, usize)) -> PyResult<Py<PyArray2<f64>>> {
-    Ok(Array2::from_shape_vec(shape, v)
-        .map_err(internal)?
-        .into_pyarray(py)
-        .unbind())
+    Ok(owned(py, v, Ix2(shape.0, shape.1))?.unbind())
 }
 
 fn shaped3(
@@ -156,10 +173,7 @@ fn shaped3(
     v: Vec<f64>,
     shape: (usize, usize, usize),
 ) -> PyResult<Py<PyArray3<f64>>> {
-    Ok(Array3::from_shape_vec(shape, v)
-        .map_err(internal)?
-        .into_pyarray(py)
-        .unbind())
+    Ok(owned(py, v, Ix3(shape.0, shape.1, shape.2))?.unbind())
 }
 
 fn keep(options: &RunOptions, frames: bool) -> Keep {
@@ -184,30 +198,47 @@ struct PyRunColumns {
 }
 
 impl PyRunColumns {
-    fn new(py: Python<'_>, drift: &[Drift], stats: &[Stats], dt: Vec<f64>) -> Self {
-        let of = |f: fn(&Drift) -> f64| column(py, drift.iter().map(f).collect());
-        let count = |f: fn(&Stats) -> u64| column(py, stats.iter().map(|s| f(s) as i64).collect());
-        Self {
+    fn new(py: Python<'_>, drift: &[Drift], stats: &[Stats], dt: Vec<f64>) -> PyResult<Self> {
+        let of = |f: fn(&Drift) -> f64| column_of(py, drift.iter().map(f), drift.len());
+        let count =
+            |f: fn(&Stats) -> u64| column_of(py, stats.iter().map(|s| f(s) as i64), stats.len());
+        Ok(Self {
             drift: [
-                of(|d| d.energy),
-                of(|d| d.momentum),
-                of(|d| d.momentum_world),
-                of(|d| d.q_norm),
-                of(|d| d.jacobi.unwrap_or(f64::NAN)),
+                of(|d| d.energy)?,
+                of(|d| d.momentum)?,
+                of(|d| d.momentum_world)?,
+                of(|d| d.q_norm)?,
+                of(|d| d.jacobi.unwrap_or(f64::NAN))?,
             ],
             kept: drift.first().map_or(Vec::new(), |d| d.kept.names()),
-            nfev: count(|s| s.nfev),
-            n_steps: count(|s| s.n_steps),
-            n_rejected: count(|s| s.n_rejected),
-            dt: column(py, dt),
-        }
+            nfev: count(|s| s.nfev)?,
+            n_steps: count(|s| s.n_steps)?,
+            n_rejected: count(|s| s.n_rejected)?,
+            dt: column(py, dt)?,
+        })
     }
 }
 
 /// Per-row values as a NumPy array.
-fn column<T: numpy::Element>(py: Python<'_>, v: Vec<T>) -> Py<PyArray1<T>> {
-    PyArray1::from_vec(py, v).unbind()
+fn column<T: numpy::Element + Send + Sync + 'static>(
+    py: Python<'_>,
+    v: Vec<T>,
+) -> PyResult<Py<PyArray1<T>>> {
+    let n = v.len();
+    Ok(owned(py, v, Ix1(n))?.unbind())
 }
+
+/// The `n` values of `values` as a NumPy array, every allocation fallible.
+fn column_of<T: numpy::Element + Send + Sync + 'static>(
+    py: Python<'_>,
+    values: impl IntoIterator<Item = T>,
+    n: usize,
+) -> PyResult<Py<PyArray1<T>>> {
+    column(py, try_collect(values, n, "the runs' columns", ROWS_HINT)?)
+}
+
+/// What to say when a batch's per-run columns do not fit.
+const ROWS_HINT: &str = "run fewer starts at a time";
 
 /// A batch's output: the frame times; frames `(M, frames, ·)` and parts' state if kept; where
 /// each row ended (`(M, 3)`, `(M, 4)`, `(M, k)`; NaN where not kept); every row's flip times
@@ -266,30 +297,32 @@ fn simulate_batch(
         true => shaped3(py, v, (m, f, width)).map(Some),
         false => Ok(None),
     };
-    let ends = |width: usize, of: &dyn Fn(&crate::observe::End) -> Vec<f64>| {
-        let v = match out.end.len() {
-            0 => vec![f64::NAN; m * width],
-            _ => out.end.iter().flat_map(of).collect(),
-        };
+    let ends = |width: usize, of: &dyn Fn(&crate::observe::End) -> &[f64]| {
+        let mut v = try_with_capacity(m * width, "the runs' ends", ROWS_HINT)?;
+        match out.end.len() {
+            0 => v.resize(m * width, f64::NAN),
+            _ => out.end.iter().for_each(|e| v.extend_from_slice(of(e))),
+        }
         shaped2(py, v, (m, width))
     };
     let (end_omega, end_q, end_parts) = (
-        ends(3, &|e| e.omega.to_vec())?,
-        ends(4, &|e| e.q.to_vec())?,
-        ends(k, &|e| e.parts.clone())?,
+        ends(3, &|e| &e.omega)?,
+        ends(4, &|e| &e.q)?,
+        ends(k, &|e| &e.parts)?,
     );
-    let offsets = out.flip_offsets.iter().map(|&o| o as i64).collect();
-    let runs = PyRunColumns::new(py, &out.drift, &out.stats, out.dt);
+    let offsets = out.flip_offsets.iter().map(|&o| o as i64);
+    let flip_offsets = column_of(py, offsets, out.flip_offsets.len())?;
+    let runs = PyRunColumns::new(py, &out.drift, &out.stats, out.dt)?;
     Ok(PyBatchResult {
-        t: frame_times(py, &grid),
+        t: frame_times(py, &grid, keep_frames)?,
         omega: frames(out.omega, 3)?,
         q: frames(out.q, 4)?,
         parts: frames(out.parts, k)?,
         end_omega,
         end_q,
         end_parts,
-        flip_offsets: column(py, offsets),
-        flip_times: column(py, out.flip_times),
+        flip_offsets,
+        flip_times: column(py, out.flip_times)?,
         runs: Py::new(py, runs)?,
     })
 }
@@ -335,17 +368,19 @@ fn sweep(
     let runs = detach(py, long, |cancel| {
         core_sweep(&starts, &grid, method, &batch, cancel)
     })?;
-    let of = |f: fn(&RunSummary) -> f64| column(py, runs.iter().map(f).collect());
-    let drift: Vec<Drift> = runs.iter().map(|r| r.drift).collect();
-    let stats: Vec<Stats> = runs.iter().map(|r| r.stats).collect();
-    let columns = PyRunColumns::new(py, &drift, &stats, runs.iter().map(|r| r.dt).collect());
+    let n = runs.len();
+    let of = |f: fn(&RunSummary) -> f64| column_of(py, runs.iter().map(f), n);
+    let drift: Vec<Drift> = try_collect(runs.iter().map(|r| r.drift), n, "the drifts", ROWS_HINT)?;
+    let stats: Vec<Stats> = try_collect(runs.iter().map(|r| r.stats), n, "the costs", ROWS_HINT)?;
+    let dt = try_collect(runs.iter().map(|r| r.dt), n, "the steps", ROWS_HINT)?;
+    let columns = PyRunColumns::new(py, &drift, &stats, dt)?;
     Ok(PySweepResult {
-        flips: column(py, runs.iter().map(RunSummary::flip_count).collect()),
-        status: column(py, runs.iter().map(|r| r.status as u8).collect()),
-        first_flip: of(|r| r.flips.first),
-        period: of(|r| r.flips.mean_period()),
-        exact_period: of(|r| r.exact_period),
-        tilt: of(|r| r.tilt),
+        flips: column_of(py, runs.iter().map(RunSummary::flip_count), n)?,
+        status: column_of(py, runs.iter().map(|r| r.status as u8), n)?,
+        first_flip: of(|r| r.flips.first)?,
+        period: of(|r| r.flips.mean_period())?,
+        exact_period: of(|r| r.exact_period)?,
+        tilt: of(|r| r.tilt)?,
         runs: Py::new(py, columns)?,
     })
 }
@@ -404,7 +439,7 @@ fn observe<'py>(
         Ok((energy, body, world))
     })?;
     Ok((
-        PyArray1::from_vec(py, energy),
+        owned(py, energy, Ix1(n))?,
         shaped2(py, body, (n, 3))?.into_bound(py),
         shaped2(py, world, (n, 3))?.into_bound(py),
     ))

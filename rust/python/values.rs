@@ -2,19 +2,19 @@
 //! options of a run, and the registry's entries.
 
 use nalgebra::Matrix3;
-use numpy::ndarray::{Array1, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray3};
+use numpy::ndarray::{Ix1, Ix3};
+use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::body::{Inertia, RigidBody};
-use crate::buffer::try_with_capacity;
+use crate::buffer::{try_collect, try_with_capacity};
 use crate::dynamics::{Conserved, Damper, Deployment, Part, System, SystemBody, MODELS};
 use crate::error::Error;
 use crate::run::options::RunOptions;
 use crate::run::registry::MethodInfo;
 
-use super::internal;
+use super::arrays::owned;
 
 type Rows3 = [[f64; 3]; 3];
 
@@ -131,20 +131,21 @@ impl PyDeployment {
     }
 
     #[getter]
-    fn times<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        Array1::from(self.inner.times().to_vec()).into_pyarray(py)
+    fn times<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let times = self.inner.times();
+        let n = times.len();
+        let v = try_collect(times.iter().copied(), n, "the knots", "give fewer knots")?;
+        owned(py, v, Ix1(n))
     }
 
     #[getter]
     fn tensors<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray3<f64>>> {
         let k = self.inner.tensors().len();
-        let values = self
-            .inner
-            .tensors()
-            .iter()
-            .flat_map(|m| m.transpose().as_slice().to_vec());
-        let array = Array3::from_shape_vec((k, 3, 3), values.collect()).map_err(internal)?;
-        Ok(array.into_pyarray(py))
+        let mut values = try_with_capacity(9 * k, "the knots", "give fewer knots")?;
+        for m in self.inner.tensors() {
+            values.extend_from_slice(m.transpose().as_slice());
+        }
+        owned(py, values, Ix3(k, 3, 3))
     }
 }
 

@@ -238,17 +238,55 @@ fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
     if let (Some(first), true) = (out.omega.get_mut(..3), method.info().takes_steps()) {
         first.copy_from_slice(&omega0);
     }
-    if !out.omega.iter().all(|w| w.is_finite()) {
-        return Err(Error::Diverged {
-            t: grid.t_end(),
-            hint: "the body rates `omega0` are too large for float64",
-        });
-    }
+    let mut out = finite_frames(out, grid)?;
     for t in &mut out.flip_times {
         *t = time_from_unit(scale, *t, grid.t_end());
     }
     out.dt = scale.time_from_unit(out.dt);
     Ok(out)
+}
+
+/// What to say when a run's frames leave float64.
+const NON_FINITE_HINT: &str = "its rates, attitude or parts' state left float64: the body \
+                               rates `omega0` (or the moments times them) are too large";
+
+/// `out`, or [`Error::Diverged`] at the first frame (or the end) whose rates, attitude or
+/// parts' state float64 does not hold: no method returns a non-finite frame, whatever the
+/// checks in its step loop saw (a state can be finite while the rates `I⁻¹ L` made from it
+/// are not).
+pub(crate) fn finite_frames(out: RunOutput, grid: &FrameGrid) -> Result<RunOutput> {
+    let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+    let end = &out.end;
+    if finite(&out.omega)
+        && finite(&out.q)
+        && finite(&out.parts)
+        && finite(&end.omega)
+        && finite(&end.q)
+        && finite(&end.parts)
+    {
+        return Ok(out);
+    }
+    let first = |v: &[f64], width: usize| {
+        v.chunks(width.max(1))
+            .position(|f| !finite(f))
+            .unwrap_or(usize::MAX)
+    };
+    let frames = out.omega.len() / 3;
+    let width = match frames {
+        0 => 1,
+        n => out.parts.len() / n,
+    };
+    let frame = first(&out.omega, 3)
+        .min(first(&out.q, 4))
+        .min(first(&out.parts, width));
+    let t = match frame < grid.frames() {
+        true => grid.time(frame),
+        false => grid.t_end(),
+    };
+    Err(Error::Diverged {
+        t,
+        hint: NON_FINITE_HINT,
+    })
 }
 
 /// What a run watches beside the drift and frames: the tilt, or nothing.
@@ -451,15 +489,18 @@ fn finished<const N: usize, S: Model<N>, T: TiltWatch<N>>(
     }
     let drift = finite_drift(drift.drift, grid.t_end())?;
     let (omega, q, parts) = frames.map(Recorder::into_frames).unwrap_or_default();
-    Ok(RunOutput {
-        omega,
-        q,
-        parts,
-        flip_times,
-        tilt: tilt.tilt(),
-        end: last.end(),
-        drift,
-        stats,
-        dt,
-    })
+    finite_frames(
+        RunOutput {
+            omega,
+            q,
+            parts,
+            flip_times,
+            tilt: tilt.tilt(),
+            end: last.end(),
+            drift,
+            stats,
+            dt,
+        },
+        grid,
+    )
 }

@@ -199,7 +199,8 @@ pub fn simulate_system(
     edge.frames_out(&mut out.omega, &mut out.q, &mut out.parts, width);
     let end = &mut out.end;
     edge.frames_out(&mut end.omega, &mut end.q, &mut end.parts, width);
-    Ok(out)
+    // turned back into the user's axes, rates at the edge of float64 can leave it
+    super::finite_frames(out, grid)
 }
 
 /// The step a run of `system` from `omega0` (with `q0`) will take and what it predicts:

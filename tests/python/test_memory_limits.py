@@ -7,6 +7,7 @@ child prints the exception's type and message."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import textwrap
@@ -138,3 +139,90 @@ def test_grid_batch_rows_and_separatrix_gap_are_refused_with_their_size():
     ]:
         report = under_limit(call, 2 * GB)
         assert_refused_with_size(report, *words)
+
+
+ROOM = """
+import resource, sys
+import numpy as np
+import dzhanibekov as dz
+
+def address_space():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmSize:"):
+                return int(line.split()[1]) * 1024
+    raise RuntimeError("no VmSize")
+
+def limited(headroom, call):
+    '''`call()` with the address space limited to what the process holds now plus
+    `headroom` bytes: "RETURNED", or "RAISED" and the exception's classes.'''
+    resource.setrlimit(resource.RLIMIT_AS, (address_space() + headroom, resource.RLIM_INFINITY))
+    try:
+        call()
+    except BaseException as exc:
+        return "RAISED " + " ".join(c.__name__ for c in type(exc).__mro__)
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+    return "RETURNED"
+"""
+
+MB = 1 << 20
+
+
+def in_child(code: str, timeout: float = 120.0) -> list[str]:
+    """The lines a child prints running `ROOM` then `code`; it must not die."""
+    # every large allocation a fresh mapping, one arena: the address space a call takes is
+    # what it allocates, not what earlier calls left free in glibc's heaps
+    env = {**os.environ, "MALLOC_MMAP_THRESHOLD_": "131072", "MALLOC_ARENA_MAX": "1"}
+    done = subprocess.run([sys.executable, "-c", ROOM + textwrap.dedent(code)],
+                          capture_output=True, text=True, timeout=timeout, env=env)
+    assert done.returncode == 0, (
+        f"the child died with exit code {done.returncode} (134 is an abort, -11 SIGSEGV):\n"
+        f"{done.stdout}\n{done.stderr[-2000:]}")
+    return done.stdout.strip().splitlines()
+
+
+def test_a_deployment_sweep_allocates_no_frames():
+    """A sweep keeps no frames, but the frame times of a deployment sweep were allocated
+    (8 bytes a frame, infallibly: `frames=2**31` aborted the interpreter, `frames=2*10**7`
+    under `prlimit --as=600M` too). Here 2·10⁶ frames (16 MB of times) with 8 MB to spare."""
+    lines = in_child("""
+        deployment = dz.Deployment([1, 2], [(1, 2, 3), (1, 3, 2)])
+        sweep = lambda frames: dz.sweep([deployment], (0.01, 0.01, 1), t_end=10,
+                                         frames=frames, method="dop853", progress=False)
+        assert list(sweep(11).status) == ["ok"]
+        print(limited(8 * MB, lambda: sweep(2 * 10**6)))
+    """.replace("MB", str(MB)))
+    assert lines == ["RETURNED"], lines
+
+
+BATCH_KINDS = {
+    "free": "dz.Body((1.0, 2.0, 3.0))",
+    "tensor": "dz.Body.from_tensor([[2.0, 0.3, 0.0], [0.3, 1.0, 0.0], [0.0, 0.0, 3.0]])",
+    "deployment": "dz.Deployment([0.5, 1.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])",
+    "damper": "dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Damper(0.1, 0.05)])",
+}
+
+
+@pytest.mark.parametrize("kind", sorted(BATCH_KINDS))
+def test_a_batch_of_every_kind_under_shrinking_limits(kind):
+    """A batch of 2·10⁴ starts (frames=2) under address-space limits from a few MB above what
+    the process holds to enough: each call returns its batch or raises a MemoryError
+    (TooLargeError saying the size first) — never an abort or SIGSEGV. A damped batch of 10⁶
+    starts passed the frames' size check (0.16 GB) and died under limits up to its real need
+    (about 1 GB more): in the rows' collection (SIGABRT) or in rust-numpy's conversion of the
+    result (SIGSEGV in PyArray_SetBaseObject)."""
+    lines = in_child(f"""
+        system = {BATCH_KINDS[kind]}
+        omega = np.tile([0.01, 0.01, 1.0], (20000, 1)) * np.linspace(1, 2, 20000)[:, None]
+        run = lambda: dz.simulate(system, omega, t_end=0.5, frames=2, dt=0.05, progress=False)
+        run()  # the thread pool and NumPy's caches, outside the limits
+        for headroom in (2, 3, 4, 5, 6, 8, 10, 12, 16, 20, 24, 32, 400):
+            print(headroom, limited(headroom * {MB}, run))
+    """)
+    assert len(lines) == 13, lines
+    for line in lines:
+        headroom, outcome = line.split(" ", 1)
+        assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
+    assert lines[-1].endswith("RETURNED"), lines
+    assert any("MemoryError" in line for line in lines), lines

@@ -48,12 +48,19 @@ DAEMON = textwrap.dedent("""
     kind, delay = sys.argv[1], float(sys.argv[2])
     body = dz.Body(dz.PAPER_INERTIA)
     omega = np.tile([0.01, 0.01, 1.0], (32, 1)) * np.linspace(1.0, 2.0, 32)[:, None]
+    MODELS = {
+        "tensor": dz.Body.from_tensor([[2.0, 0.3, 0.0], [0.3, 1.0, 0.0], [0.0, 0.0, 3.0]]),
+        "deployment": dz.Deployment([1.0, 5.0], [dz.PAPER_INERTIA, (52.0833, 41.6666, 27.0833)]),
+        "damper": dz.System(body, parts=[dz.Damper(0.5, 0.2)]),
+    }
     started = threading.Event()
     def work():
         started.set()
         while True:
             if kind == "batch":
                 dz.simulate(body, omega, t_end=100.0, frames=501, dt=1e-3)
+            elif kind in MODELS:
+                dz.simulate(MODELS[kind], omega, t_end=20.0, frames=501, dt=1e-3)
             elif kind == "sweep":
                 dz.sweep(body, omega, t_end=100.0, dt=1e-3, progress=False)
             else:
@@ -65,14 +72,15 @@ DAEMON = textwrap.dedent("""
 
 
 def exits_cleanly(runs: int) -> None:
-    """`runs` interpreters, each leaving while a daemon thread is inside a batch, a sweep or
-    a rotation, at exit times spread over the calls' phases; all must exit with code 0."""
+    """`runs` interpreters, each leaving while a daemon thread is inside a batch (of every
+    kind: free, tensor, deployment, damper), a sweep or a rotation, at exit times spread over the calls' phases; all must exit with code 0."""
     rng = np.random.default_rng(15)
     failures = []
     procs: list[tuple[str, float, subprocess.Popen[str]]] = []
-    kinds = ["batch", "sweep", "rotate"]
+    # every batch kind (free, tensor, deployment, damper), a sweep and a rotation
+    kinds = ["batch", "sweep", "rotate", "tensor", "deployment", "damper"]
     for i in range(runs):
-        kind, delay = kinds[i % 3], float(rng.uniform(0.0, 0.3))
+        kind, delay = kinds[i % len(kinds)], float(rng.uniform(0.0, 0.3))
         procs.append((kind, delay, subprocess.Popen(
             [sys.executable, "-c", DAEMON, kind, str(delay)], stdout=subprocess.DEVNULL,
             stderr=subprocess.PIPE, text=True)))
