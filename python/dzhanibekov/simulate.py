@@ -293,7 +293,8 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
     if keep_frames:
         what = f"a batch of {m} runs × {options.frames} frames" if rows.batch else \
             f"frames={options.frames}"
-        check_size(m * options.frames * (7 + width) * 8, what,
+        # each run's ω, q and parts a frame, and the frame times
+        check_size((m * (7 + width) + 1) * options.frames * 8, what,
                    "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo study) "
                    "for per-run outcomes, which keep no frames")
 
