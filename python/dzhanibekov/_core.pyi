@@ -16,12 +16,14 @@ __all__ = [
     "Deployment",
     "MAX_MOMENT_RATIO",
     "METHODS",
+    "NEAR_SYMMETRY",
     "MethodInfo",
     "RUN_STATUSES",
     "RigidBody",
     "RunColumns",
     "RunOptions",
     "StepPlan",
+    "SYMMETRY_TOLERANCE",
     "SweepResult",
     "System",
     "TRIANGLE_SLACK",
@@ -49,6 +51,8 @@ DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
+SYMMETRY_TOLERANCE: float
+NEAR_SYMMETRY: float
 RUN_STATUSES: tuple[str, ...]
 
 _Rows3 = list[list[float]]
@@ -75,6 +79,8 @@ class RigidBody:
     def satisfies_triangle_inequality(self) -> bool: ...
     @property
     def intermediate_axis(self) -> int | None: ...
+    @property
+    def asymmetry(self) -> float: ...
     def __reduce__(self) -> tuple[Any, tuple[_Rows3]]: ...
 
 @final

@@ -1442,6 +1442,8 @@ NOT_CALLED = {
     "box_edges": "takes no arguments: test_hostile calls it once",
     "Scenario": "another name of Scene",
     "FLAT_SHARE": "a constant, the default of flat_spin_time",
+    "SYMMETRY_TOLERANCE": "a constant, the core's (test_bodies.py: symmetric tops)",
+    "NEAR_SYMMETRY": "a constant, the core's (test_bodies.py: the near-symmetry warning)",
     "StiffDamperWarning": "a warning class, raised by simulate of a stiff damper "
                           "(test_model_batches.py)",
     "DzhanibekovError": "an exception class, raised by the core (test_errors.py)",

@@ -275,7 +275,9 @@ class Scene:
         """Simulates the scene keeping no frames (:func:`summarize`): flip times only."""
         kwargs = self._run_arguments() | overrides
         kwargs.pop("flips", None)
-        return summarize(self.system, self.omega0, **kwargs)
+        summary = summarize(self.system, self.omega0, **kwargs)
+        assert isinstance(summary, Summary), "a scene is one run"
+        return summary
 
     def _run_arguments(self) -> dict[str, Any]:
         return dict(q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt,
@@ -712,7 +714,8 @@ def _validate(s: Scene) -> None:
                              "the moments of `body.inertia`")
         _drawable(src, "body.inertia", max(derived), "the box these moments give")
     if flags["ellipsoid"]:
-        semi_axes = ellipsoid_semi_axes(inertia, convention)
+        semi_axes = ellipsoid_semi_axes(s.body if s.body_spec is not None else inertia,
+                                        convention)
         _drawable(src, "body.inertia", float(semi_axes.max()),
                   f"the {convention} ellipsoid's largest semi-axis")
     if flags["animation"] and s.frames > MAX_ANIMATION_FRAMES:
