@@ -66,8 +66,12 @@ Moments from a mesh, a composite or a tensor with products of inertia carry roun
 
 NEAR_SYMMETRY: float = _core.NEAR_SYMMETRY
 """Moments closer than this (1e-6, relative) but not within :data:`SYMMETRY_TOLERANCE` make a
-nearly symmetric top: a Body warns (:class:`InertiaWarning`), since its flips are the slow
-precession of the transverse rates and their count depends on digits no measurement fixes."""
+nearly symmetric top: a Body given by moments, a tensor, a mesh or parts warns
+(:class:`InertiaWarning`), since its flips are the slow precession of the transverse rates and
+their count depends on digits no measurement fixes. 1e-6 covers, among others, an
+axisymmetric part read from a single-precision STL file (coordinates to 6e-8), whose equal
+moments may come out that far apart. The solids (:meth:`Body.box`, :meth:`Body.cylinder`, …)
+do not warn: their moments follow exactly from the dimensions given."""
 
 
 class InertiaWarning(UserWarning):
@@ -116,7 +120,9 @@ class Body:
         ``Ix <= Iy + Iz`` (and likewise for y, z), so such moments describe no body, though
         Euler's equations still run. Also if two moments are within :data:`NEAR_SYMMETRY`
         (1e-6) of each other but not within :data:`SYMMETRY_TOLERANCE`: a nearly symmetric
-        top, whose flips depend on digits no measurement fixes.
+        top, whose flips depend on digits no measurement fixes (so do :meth:`from_tensor`,
+        :meth:`compose`, :meth:`from_mesh` and :meth:`load`; the solids, exact by their
+        dimensions, do not).
 
     Examples
     --------
@@ -169,7 +175,6 @@ class Body:
         ea, eb, ec = edges
         body._fill(_core.RigidBody.from_box(ea, eb, ec, mass), mass=mass,
                    shape=box_shape(ea, eb, ec, faces=True))
-        _warn_if_unphysical(body._core)
         return body
 
     @classmethod
@@ -227,7 +232,6 @@ class Body:
             raise ValueError(f"{names} give principal moments {(ix, iy, iz)} out of range: "
                              f"{exc}") from None
         body._fill(core, mass=mass, shape=shape)
-        _warn_if_unphysical(core)
         return body
 
     @classmethod
