@@ -12,6 +12,44 @@ pub const MAX_MOMENT_RATIO: f64 = 1e150;
 /// inequality: moments computed from a mass distribution meet it only to round-off.
 pub const TRIANGLE_SLACK: f64 = 1e-12;
 
+/// The relative difference `|Ia − Ib| / max(Ia, Ib)` within which two principal moments count
+/// as equal: the body is then a symmetric top, with no intermediate axis, no flips and an
+/// infinite flip period.
+///
+/// Why 1e-9: moments computed from a mesh, a composite or a tensor with products of inertia
+/// carry round-off of about ε (2.2e-16) times the largest moment per operation, some 1e-13 for
+/// a mesh of a million faces, so an axisymmetric part's two equal moments come out 1e-16 to
+/// 1e-13 apart, and without a tolerance every mesh of a cylinder would "flip" (its transverse
+/// rates turn at the precession rate, and the flip detector would read each half-turn as a
+/// flip). Three or more orders above that round-off, 1e-9 is still far below what any
+/// measurement or manufacture resolves. Only the verdict changes: the integrators and the
+/// exact method still run the moments as given (the closed form of a symmetric top only where
+/// two are exactly equal), so the motion is the body's own; its "flips" within the tolerance
+/// are the precession of a top symmetric to 1e-9, and are not counted.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-9;
+
+/// The looser relative difference below which the Python package warns that a body is nearly
+/// symmetric (moments closer than this but not within [`SYMMETRY_TOLERANCE`]): its flips are
+/// then the slow precession of a nearly symmetric top, and their count depends on digits no
+/// measurement fixes.
+pub const NEAR_SYMMETRY: f64 = 1e-6;
+
+/// Whether two principal moments are equal within [`SYMMETRY_TOLERANCE`] (relative).
+pub fn moments_equal(a: f64, b: f64) -> bool {
+    (a - b).abs() <= SYMMETRY_TOLERANCE * a.abs().max(b.abs())
+}
+
+/// The smallest relative difference `|Ia − Ib| / max(Ia, Ib)` of two of the moments `i`: 0 for
+/// a symmetric top; compared with [`SYMMETRY_TOLERANCE`] and [`NEAR_SYMMETRY`].
+pub fn asymmetry(i: &Vector3<f64>) -> f64 {
+    (0..3)
+        .map(|k| {
+            let (a, b) = (i[k], i[(k + 1) % 3]);
+            (a - b).abs() / a.abs().max(b.abs())
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Principal moments of inertia `(Ix, Iy, Iz)` about the body axes x, y, z, in the user's units.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RigidBody {
@@ -120,14 +158,33 @@ impl RigidBody {
     }
 
     /// The axis (0 = x, 1 = y, 2 = z) of the strictly intermediate moment, about which spin is
-    /// unstable; `None` when two moments are equal (a symmetric top has no such axis).
+    /// unstable; `None` when two moments are equal within [`SYMMETRY_TOLERANCE`] (a symmetric
+    /// top has no such axis).
     pub fn intermediate_axis(&self) -> Option<usize> {
         intermediate_index(&self.inertia_body)
     }
+
+    /// The smallest relative difference of two moments (see [`asymmetry`]).
+    pub fn asymmetry(&self) -> f64 {
+        asymmetry(&self.inertia_body)
+    }
 }
 
-/// The index of the strictly intermediate of three moments; `None` when two are equal.
+/// The index of the strictly intermediate of three moments; `None` when two are equal within
+/// [`SYMMETRY_TOLERANCE`] (relative): a symmetric top.
+///
+/// # Example
+/// ```
+/// use dzhanibekov::body::intermediate_index;
+/// use nalgebra::Vector3;
+/// assert_eq!(intermediate_index(&Vector3::new(1.0, 3.0, 2.0)), Some(2));
+/// // a cylinder's two equal moments as a mesh gives them, 1e-15 apart: a symmetric top
+/// assert_eq!(intermediate_index(&Vector3::new(35.0, 35.0 * (1.0 + 1e-15), 4.5)), None);
+/// ```
 pub fn intermediate_index(i: &Vector3<f64>) -> Option<usize> {
+    if (0..3).any(|k| moments_equal(i[k], i[(k + 1) % 3])) {
+        return None;
+    }
     let between = |m: f64, a: f64, b: f64| (a < m && m < b) || (b < m && m < a);
     (0..3).find(|&k| between(i[k], i[(k + 1) % 3], i[(k + 2) % 3]))
 }
@@ -373,6 +430,36 @@ mod edges {
             }
             assert!(body.tensor().iter().all(|v| v.is_finite()));
         }
+    }
+
+    #[test]
+    fn moments_equal_to_round_off_make_a_symmetric_top_everywhere() {
+        // a cylinder's moments (Iz = m r²/2, Ix = Iy = m (3 r² + h²)/12 for r = 3, h = 20),
+        // turned into a tensor with products of inertia: its two equal moments come back from
+        // the eigensolver a few ulps apart
+        let d = Vector3::new(427.0 / 12.0, 427.0 / 12.0, 4.5);
+        let r = rotation();
+        let t = r * Matrix3::from_diagonal(&d) * r.transpose();
+        let body = Inertia::try_new(t).unwrap();
+        let m = body.principal().inertia_body();
+        assert!(
+            m.x != m.y || m.y != m.z || m.x != m.z,
+            "{m}: no round-off to test"
+        );
+        assert_eq!(body.principal().intermediate_axis(), None);
+        assert!(body.principal().asymmetry() <= SYMMETRY_TOLERANCE);
+        assert_eq!(
+            crate::dynamics::model::mid_axis_of(&t, false),
+            crate::dynamics::model::MidAxis::None
+        );
+        let w = [0.3, 0.01, 1.0];
+        let period = crate::exact::flip_period(body.principal(), w).unwrap();
+        assert!(period.is_infinite(), "{period}");
+        // just beyond the tolerance the body is asymmetric again
+        let apart = Vector3::new(1.0, 1.0 + 2.0 * SYMMETRY_TOLERANCE, 0.2);
+        assert_eq!(intermediate_index(&apart), Some(0));
+        let within = Vector3::new(1.0, 1.0 + 0.5 * SYMMETRY_TOLERANCE, 0.2);
+        assert_eq!(intermediate_index(&within), None);
     }
 
     #[test]

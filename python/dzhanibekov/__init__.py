@@ -18,7 +18,7 @@ from typing import Any
 from . import io
 from ._core import __version__
 from .accuracy import MAX_PREDICTED_DRIFT, StepSizeWarning
-from .body import PAPER_INERTIA, Body, InertiaWarning, MeshError
+from .body import NEAR_SYMMETRY, PAPER_INERTIA, SYMMETRY_TOLERANCE, Body, InertiaWarning, MeshError
 from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper_rate,
                      flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
@@ -41,6 +41,8 @@ __all__ = [
     "__version__",
     "Body",
     "InertiaWarning",
+    "SYMMETRY_TOLERANCE",
+    "NEAR_SYMMETRY",
     "MeshError",
     "Deployment",
     "System",

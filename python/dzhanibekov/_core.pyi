@@ -17,12 +17,14 @@ __all__ = [
     "ENERGY_GROWTH_TOL",
     "MAX_MOMENT_RATIO",
     "METHODS",
+    "NEAR_SYMMETRY",
     "MethodInfo",
     "RUN_STATUSES",
     "RigidBody",
     "RunColumns",
     "RunOptions",
     "StepPlan",
+    "SYMMETRY_TOLERANCE",
     "SweepResult",
     "System",
     "TRIANGLE_SLACK",
@@ -51,6 +53,8 @@ DEFAULT_MAX_STEPS: int
 ENERGY_GROWTH_TOL: float
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
+SYMMETRY_TOLERANCE: float
+NEAR_SYMMETRY: float
 RUN_STATUSES: tuple[str, ...]
 
 _Rows3 = list[list[float]]
@@ -77,6 +81,8 @@ class RigidBody:
     def satisfies_triangle_inequality(self) -> bool: ...
     @property
     def intermediate_axis(self) -> int | None: ...
+    @property
+    def asymmetry(self) -> float: ...
     def __reduce__(self) -> tuple[Any, tuple[_Rows3]]: ...
 
 @final

@@ -30,6 +30,8 @@ from typing import Any
 
 import numpy as np
 
+from .body import tensor_moments
+
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
            "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
            "system_vars", "knot_vars", "DRIFTS", "QUATERNION", "AXIS"]
@@ -166,7 +168,7 @@ def trajectory_dataset(traj: Any) -> Any:
     data = _vars((), traj.omega, traj.q) | _derived((), traj) | system_vars([traj.system], ())
     attrs = _attrs(traj) | {
         "inertia": np.array(traj.body.inertia if hasattr(traj.body, "inertia") else
-                            np.linalg.eigvalsh(traj.system.tensor_at(0.0)), dtype=np.float64),
+                            tensor_moments(traj.system.tensor_at(0.0)), dtype=np.float64),
         "dt": traj.dt, "n_steps": traj.n_steps, "nfev": traj.nfev,
         "n_rejected": traj.n_rejected, "flips_located": int(traj.flip_times is not None),
         "parts": list(traj.system.part_names),
@@ -190,11 +192,9 @@ def batch_dataset(batch: Any) -> Any:
         data[f"drift_{name}"] = ("run", np.asarray(values))
     if batch.drift.jacobi is not None:
         data["drift_jacobi"] = ("run", np.asarray(batch.drift.jacobi))
-    if batch.flip_times is not None:
+    padded = batch.flip_times_padded
+    if padded is not None:
         counts = np.asarray(batch.flips)
-        padded = np.full((m, int(counts.max(initial=0))), np.nan)
-        for i, times in enumerate(batch.flip_times):
-            padded[i, : len(times)] = times
         data["flips"] = ("run", counts, {"long_name": "flips counted"})
         data["flip_times"] = (("run", "flip"), padded,
                               {"long_name": "flip times, NaN beyond each run's flips"})

@@ -37,7 +37,8 @@ from .shapes import Shape, box_shape, cylinder_shape, ellipsoid_shape, mesh_shap
 from . import wingnut
 from .wingnut import hex_nut_mesh, wing_positions
 
-__all__ = ["Body", "InertiaWarning", "MeshError", "as_body", "TENSOR_HINT"]
+__all__ = ["Body", "InertiaWarning", "MeshError", "as_body", "TENSOR_HINT",
+           "SYMMETRY_TOLERANCE", "NEAR_SYMMETRY"]
 
 TENSOR_HINT = ("for one body's 3×3 inertia tensor use `dz.Body.from_tensor(T)`; for several "
                "bodies' principal moments pass a list of Bodies, `[dz.Body(m) for m in "
@@ -55,12 +56,43 @@ PAPER_INERTIA = (52.0833, 27.0833, 41.6666)
 and y swapped (erratum 2, see the README); either way z is the intermediate axis."""
 
 
+SYMMETRY_TOLERANCE: float = _core.SYMMETRY_TOLERANCE
+"""Two principal moments within this relative difference (``|Ia − Ib| ≤ 1e-9 · max(Ia, Ib)``)
+count as equal: the body is a symmetric top, with no intermediate axis, no flips and an
+infinite :func:`~dzhanibekov.flip_period`, decided in the core for every model and method.
+Moments from a mesh, a composite or a tensor with products of inertia carry round-off of
+1e-16 to 1e-13 (relative), so an axisymmetric part's equal moments come out a few ulps apart;
+1e-9 is far above that and far below anything a measurement resolves."""
+
+NEAR_SYMMETRY: float = _core.NEAR_SYMMETRY
+"""Moments closer than this (1e-6, relative) but not within :data:`SYMMETRY_TOLERANCE` make a
+nearly symmetric top: a Body given by moments, a tensor, a mesh or parts warns
+(:class:`InertiaWarning`), since its flips are the slow precession of the transverse rates and
+their count depends on digits no measurement fixes. 1e-6 covers, among others, an
+axisymmetric part read from a single-precision STL file (coordinates to 6e-8), whose equal
+moments may come out that far apart. The solids (:meth:`Body.box`, :meth:`Body.cylinder`, …)
+do not warn: their moments follow exactly from the dimensions given."""
+
+
 class InertiaWarning(UserWarning):
-    """Principal moments that no real mass distribution has (the triangle inequality fails)."""
+    """Principal moments that no real mass distribution has (the triangle inequality fails),
+    or two moments so close (within :data:`NEAR_SYMMETRY`, not :data:`SYMMETRY_TOLERANCE`)
+    that the flips depend on digits no measurement fixes."""
 
 
 class Body:
     """A rigid body given by its principal moments of inertia about body axes x, y, z.
+
+    :attr:`inertia` means the same for every body: the principal moments in the body frame's
+    order, each about the principal axis nearest the body's own x, y, z (the columns of
+    :attr:`principal_axes`, in that order), so a box's, a mesh's and a tensor's moments read
+    as ``(Ix, Iy, Iz)`` of the axes they were given in; :attr:`principal_moments` gives them
+    sorted, with their axes :attr:`principal_directions`.
+
+    Two moments equal within :data:`SYMMETRY_TOLERANCE` (1e-9, relative) make a symmetric
+    top: no intermediate axis (:attr:`intermediate_axis` is None), no flips, an infinite
+    flip period, whether the moments are exactly equal (``Body.cylinder``) or equal to
+    round-off (a mesh of a cylinder).
 
     Other constructors build a body from a full inertia tensor (:meth:`from_tensor`), a solid
     (:meth:`box`, :meth:`cylinder`, :meth:`sphere`, :meth:`ellipsoid`), parts
@@ -86,7 +118,11 @@ class Body:
     InertiaWarning
         If one moment exceeds the sum of the other two: every real body has
         ``Ix <= Iy + Iz`` (and likewise for y, z), so such moments describe no body, though
-        Euler's equations still run.
+        Euler's equations still run. Also if two moments are within :data:`NEAR_SYMMETRY`
+        (1e-6) of each other but not within :data:`SYMMETRY_TOLERANCE`: a nearly symmetric
+        top, whose flips depend on digits no measurement fixes (so do :meth:`from_tensor`,
+        :meth:`compose`, :meth:`from_mesh` and :meth:`load`; the solids, exact by their
+        dimensions, do not).
 
     Examples
     --------
@@ -94,6 +130,8 @@ class Body:
     2
     >>> Body.box(20, 10, 15).inertia[0]  # m (b² + c²) / 12
     27.083333333333332
+    >>> Body.cylinder(3, 20).intermediate_axis is None  # a symmetric top
+    True
     """
 
     __slots__ = ("_core", "_axes", "_q_axes", "_mass", "_com", "_shape", "_parts")
@@ -220,14 +258,15 @@ class Body:
             used) and positive definite, at any scale float64 holds. A diagonal tensor's
             moments are taken exactly; with products of inertia the eigensolver finds each
             moment to about ε (2.2e-16) times the largest, so a moment far smaller than the
-            largest (a thin rod's, 1e-15 of it) keeps few digits.
+            largest (a thin rod's, 1e-15 of it) keeps few digits, and one within 4ε of the
+            largest is refused as singular to round-off.
         mass : float, optional
             The body's mass, needed only to :meth:`compose` it with others.
 
         Raises
         ------
         ValueError
-            A tensor that is not 3×3, finite, symmetric or positive definite.
+            A tensor that is not 3×3, finite, symmetric or positive definite (to round-off).
 
         Examples
         --------
@@ -493,11 +532,52 @@ class Body:
 
     @property
     def inertia(self) -> tuple[float, float, float]:
-        """The principal moments ``(Ix, Iy, Iz)``, each about the principal axis nearest the
-        body's own x, y, z (the columns of :attr:`principal_axes`): the tensor's diagonal for
-        a body given in principal axes (a box, a mesh aligned with its axes, to round-off);
-        ascending where an axis lies midway between two of the body's."""
+        """The principal moments ``(Ix, Iy, Iz)`` in the body frame's order, for every kind
+        of body: each about the principal axis nearest the body's own x, y, z (the columns of
+        :attr:`principal_axes`). For a body given in principal axes (a box, a cylinder, a
+        mesh aligned with its axes, to round-off) it is the tensor's diagonal, in the order
+        of x, y, z; ascending only where an axis lies midway between two of the body's
+        (a tensor turned 45°). Runs, files, scenes and figures read this order; sorted
+        moments are :attr:`principal_moments`.
+
+        Examples
+        --------
+        >>> Body.box(20, 10, 15).inertia  # along x, y, z, not sorted
+        (27.083333333333332, 52.08333333333333, 41.666666666666664)
+        """
         return self._core.inertia
+
+    @property
+    def principal_moments(self) -> tuple[float, float, float]:
+        """The principal moments sorted ascending, ``I1 <= I2 <= I3`` (minor, intermediate,
+        major), whatever the body's axes; their axes are :attr:`principal_directions`.
+
+        Examples
+        --------
+        >>> Body.box(20, 10, 15).principal_moments
+        (27.083333333333332, 41.666666666666664, 52.08333333333333)
+        """
+        a, b, c = sorted(self._core.inertia)
+        return (a, b, c)
+
+    @property
+    def principal_directions(self) -> np.ndarray:
+        """The axes of :attr:`principal_moments` (ascending) as the columns of a proper
+        rotation (user axes from sorted principal axes, ``det = +1``: the last column's sign
+        is turned where the sorting alone would mirror the frame), shape (3, 3).
+
+        Examples
+        --------
+        >>> Body.box(20, 10, 15).principal_directions  # x, z, y; the last turned: det +1
+        array([[ 1.,  0.,  0.],
+               [ 0.,  0., -1.],
+               [ 0.,  1.,  0.]])
+        """
+        order = np.argsort(np.array(self._core.inertia), kind="stable")
+        axes = self.principal_axes[:, order]
+        if np.linalg.det(axes) < 0:
+            axes[:, 2] = -axes[:, 2]
+        return axes + 0.0  # no negative zeros
 
     @property
     def tensor(self) -> np.ndarray:
@@ -538,8 +618,21 @@ class Body:
     def intermediate_axis(self) -> int | None:
         """The axis (0, 1, 2: the entry of `inertia`, the column of `principal_axes`) of the
         intermediate moment, about which spin is unstable; None for a symmetric top (two
-        equal moments)."""
+        moments equal within :data:`SYMMETRY_TOLERANCE`, 1e-9 relative)."""
         return self._core.intermediate_axis
+
+    @property
+    def asymmetry(self) -> float:
+        """The smallest relative difference of two principal moments,
+        ``min |Ia − Ib| / max(Ia, Ib)``: at most :data:`SYMMETRY_TOLERANCE` for a symmetric
+        top.
+
+        Examples
+        --------
+        >>> Body((2.0, 3.0, 4.0)).asymmetry  # 3 and 4: 1/4
+        0.25
+        """
+        return self._core.asymmetry
 
     # -- the change of axes at the edge of a run -------------------------------------------
 
@@ -566,9 +659,22 @@ class Body:
     # -- the rest --------------------------------------------------------------------------
 
     def __repr__(self) -> str:
+        """What the body is: its moments or tensor, with its mass and, if not at the
+        origin, its centre of mass (what :func:`dzhanibekov.save` keeps of it).
+
+        Examples
+        --------
+        >>> Body((1.0, 2.0, 3.0))
+        Body(inertia=(1.0, 2.0, 3.0))
+        >>> Body.box(1, 2, 3, mass=2.0)
+        Body(inertia=(2.1666666666666665, 1.6666666666666665, 0.8333333333333333), mass=2.0)
+        """
+        extra = "" if self._mass is None else f", mass={self._mass!r}"
+        if self._com.any():
+            extra += f", center_of_mass={self._com.tolist()!r}"
         if self._axes is None:
-            return f"Body(inertia={self.inertia!r})"
-        return f"Body.from_tensor({self.tensor.tolist()!r}, mass={self._mass!r})"
+            return f"Body(inertia={self.inertia!r}{extra})"
+        return f"Body.from_tensor({self.tensor.tolist()!r}{extra})"
 
     def __eq__(self, other: object) -> bool:
         return (isinstance(other, Body) and self.inertia == other.inertia
@@ -585,6 +691,14 @@ def principal_body(inertia: Any) -> Body:
     ix, iy, iz = (float(i) for i in inertia)
     body._fill(_core.RigidBody((ix, iy, iz)))
     return body
+
+
+def tensor_moments(tensor: Any) -> tuple[float, float, float]:
+    """The principal moments of a tensor the core has accepted, in the body frame's order (as
+    :attr:`Body.inertia` gives them): what a deployment's run reports for its tensor at
+    ``t = 0``."""
+    rows = np.asarray(tensor, dtype=np.float64).tolist()
+    return _core.RigidBody.from_tensor(rows).inertia
 
 
 def rotation_matrix(q: np.ndarray) -> np.ndarray:
@@ -621,6 +735,16 @@ def _is_square(value: Any) -> bool:
 
 
 def _warn_if_unphysical(core: _core.RigidBody) -> None:
+    if SYMMETRY_TOLERANCE < core.asymmetry <= NEAR_SYMMETRY:
+        warnings.warn(
+            f"principal moments {core.inertia} have two within {core.asymmetry:.2g} of each "
+            f"other (relative): a nearly symmetric top, not one (moments within "
+            f"{SYMMETRY_TOLERANCE:g} count as equal, dz.SYMMETRY_TOLERANCE); its flips are "
+            "the slow precession of its transverse rates and depend on digits no measurement "
+            "fixes; make the moments equal for a symmetric top",
+            InertiaWarning,
+            stacklevel=3,
+        )
     if not core.satisfies_triangle_inequality:
         warnings.warn(
             f"principal moments {core.inertia} break the triangle inequality "

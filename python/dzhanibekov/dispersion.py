@@ -24,13 +24,14 @@ same generator state gives the same value.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any
 
 import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
-from .body import Body, as_body
+from .body import Body, InertiaWarning, as_body
 from .damper import Damper
 from .deployment import Deployment
 
@@ -151,7 +152,8 @@ class InertiaDispersion:
     A callable ``rng -> Body``: a :class:`~dzhanibekov.Body` with the moments drawn, in the
     nominal order, when the axes are not dispersed and the nominal body is given in its
     principal axes; else the body of the drawn tensor in the nominal body's own axes
-    (:meth:`Body.from_tensor`, which sorts the principal moments ascending).
+    (:meth:`Body.from_tensor`, its moments in the order of the principal axes nearest the
+    nominal body's axes, as :attr:`Body.inertia` always is).
 
     Raises
     ------
@@ -187,10 +189,14 @@ class InertiaDispersion:
 
     def __call__(self, rng: np.random.Generator) -> Body:
         moments, axes = self._law.draw(rng)
-        if self.axes_deg == 0.0 and self.body.is_principal:
-            return Body(moments)
-        tensor = (axes * moments) @ axes.T
-        return Body.from_tensor(0.5 * (tensor + tensor.T))
+        with warnings.catch_warnings():
+            # draws are physical (redrawn until they are); one that lands within
+            # NEAR_SYMMETRY of a symmetric top is a sample like any other, not a mistake
+            warnings.simplefilter("ignore", InertiaWarning)
+            if self.axes_deg == 0.0 and self.body.is_principal:
+                return Body(moments)
+            tensor = (axes * moments) @ axes.T
+            return Body.from_tensor(0.5 * (tensor + tensor.T))
 
     def __repr__(self) -> str:
         return (f"InertiaDispersion({self.body!r}, moments={self.moments.tolist()}, "

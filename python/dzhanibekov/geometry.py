@@ -3,14 +3,14 @@ the inertia ellipsoid, in both conventions, as a closed quad mesh built in the c
 
 Two ellipsoids go by that name, and they are not the same shape:
 
-- ``gyration`` — semi-axes ``√(Ix/m), √(Iy/m), √(Iz/m)``, the radii of gyration (with
-  ``m = 1``, the paper's ``√Ix, √Iy, √Iz``; erratum 3). Longest along the axis of the
-  *largest* moment.
+- ``gyration`` — semi-axes ``√(Ix/m), √(Iy/m), √(Iz/m)``, the radii of gyration, in units of
+  length whatever the mass (a body given by its moments alone counts as ``m = 1``: the
+  paper's ``√Ix, √Iy, √Iz``; erratum 3). Longest along the axis of the *largest* moment.
 - ``poinsot`` — the classical inertia ellipsoid ``x · I x = const`` of Poinsot's construction,
   semi-axes ∝ ``1/√I``: longest along the axis of the *smallest* moment. Its size is a free
   constant; it is drawn with ``const = (Ix Iy Iz)^(2/3)``, which gives semi-axes
   ``(Ix Iy Iz)^(1/3) / √I`` and the same volume as the gyration ellipsoid, so the two are
-  drawn at comparable sizes.
+  drawn at comparable sizes (with ``I/m`` for ``I`` where the body has a mass).
 """
 
 from __future__ import annotations
@@ -56,19 +56,23 @@ CONVENTIONS = ("gyration", "poinsot")
 
 
 def ellipsoid_semi_axes(body: Body | Any, convention: str = "gyration") -> np.ndarray:
-    """The semi-axes (along body x, y, z) of `body`'s inertia ellipsoid.
+    """The semi-axes of `body`'s inertia ellipsoid, along its principal axes in the order of
+    :attr:`Body.inertia` (the columns of :attr:`Body.principal_axes`).
 
     Parameters
     ----------
     body : Body or array_like, shape (3,)
-        The body or its principal moments (for a unit mass: the paper's convention).
+        The body (its mass, if it has one, divides the moments) or its principal moments
+        (taken with a unit mass: the paper's convention).
     convention : {"gyration", "poinsot"}
-        ``gyration``: ``√I`` (radii of gyration, the paper's); ``poinsot``:
-        ``(Ix Iy Iz)^(1/3) / √I``, the classical ellipsoid at the gyration one's volume.
+        ``gyration``: ``√(I/m)``, the radii of gyration (``√I`` for the paper's moments,
+        ``m = 1``); ``poinsot``: ``(Ix Iy Iz)^(1/3) / √I`` of the same ``I/m``, the
+        classical ellipsoid at the gyration one's volume.
 
     Returns
     -------
     ndarray, shape (3,)
+        In the body's units of length (mm for the wing nut's g and g·mm²).
 
     Examples
     --------
@@ -76,10 +80,18 @@ def ellipsoid_semi_axes(body: Body | Any, convention: str = "gyration") -> np.nd
     array([2., 3., 3.])
     >>> ellipsoid_semi_axes((4.0, 9.0, 9.0), "poinsot").round(3)  # longest along the smallest I
     array([3.434, 2.289, 2.289])
+
+    A ball of radius r has the radius of gyration ``r √(2/5)`` whatever its mass:
+
+    >>> ellipsoid_semi_axes(Body.sphere(2.0, mass=7.0)).round(6)
+    array([1.264911, 1.264911, 1.264911])
     """
     if not (isinstance(convention, str) and convention in CONVENTIONS):
         raise ValueError(f"`convention` must be one of {CONVENTIONS}, got {convention!r}")
-    inertia = np.array(as_body(body).inertia)
+    solid = as_body(body)
+    inertia = np.array(solid.inertia)
+    if solid.mass is not None:
+        inertia = inertia / solid.mass
     semi_axes: np.ndarray = np.sqrt(inertia)
     if convention == "poinsot":
         # (Ix Iy Iz)^(1/3) / √I, from ratios to the largest moment: the product of the

@@ -35,7 +35,7 @@ import numpy as np
 from . import _core, _tables
 from ._args import check_size
 from ._files import HDF5_SIGNATURE, ReadError, as_path, describe, open_regular, replacing
-from .body import Body, InertiaWarning
+from .body import Body, InertiaWarning, tensor_moments
 from .damper import Damper
 from .deployment import Deployment
 from .methods import METHODS
@@ -415,7 +415,7 @@ def _moments(system: System) -> np.ndarray:
     body = system.body
     if isinstance(body, Body):
         return np.array(body.inertia)
-    return np.linalg.eigvalsh(system.tensor_at(0.0))
+    return np.array(tensor_moments(system.tensor_at(0.0)))
 
 
 # -- building ---------------------------------------------------------------------------------

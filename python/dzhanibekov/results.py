@@ -23,7 +23,7 @@ import numpy as np
 from . import _core
 from . import _tables
 from ._args import check_size
-from .body import Body, principal_body
+from .body import Body, principal_body, tensor_moments
 from .rotations import to_rotation
 from .system import System, Systems
 
@@ -396,7 +396,9 @@ class Batch:
     q : ndarray, shape (M, frames, 4)
         Body-to-world unit quaternion, scalar first, of each run.
     flip_times : tuple of M ndarrays, or None
-        Each run's flip times (see :func:`~dzhanibekov.simulate`); None if not asked for.
+        Each run's flip times (see :func:`~dzhanibekov.simulate`), as many as it has; None if
+        not asked for. :attr:`flip_times_padded` is the same as one (M, F) array padded
+        with NaN, as :meth:`to_xarray` and files keep it.
     systems : Systems
         Each run's system (``systems[i]``).
     method : str
@@ -451,8 +453,8 @@ class Batch:
 
     @property
     def inertia(self) -> np.ndarray:
-        """Each run's principal moments at ``t = 0``, shape (M, 3) (a deployment's, of its
-        first knot, ascending)."""
+        """Each run's principal moments at ``t = 0``, shape (M, 3), in the body frame's
+        order as :attr:`Body.inertia` (a deployment's, of its first knot)."""
         if self.systems.moments is not None:
             return self.systems.moments
         return np.array([_moments(self.systems[i]) for i in range(len(self))]).reshape(-1, 3)
@@ -460,11 +462,35 @@ class Batch:
     @cached_property
     def flip_times(self) -> tuple[np.ndarray, ...] | None:
         """Each run's flip times (see :func:`~dzhanibekov.simulate`), a tuple of M arrays
-        (views); None if flips were not asked for."""
+        (views) of each run's own length; None if flips were not asked for. The same times
+        as one array are :attr:`flip_times_padded`."""
         if self._flip_times is None or self._flip_offsets is None:
             return None
         bounds = self._flip_offsets.tolist()
         return tuple(self._flip_times[a:b] for a, b in zip(bounds[:-1], bounds[1:]))
+
+    @property
+    def flip_times_padded(self) -> np.ndarray | None:
+        """:attr:`flip_times` as one array of shape (M, F), F the most flips of any run, each
+        row padded with NaN beyond its run's flips: what :meth:`to_xarray` (``flip_times``,
+        dims ``run``, ``flip``) and files hold; None if flips were not asked for.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> batch = dz.simulate(dz.PAPER_INERTIA, [(0.01, 0.01, 1.0), (0, 0, 1.0)])
+        >>> [len(f) for f in batch.flip_times], batch.flip_times_padded.shape
+        ([2, 0], (2, 2))
+        >>> bool(np.isnan(batch.flip_times_padded[1]).all())
+        True
+        """
+        times = self.flip_times
+        if times is None:
+            return None
+        padded = np.full((len(times), max((len(f) for f in times), default=0)), np.nan)
+        for i, row in enumerate(times):
+            padded[i, : len(row)] = row
+        return padded
 
     @overload
     def __getitem__(self, i: int) -> Trajectory: ...
@@ -591,8 +617,7 @@ def _moments(system: System) -> tuple[float, float, float]:
     body = system.body
     if isinstance(body, Body):
         return body.inertia
-    a, b, c = (float(x) for x in np.linalg.eigvalsh(system.tensor_at(0.0)))
-    return a, b, c
+    return tensor_moments(system.tensor_at(0.0))
 
 
 def trusted_body(inertia: np.ndarray) -> Body:

@@ -33,7 +33,7 @@ def summarize(
     rtol: float | None = None,
     atol: float | None = None,
     max_steps: int = DEFAULT_MAX_STEPS,
-) -> Summary:
+) -> Summary | tuple[Summary, ...]:
     """Simulates like :func:`~dzhanibekov.simulate` but keeps no frames: flip times only.
 
     The run is the same, step for step, as ``simulate`` with the same arguments, so its
@@ -42,9 +42,11 @@ def summarize(
 
     Parameters
     ----------
-    system : System, Body, Deployment or array_like, shape (3,)
-        What is run (one system), as for :func:`~dzhanibekov.simulate`.
-    omega0, q0, t_end, dt, method, rtol, atol, max_steps
+    system : System, Body, Deployment, list of them, or array_like, shape (3,) or (M, 3)
+        What is run, as for :func:`~dzhanibekov.simulate`: one system, or one per run.
+    omega0 : array_like, shape (3,) or (M, 3)
+        Body rates at ``t = 0``: one start, or M starts (a batch), as for ``simulate``.
+    q0, t_end, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`.
     frames : int
         The frame grid, as for ``simulate``: between frames the run takes equal substeps no
@@ -52,7 +54,10 @@ def summarize(
 
     Returns
     -------
-    Summary
+    Summary or tuple of M Summary
+        One run's summary; for a batch (``omega0`` or ``q0`` of M rows, or M systems),
+        a tuple of M, each the summary of its row run alone, as ``simulate`` gives a
+        ``Batch`` where it would give a ``Trajectory``.
 
     Raises
     ------
@@ -64,21 +69,24 @@ def summarize(
     >>> s = summarize((52.0833, 27.0833, 41.6666), (0.01, 0.01, 1.0))
     >>> s.flips, s.verdict
     (2, '2 flips in [0, 100]')
+    >>> [s.flips for s in summarize((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0, 0, 1)])]
+    [2, 0]
     """
-    rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=0, stacklevel=3)
+    rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=1, stacklevel=3)
     options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
                           atol=atol, max_steps=max_steps, flips=True, threads=None)
     options = plan(rows, options, stacklevel=3)
     run = run_batch(rows, options, keep_frames=False)
     flip_times = run.flip_times
     assert flip_times is not None
-    return Summary(
-        flip_times=flip_times[0],
-        drift=run.drift.row(0),
+    summaries = tuple(Summary(
+        flip_times=flip_times[k],
+        drift=run.drift.row(k),
         t_end=options.t_end,
-        system=rows.systems[0],
+        system=rows.systems[k],
         method=options.method,
-        dt=float(run.dt[0]),
-        n_steps=int(run.n_steps[0]),
-        nfev=int(run.nfev[0]),
-    )
+        dt=float(run.dt[k]),
+        n_steps=int(run.n_steps[k]),
+        nfev=int(run.nfev[k]),
+    ) for k in range(len(rows.systems)))
+    return summaries if rows.batch else summaries[0]

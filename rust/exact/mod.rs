@@ -126,6 +126,10 @@ fn gauss_legendre() -> &'static ([f64; 16], [f64; 16]) {
 #[derive(Debug, Clone)]
 pub struct ExactMotion {
     kind: Kind,
+    /// Whether the body has an intermediate axis (see [`RigidBody::intermediate_axis`]):
+    /// moments equal within [`crate::body::SYMMETRY_TOLERANCE`] but not exactly move by the
+    /// asymmetric closed form of their own moments, and never flip.
+    flips: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -210,7 +214,7 @@ impl ExactMotion {
         let inertia = body.inertia_body();
         let kind = if omega.iter().filter(|w| **w != 0.0).count() <= 1 {
             Kind::Steady { omega, q0 }
-        } else if body.intermediate_axis().is_none() {
+        } else if exactly_symmetric(&inertia) {
             symmetric(inertia, omega, q0)
         } else {
             let motion = Asymmetric::new(inertia, omega, q0);
@@ -228,7 +232,8 @@ impl ExactMotion {
                 ));
             }
         };
-        let motion = Self { kind };
+        let flips = body.intermediate_axis().is_some();
+        let motion = Self { kind, flips };
         motion.starts_at(&omega, body)?;
         Ok(motion)
     }
@@ -265,14 +270,23 @@ fn near_axis(omega: &Vector3<f64>) -> bool {
     omega.iter().filter(|w| w.abs() > 1e-150 * largest).count() <= 1
 }
 
+/// Whether two moments are exactly equal: the symmetric top's closed form is then exact; moments
+/// equal only within [`crate::body::SYMMETRY_TOLERANCE`] take the asymmetric one (exact for
+/// them) and are told apart from it only in that they never flip.
+fn exactly_symmetric(i: &Vector3<f64>) -> bool {
+    i.x == i.y || i.y == i.z || i.x == i.z
+}
+
 fn symmetric(inertia: Vector3<f64>, omega: Vector3<f64>, q0: UnitQuaternion<f64>) -> Kind {
-    let axis = if inertia.x == inertia.y {
-        2
-    } else if inertia.x == inertia.z {
-        1
-    } else {
-        0
+    // the symmetry axis: the one whose two others are nearest equal (equal within
+    // `SYMMETRY_TOLERANCE`, perhaps not exactly: a mesh's moments differ by round-off)
+    let gap = |k: usize| {
+        let (a, b) = (inertia[(k + 1) % 3], inertia[(k + 2) % 3]);
+        (a - b).abs() / a.max(b)
     };
+    let axis = (0..3)
+        .min_by(|&a, &b| gap(a).total_cmp(&gap(b)))
+        .unwrap_or(2);
     let i = inertia[(axis + 1) % 3];
     let rate = (inertia[axis] - i) / i * omega[axis];
     // L_world / I = q0 (I ω0 / I) q0⁻¹, scaled before the product so it cannot overflow.
@@ -640,7 +654,9 @@ impl ExactMotion {
     /// intermediate axis nearest to `L` (its rate still changes sign every `2K/λ`).
     pub fn flip_period(&self) -> f64 {
         match &self.kind {
-            Kind::Asymmetric(motion) if motion.u_dominant.is_some() && !motion.separatrix => {
+            Kind::Asymmetric(motion)
+                if self.flips && motion.u_dominant.is_some() && !motion.separatrix =>
+            {
                 2.0 * motion.jacobi.quarter_period() / motion.lambda / motion.time_scale
             }
             _ => f64::INFINITY,
@@ -655,6 +671,9 @@ impl ExactMotion {
         let Kind::Asymmetric(motion) = &self.kind else {
             return Ok(Vec::new());
         };
+        if !self.flips {
+            return Ok(Vec::new());
+        }
         let Some((first, last)) = motion.flip_range(t_end) else {
             return Ok(Vec::new());
         };

@@ -166,6 +166,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ENERGY_GROWTH_TOL", crate::run::ENERGY_GROWTH_TOL)?;
     m.add("MAX_MOMENT_RATIO", crate::body::MAX_MOMENT_RATIO)?;
     m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
+    m.add("SYMMETRY_TOLERANCE", crate::body::SYMMETRY_TOLERANCE)?;
+    m.add("NEAR_SYMMETRY", crate::body::NEAR_SYMMETRY)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -88,6 +88,12 @@ impl PyRigidBody {
         self.inner.principal().intermediate_axis()
     }
 
+    /// The smallest relative difference of two principal moments.
+    #[getter]
+    fn asymmetry(&self) -> f64 {
+        self.inner.principal().asymmetry()
+    }
+
     fn __repr__(&self) -> String {
         let (a, b, c) = self.inertia();
         format!("RigidBody(inertia=({a}, {b}, {c}))")

@@ -1,4 +1,4 @@
-"""The guide's pages on bodies that change and on Monte Carlo studies run as written: their `>>>`
+"""The guide's pages on bodies, on bodies that change and on Monte Carlo studies run as written: their `>>>`
 examples are doctests."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import pytest
 GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide"
 
 
-@pytest.mark.parametrize("page", ["changing.md", "montecarlo.md"])
+@pytest.mark.parametrize("page", ["bodies.md", "changing.md", "montecarlo.md"])
 def test_the_guides_examples_run_as_written(page: str) -> None:
     path = GUIDE / page
     if not path.exists():

@@ -368,7 +368,7 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
                              "the moments of `body.inertia`")
         _drawable(src, "body.inertia", max(derived), "the box these moments give")
     if draw.ellipsoid:
-        semi_axes = ellipsoid_semi_axes(inertia, ellipsoid.convention)
+        semi_axes = ellipsoid_semi_axes(body, ellipsoid.convention)  # its mass divides
         _drawable(src, "body.inertia", float(semi_axes.max()),
                   f"the {ellipsoid.convention} ellipsoid's largest semi-axis")
     if draw.animation and run["frames"] > MAX_ANIMATION_FRAMES:

@@ -156,7 +156,7 @@ def axis_length(scene: Scene) -> float:
     if scene.draw.box and shape is not None:
         sizes.append(shape.radius)
     if scene.draw.ellipsoid:
-        sizes.append(float(ellipsoid_semi_axes(scene.inertia, scene.ellipsoid.convention).max()))
+        sizes.append(float(ellipsoid_semi_axes(scene.body, scene.ellipsoid.convention).max()))
     return 1.15 * max(sizes)
 
 
@@ -287,7 +287,7 @@ def execute(plan: Plan, trajectory: Trajectory | None = None) -> SceneResult:
         summary = scene.summarize()
     mesh = None
     if "ellipsoid" in plan.meshes:
-        semi_axes = ellipsoid_semi_axes(scene.inertia, scene.ellipsoid.convention)
+        semi_axes = ellipsoid_semi_axes(scene.body, scene.ellipsoid.convention)
         mesh = ellipsoid_mesh(semi_axes, *scene.ellipsoid.mesh)
         if not scene.body.is_principal:  # built in principal axes, drawn in the user's
             mesh = (mesh[0] @ scene.body.principal_axes.T, mesh[1])

@@ -224,7 +224,9 @@ class Scene(metaclass=_Parsed):
         """Simulates the scene keeping no frames (:func:`summarize`): flip times only."""
         kwargs = self._run_arguments() | overrides
         kwargs.pop("flips", None)
-        return summarize(self.system, self.omega0, **kwargs)
+        summary = summarize(self.system, self.omega0, **kwargs)
+        assert isinstance(summary, Summary), "a scene is one run"
+        return summary
 
     def _run_arguments(self) -> dict[str, Any]:
         return dict(q0=self.q0, t_end=self.t_end, frames=self.frames, dt=self.dt,
