@@ -127,8 +127,16 @@ const ALL_INVARIANTS: Conserved = Conserved::FREE.union(Conserved::JACOBI);
 /// The momenta and `|q|`: what a composition of exact rotations keeps.
 const ROTATIONS: Conserved = Conserved::MOMENTA;
 const FREE_ONLY: Kinds = Kinds::FREE;
-/// Every model: the free body, deployments and damped bodies.
-const EVERY_MODEL: Kinds = Kinds::FREE.union(Kinds::DEPLOYMENT).union(Kinds::DAMPER);
+/// The torque-free models: the free body, deployments, damped bodies and wheels (a
+/// projection onto `|L|` and `L_world` is valid for them alone).
+const TORQUE_FREE: Kinds = Kinds::FREE
+    .union(Kinds::DEPLOYMENT)
+    .union(Kinds::DAMPER)
+    .union(Kinds::WHEEL);
+/// Every model: the torque-free ones and those under external torques.
+const EVERY_MODEL: Kinds = TORQUE_FREE
+    .union(Kinds::GRAVITY_GRADIENT)
+    .union(Kinds::TORQUE);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -167,11 +175,12 @@ pub const METHODS: [MethodInfo; 7] = [
         rhs_per_step: fixed::<Rk4Projected<crate::dynamics::FreeProjection>>(),
         batch: false,
         rk4_dissipation: true,
-        models: EVERY_MODEL,
+        models: TORQUE_FREE,
         stability: Some(RK4_STABILITY),
         about: "RK4, each step projected back onto what the model keeps: for the free body the \
                 energy, |L|, L_world and |q| = 1 (E and |L| to round-off for dt·Ω ≲ 0.25, beyond \
-                to the square of RK4's change per step); for the others |L|, L_world and |q|",
+                to the square of RK4's change per step); for the other torque-free models |L|, L_world \
+                and |q| (under an external torque L is not kept: refused)",
     },
     MethodInfo {
         method: Method::Splitting,
@@ -542,6 +551,21 @@ mod tests {
         assert!((rk4_r(-s.real, 0.0).0 - 1.0).abs() < 1e-14);
         assert!(norm(rk4_r(-0.99 * s.real, 0.0)) < 1.0);
         assert!(norm(rk4_r(-1.01 * s.real, 0.0)) > 1.0);
+    }
+
+    #[test]
+    fn a_projection_onto_the_momentum_is_refused_under_a_torque() {
+        let e = Method::Rk4Projected
+            .for_kinds(Kinds::GRAVITY_GRADIENT)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("'gravity_gradient'") && e.contains("'dop853'"),
+            "{e}"
+        );
+        assert!(Method::Rk4Projected.for_kinds(Kinds::WHEEL).is_ok());
+        assert!(Method::Splitting.for_kinds(Kinds::TORQUE).is_err());
+        assert!(Method::Rk4.for_kinds(Kinds::TORQUE).is_ok());
     }
 
     #[test]
