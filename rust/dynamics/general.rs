@@ -78,6 +78,14 @@ impl ConstantInertia {
     }
 
     #[inline(always)]
+    fn apply(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        match self.diagonal {
+            Some(d) => v.component_mul(&d),
+            None => self.tensor * v,
+        }
+    }
+
+    #[inline(always)]
     fn solve(&self, l: &Vector3<f64>) -> Vector3<f64> {
         match self.diagonal {
             Some(d) => l.component_div(&d),
@@ -100,6 +108,15 @@ impl InertiaLaw {
         match self {
             InertiaLaw::Constant(c) => c.solve(l),
             InertiaLaw::Schedule(d) => d.omega_from_momentum(t, l),
+        }
+    }
+
+    /// `I(t) v`.
+    #[inline(always)]
+    pub fn apply(&self, t: f64, v: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            InertiaLaw::Constant(c) => c.apply(v),
+            InertiaLaw::Schedule(d) => d.inertia_at(t) * v,
         }
     }
 
@@ -260,7 +277,7 @@ impl<const N: usize> GeneralModel<N> {
     #[inline(always)]
     fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
         self.torques
-            .torque_body(t, &attitude(x), || self.inertia.tensor_at(t))
+            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v))
     }
 }
 

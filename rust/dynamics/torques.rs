@@ -243,27 +243,30 @@ impl Torques {
         Vector3::new(c, s, 0.0)
     }
 
-    /// The torque in body axes at `t` on a body of tensor `tensor` (body axes) at attitude
-    /// `q` (world-from-body, normalised here).
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body, normalised
+    /// here), `inertia` applying its tensor (body axes) to a vector.
     #[inline(always)]
     pub fn torque_body(
         &self,
         t: f64,
         q: &Quaternion<f64>,
-        tensor: impl FnOnce() -> Matrix3<f64>,
+        inertia: impl FnOnce(&Vector3<f64>) -> Vector3<f64>,
     ) -> Vector3<f64> {
         let mut tau = self.body.unwrap_or_default();
-        if self.orbit_rate.is_none() && self.world.is_none() {
-            return tau;
-        }
-        // body from world: Mᵀ (rotation_matrix normalises q)
-        let to_body = rotation_matrix(q).transpose();
         if let Some(n) = self.orbit_rate {
-            let r = to_body * Self::radial(n, t);
-            tau += r.cross(&(tensor() * r)) * (3.0 * n * n);
+            // r̂_b = Mᵀ (c, s, 0) = c M[0,:] + s M[1,:], from q without building M
+            let (s, c) = (n * t).sin_cos();
+            let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+            let k = 2.0 / (w * w + x * x + y * y + z * z);
+            let r = Vector3::new(
+                c * (1.0 - k * (y * y + z * z)) + s * k * (x * y + w * z),
+                c * k * (x * y - w * z) + s * (1.0 - k * (x * x + z * z)),
+                c * k * (x * z + w * y) + s * k * (y * z - w * x),
+            );
+            tau += r.cross(&inertia(&r)) * (3.0 * n * n);
         }
-        if let Some(w) = self.world {
-            tau += to_body * w;
+        if let Some(v) = self.world {
+            tau += rotation_matrix(q).tr_mul(&v);
         }
         tau
     }
@@ -306,7 +309,7 @@ mod tests {
     fn a_body_aligned_with_the_radius_feels_no_gravity_gradient() {
         let t = Torques::of(&[Torque::gravity_gradient(0.5).unwrap()]).unwrap();
         let i = Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0));
-        let tau = t.torque_body(0.0, &Quaternion::identity(), || i);
+        let tau = t.torque_body(0.0, &Quaternion::identity(), |v| i * v);
         assert_eq!(tau, Vector3::zeros());
     }
 
@@ -322,7 +325,7 @@ mod tests {
                 * Vector3::new((n * 0.4).cos(), (n * 0.4).sin(), 0.0);
             1.5 * n * n * r.dot(&(i * r))
         };
-        let tau = t.torque_body(0.4, &q, || i);
+        let tau = t.torque_body(0.4, &q, |v| i * v);
         let h = 1e-6;
         for k in 0..3 {
             let mut a = Vector3::<f64>::zeros();
@@ -348,7 +351,7 @@ mod tests {
         let t = Torques::of(&[Torque::constant([0.0, 0.0, 1.0], Frame::World).unwrap()]).unwrap();
         // body turned +90° about world x: body y points along world z
         let h = std::f64::consts::FRAC_1_SQRT_2;
-        let tau = t.torque_body(0.0, &Quaternion::new(h, h, 0.0, 0.0), Matrix3::identity);
+        let tau = t.torque_body(0.0, &Quaternion::new(h, h, 0.0, 0.0), |v| *v);
         assert!((tau - Vector3::new(0.0, 1.0, 0.0)).amax() < 1e-15);
     }
 }

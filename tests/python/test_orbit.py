@@ -272,3 +272,14 @@ def test_methods_that_cannot_run_a_torque_refuse_it_by_name_before_running():
             dz.simulate(sat, (0.0, -1.0, 0.0), method=method)
     assert "gravity_gradient" in dz.METHODS["dop853"].models
     assert "gravity_gradient" not in dz.METHODS["rk4_projected"].models
+
+
+def test_saving_a_system_with_torques_or_wheels_is_refused_rather_than_dropped(tmp_path):
+    pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    sat = dz.System(dz.Body((2.0, 3.0, 1.0)), parts=[dz.Wheel((0, 1, 0), 0.1)],
+                    torques=[dz.GravityGradient(1.0)])
+    traj = dz.simulate(sat, *dz.lvlh_start(1.0), t_end=1.0, method="dop853")
+    with pytest.raises(NotImplementedError, match="wheel, gravity_gradient"):
+        dz.save(traj, tmp_path / "orbit.nc")
+    assert not (tmp_path / "orbit.nc").exists()
