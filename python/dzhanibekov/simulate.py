@@ -133,7 +133,7 @@ def simulate(
         Adaptive methods: the first step tried; ``None`` picks ``(rtol + atol)^(1/(q+1)) / Ω``
         for an error estimate of order ``q``.
         Ignored by ``method="exact"``, which takes no steps.
-    method : {"rk4", "rk4_projected", "splitting", "splitting4", "dopri5", "dop853", "exact"}
+    method : str, one of ``dz.METHODS`` (rk4, rk4_projected, splitting, splitting4, ...)
         ``"rk4"``: classic fixed-step fourth-order Runge–Kutta, the paper's method.
         ``"rk4_projected"``: RK4, each step projected back onto the energy and ``|L|`` of
         the start (so ω stays on its exact polhode) with ``q`` rescaled to unit norm; the
@@ -148,6 +148,8 @@ def simulate(
         about its axes (McLachlan 1993; Touma & Wisdom 1994): ``|L|``, ``|q|`` and
         ``L_world`` kept to round-off and the energy error bounded over any run length.
         ``"splitting4"``: its fourth-order composition (Suzuki 1990), 21 rotations a step.
+        ``"splitting_exact"``: for a constant body under torques, Strang's splitting of the
+        exact free motion and the torque's kicks (order 2).
         ``"dopri5"``, ``"dop853"``: Dormand–Prince 5(4) and 8(5,3) with error control
         under `rtol` and `atol` and dense output at the frames (Hairer et al.).
         ``"exact"``: the closed-form solution (Jacobi elliptic functions for ω, the angle

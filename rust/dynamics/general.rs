@@ -77,6 +77,11 @@ impl ConstantInertia {
         })
     }
 
+    /// The principal moments, when the tensor is diagonal.
+    pub fn moments(&self) -> Option<Vector3<f64>> {
+        self.diagonal
+    }
+
     #[inline(always)]
     fn apply(&self, v: &Vector3<f64>) -> Vector3<f64> {
         match self.diagonal {
@@ -247,6 +252,11 @@ impl<const N: usize> GeneralModel<N> {
         self.has_damper().then_some(&self.damper)
     }
 
+    /// Whether it has wheels.
+    pub fn has_wheels(&self) -> bool {
+        self.wheels.is_some()
+    }
+
     #[inline(always)]
     const fn has_damper(&self) -> bool {
         N == 10
@@ -275,7 +285,7 @@ impl<const N: usize> GeneralModel<N> {
 
     /// The external torque in body axes at `(t, x)`.
     #[inline(always)]
-    fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+    pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
         self.torques
             .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v))
     }

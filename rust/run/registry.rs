@@ -16,7 +16,7 @@ use crate::observe::Observer;
 use crate::ode::controller::Adaptive;
 pub use crate::ode::controller::{DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::ode::{EmbeddedPair, Stats, Stepper};
-use crate::rigid::{Rk4Projected, Splitting2, Splitting4};
+use crate::rigid::{ExactKick, Rk4Projected, Splitting2, Splitting4};
 use crate::run::adaptive::{integrate_adaptive, Units};
 use crate::run::fixed::integrate;
 use crate::run::grid::FrameGrid;
@@ -39,6 +39,8 @@ pub enum Method {
     Splitting,
     /// Suzuki's composition of the splitting (order 4).
     Splitting4,
+    /// Strang's splitting of a body under torques on the exact free flow (order 2).
+    SplittingExact,
     /// Dormand–Prince 5(4) with error control and dense output.
     Dopri5(Adaptive),
     /// DOP853: Dormand–Prince 8(5,3) with error control and dense output.
@@ -144,7 +146,7 @@ const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
 }
 
 /// The registry, in the order users see it.
-pub const METHODS: [MethodInfo; 7] = [
+pub const METHODS: [MethodInfo; 8] = [
     MethodInfo {
         method: Method::Rk4,
         name: "rk4",
@@ -215,6 +217,24 @@ pub const METHODS: [MethodInfo; 7] = [
         models: FREE_ONLY,
         stability: None,
         about: "Suzuki's fourth-order composition of the splitting",
+    },
+    MethodInfo {
+        method: Method::SplittingExact,
+        name: "splitting_exact",
+        order: Some(2),
+        // not measured yet over many bodies: the splitting's constant
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 6.0,
+        },
+        keeps: Conserved::Q_NORM,
+        rhs_per_step: <ExactKick as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,
+        batch: false,
+        rk4_dissipation: false,
+        models: Kinds::GRAVITY_GRADIENT.union(Kinds::TORQUE),
+        stability: None,
+        about: "Strang's splitting of a constant body under torques: the exact free motion \
+                (elliptic functions) between half kicks of the torque (order 2; |q| to \
+                round-off)",
     },
     MethodInfo {
         method: Method::Dopri5(Adaptive::DEFAULT),
@@ -427,7 +447,9 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
         Method::Rk4Projected => integrate(&Rk4Projected::new(sys, &x0), sys, x0, grid, obs, cancel),
         Method::Dopri5(a) => integrate_adaptive(&Dopri5, sys, x0, grid, &a, &units(), obs, cancel),
         Method::Dop853(a) => integrate_adaptive(&Dop853, sys, x0, grid, &a, &units(), obs, cancel),
-        Method::Exact | Method::Splitting | Method::Splitting4 => return None,
+        Method::Exact | Method::Splitting | Method::Splitting4 | Method::SplittingExact => {
+            return None
+        }
     };
     Some(run.map(|(_, stats)| stats))
 }
@@ -484,8 +506,16 @@ impl<const N: usize> Runs<N> for GeneralModel<N> {
         obs: &mut O,
         cancel: &AtomicBool,
     ) -> Result<Stats> {
-        run_any(method, self, x0, grid, obs, cancel)
-            .unwrap_or_else(|| refused(method, self.kinds()))
+        if let Some(run) = run_any(method, self, x0, grid, obs, cancel) {
+            return run;
+        }
+        match method {
+            Method::SplittingExact => {
+                let (_, stats) = integrate(&ExactKick::of(self)?, self, x0, grid, obs, cancel)?;
+                Ok(stats)
+            }
+            other => refused(other, self.kinds()),
+        }
     }
 }
 
