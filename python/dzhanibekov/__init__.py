@@ -24,6 +24,8 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .orbit import (ConstantTorque, GravityGradient, Wheel, lvlh_attitude, lvlh_frame,
+                    lvlh_start, pitch_libration_rate, dual_spin_threshold)
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
@@ -47,6 +49,14 @@ __all__ = [
     "Deployment",
     "System",
     "Damper",
+    "Wheel",
+    "GravityGradient",
+    "ConstantTorque",
+    "lvlh_frame",
+    "lvlh_attitude",
+    "lvlh_start",
+    "pitch_libration_rate",
+    "dual_spin_threshold",
     "StiffDamperWarning",
     "damper_rate",
     "FLAT_SHARE",

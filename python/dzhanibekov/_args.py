@@ -205,5 +205,5 @@ def run_options(*, t_end: Any, frames: Any, dt: Any, method: Any, rtol: Any, ato
         as_real("t_end", t_end), _integer("frames", frames),
         dt=_optional(as_real, "dt", dt), method=method,
         rtol=_optional(as_real, "rtol", rtol), atol=_optional(as_real, "atol", atol),
-        max_steps=_optional(_integer, "max_steps", max_steps), flips=bool(flips),
+        max_steps=_integer("max_steps", max_steps), flips=bool(flips),
         threads=_optional(_integer, "threads", threads))

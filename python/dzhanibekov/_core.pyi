@@ -27,6 +27,8 @@ __all__ = [
     "SYMMETRY_TOLERANCE",
     "SweepResult",
     "System",
+    "Torque",
+    "Wheel",
     "TRIANGLE_SLACK",
     "__version__",
     "_finalizing",
@@ -101,11 +103,28 @@ class Damper:
     def slip_rate(self, least: float) -> float: ...
 
 @final
+class Wheel:
+    def __new__(cls, axis: tuple[float, float, float], momentum: float) -> Wheel: ...
+    @property
+    def axis(self) -> tuple[float, float, float]: ...
+
+@final
+class Torque:
+    @staticmethod
+    def gravity_gradient(orbit_rate: float) -> Torque: ...
+    @staticmethod
+    def constant(vector: tuple[float, float, float], frame: str) -> Torque: ...
+    @property
+    def kind(self) -> str: ...
+
+@final
 class System:
     def __new__(
         cls,
         body: RigidBody | Deployment,
         dampers: list[tuple[Damper, tuple[float, float, float] | None]],
+        wheels: list[Wheel] = ...,
+        torques: list[Torque] = ...,
     ) -> System: ...
     @property
     def kinds(self) -> tuple[str, ...]: ...

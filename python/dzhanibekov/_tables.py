@@ -81,6 +81,15 @@ def _coords(t: np.ndarray) -> dict[str, Any]:
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
+UNSAVED_KINDS = ("wheel", "gravity_gradient", "torque")
+"""Models whose parameters a file does not hold yet: `dz.save` refuses their runs (a file that
+loads as another system would lie); `to_xarray` gives their states without them."""
+
+
+def unsaved_kinds(kinds: Any) -> list[str]:
+    return [k for k in UNSAVED_KINDS if k in tuple(kinds)]
+
+
 def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
     """The variables that describe the systems run (`systems` a sequence of `System`, one per
     index of the leading dims `lead`: ``()`` for one run, ``("run",)`` for a batch), so that
@@ -105,7 +114,7 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
         out["body_center_of_mass"] = (lead + ("axis",), squeeze(com),
                                       {"long_name": "centre of mass, body coordinates"})
     if "damper" in kinds:
-        dampers = [s.parts[0] for s in items]
+        dampers = [next(p for p in s.parts if type(p).__name__ == "Damper") for s in items]
         sigma0 = np.array([(np.nan,) * 3 if d.sigma0 is None else d.sigma0 for d in dampers])
         out["damper_inertia"] = (lead, squeeze(np.array([d.inertia for d in dampers])),
                                  {"long_name": "damper sphere's moment of inertia"})

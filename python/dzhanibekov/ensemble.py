@@ -267,10 +267,10 @@ def sweep(
         return sweep_deployments(system, omega0, q0, t_end=t_end, frames=frames, dt=dt,
                                  method=method, rtol=rtol, atol=atol, max_steps=max_steps,
                                  threads=threads, block=block, progress=progress)
-    rows = rows_of(system, omega0, q0, function="sweep", max_batch_ndim=8, stacklevel=3)
     settings = dict(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol, atol=atol,
                     max_steps=max_steps, flips=True, threads=threads)
-    options = run_options(**settings)
+    options = run_options(**settings)  # before the rows: a bad option is named first
+    rows = rows_of(system, omega0, q0, function="sweep", max_batch_ndim=8, stacklevel=3)
     block = as_int("block", block, minimum=1)
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")

@@ -503,9 +503,10 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
     """A drawn system, with what the study records of it (its moments checked later, a
     chunk at once)."""
     kind = _kind(value)
-    damper = None
+    damper: Damper | None = None
     if isinstance(value, System):
-        damper = value.parts[0] if kind == "damper" else None
+        if kind == "damper":  # a study's systems are of one kind: the damper is its one part
+            damper = next(p for p in value.parts if isinstance(p, Damper))
         value = value.body
     if kind == "deployment":
         d: Deployment = value

@@ -812,6 +812,12 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
     if kind is None:
         raise TypeError(f"`result` must be a Trajectory, Batch, Sweep, DeploymentSweep or "
                         f"MonteCarlo, got {type(result).__name__}")
+    system = getattr(result, "system", None) or getattr(
+        getattr(result, "systems", None), "first", None)
+    if system is not None and (unsaved := _tables.unsaved_kinds(system.kinds)):
+        raise ValueError(f"`result` is a run of a system with {', '.join(unsaved)}, which a "
+                         "file cannot hold yet (its parameters would be lost): keep its "
+                         "arrays with result.to_xarray().to_netcdf(path) or numpy.savez")
     p = as_path(path)
     suffix = p.suffix.lower()
     if suffix not in SUFFIXES:

@@ -153,6 +153,8 @@ def simulate(
         ``"dmv"`` and ``"dmv_modified"`` (the discrete Moser–Veselov algorithm, plain and
         with modified moments, order 4), ``"rkmk4"`` and ``"crouch_grossman3"`` (Lie-group
         Runge–Kutta methods on the unit quaternions); docs/guide/methods.md compares them.
+        ``"splitting_exact"``: for a constant body under torques, Strang's splitting of the
+        exact free motion and the torque's kicks (order 2).
         ``"dopri5"``, ``"dop853"``: Dormand–Prince 5(4) and 8(5,3) with error control
         under `rtol` and `atol` and dense output at the frames (Hairer et al.).
         ``"exact"``: the closed-form solution (Jacobi elliptic functions for ω, the angle
@@ -244,9 +246,10 @@ def simulate(
     >>> runs.energy.shape, runs.parts["damper"].shape
     ((2, 11), (2, 11, 3))
     """
-    rows = rows_of(system, omega0, q0, function="simulate", max_batch_ndim=1, stacklevel=3)
+    # the options' kinds first: a bad option is named before any guess about the arguments
     options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
                           atol=atol, max_steps=max_steps, flips=flips, threads=threads)
+    rows = rows_of(system, omega0, q0, function="simulate", max_batch_ndim=1, stacklevel=3)
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
     options = plan(rows, options, stacklevel=3)

@@ -72,9 +72,10 @@ def summarize(
     >>> [s.flips for s in summarize((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0, 0, 1)])]
     [2, 0]
     """
-    rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=1, stacklevel=3)
+    # the options' kinds first: a bad option is named before any guess about the arguments
     options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
                           atol=atol, max_steps=max_steps, flips=True, threads=None)
+    rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=1, stacklevel=3)
     options = plan(rows, options, stacklevel=3)
     run = run_batch(rows, options, keep_frames=False)
     flip_times = run.flip_times

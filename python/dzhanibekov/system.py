@@ -23,11 +23,12 @@ from . import _core
 from .body import Body, as_body, principal_body
 from .damper import Damper
 from .deployment import Deployment
+from .orbit import ConstantTorque, GravityGradient, Torque, Wheel
 
 __all__ = ["System", "as_system", "Systems"]
 
-Part = Damper
-"""The internal parts a system takes (the next issues add wheels)."""
+Part = Damper | Wheel
+"""The internal parts a system takes."""
 
 
 class System:
@@ -38,18 +39,20 @@ class System:
     body : Body, Deployment, or array_like, shape (3,)
         The body: constant (a :class:`Body` of any kind, or its principal moments) or
         changing in a prescribed way (a :class:`Deployment`).
-    parts : sequence of Damper, optional
-        Internal parts with state of their own: a spherical viscous :class:`Damper` (at most
-        one). Each part's state appears in a run's ``parts`` under its name.
-    torques : sequence, optional
-        External torques (none are offered yet; an empty sequence).
+    parts : sequence of Damper or Wheel, optional
+        Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
+        in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
+        no state of their own).
+    torques : sequence of GravityGradient or ConstantTorque, optional
+        External torques: the gravity gradient of a circular orbit (at most one) and
+        constant torques in body or world axes; they add up.
 
     Raises
     ------
     TypeError
         A body, part or torque of the wrong kind.
     ValueError
-        More than one damper (checked by the core).
+        More than one damper or gravity gradient (checked by the core).
 
     Examples
     --------
@@ -63,27 +66,32 @@ class System:
 
     _body: Body | Deployment
     _parts: tuple[Part, ...]
-    _torques: tuple[Any, ...]
+    _torques: tuple[Torque, ...]
     _core: _core.System
 
-    def __init__(self, body: Any, parts: Sequence[Part] = (), torques: Sequence[Any] = ()) -> None:
+    def __init__(self, body: Any, parts: Sequence[Part] = (),
+                 torques: Sequence[Torque] = ()) -> None:
         if isinstance(body, System):
             raise TypeError("`body` must be a Body or a Deployment, got a System (pass its "
                             "parts to it instead)")
         body = body if isinstance(body, Deployment) else as_body(body)
         parts_ = _sequence("parts", parts)
         for k, part in enumerate(parts_):
-            if not isinstance(part, Damper):
-                raise TypeError(f"`parts[{k}]` must be a dz.Damper, got {type(part).__name__}")
+            if not isinstance(part, (Damper, Wheel)):
+                raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
+                                f"{type(part).__name__}")
         torques_ = _sequence("torques", torques)
-        if torques_:
-            raise TypeError(f"`torques[0]` must be a torque of the package, got "
-                            f"{type(torques_[0]).__name__} (none are offered yet)")
+        for k, torque in enumerate(torques_):
+            if not isinstance(torque, (GravityGradient, ConstantTorque)):
+                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient or a "
+                                f"dz.ConstantTorque, got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)
         object.__setattr__(self, "_core", _core.System(
-            body._core, [(p._core, p.sigma0) for p in parts_]))
+            body._core, [(p._core, p.sigma0) for p in parts_ if isinstance(p, Damper)],
+            [p._core for p in parts_ if isinstance(p, Wheel)],
+            [t._core for t in torques_]))
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise AttributeError("a System is immutable")
@@ -99,7 +107,7 @@ class System:
         return self._parts
 
     @property
-    def torques(self) -> tuple[Any, ...]:
+    def torques(self) -> tuple[Torque, ...]:
         """The external torques, in order."""
         return self._torques
 
@@ -117,7 +125,8 @@ class System:
 
     @property
     def part_names(self) -> tuple[str, ...]:
-        """Each part's name, as results show its state."""
+        """The name of each part with state of its own, as results show its state (a wheel
+        has none)."""
         return tuple(name for name, _ in self._core.parts)
 
     @property
@@ -142,12 +151,13 @@ class System:
                 and self._parts == other._parts and self._torques == other._torques)
 
     def __hash__(self) -> int:
-        return hash((self._body, self._parts))
+        return hash((self._body, self._parts, self._torques))
 
     def __repr__(self) -> str:
         if not self._parts and not self._torques:
             return f"System({self._body!r})"
-        return f"System({self._body!r}, parts={list(self._parts)!r})"
+        torques = f", torques={list(self._torques)!r}" if self._torques else ""
+        return f"System({self._body!r}, parts={list(self._parts)!r}{torques})"
 
 
 def _sequence(name: str, value: Any) -> tuple[Any, ...]:

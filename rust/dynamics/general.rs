@@ -1,20 +1,25 @@
 //! The general model: a body whose inertia is constant or prescribed ([`Deployment`]), with
-//! internal parts ([`Damper`]), in the total angular momentum.
+//! internal parts ([`Damper`], [`super::Wheel`]s) and external torques ([`Torques`]), in the total
+//! angular momentum.
 //!
 //! **State** `[H (3), σ (3, with a damper), q (4)]`: `H` the total angular momentum in body
 //! axes, `σ` a damper's sphere rates, `q` the attitude. With `I(t)` the body's tensor (a
 //! damper's mass counted as a point at its centre) and `j` the sphere's moment,
 //!
 //! ```text
-//! ω  = I(t)⁻¹ (H − j σ)                  the body's own momentum, solved for its rates
-//! H' = H × ω                             no external torque: H is fixed in space
+//! ω  = I(t)⁻¹ (H − j σ − Σ h a)          the body's own momentum, solved for its rates
+//! H' = H × ω + τ_b(t, q)                 without torques H is fixed in space
 //! σ' = σ × ω − (c / j) (σ − ω)           the damper (see [`Damper`])
 //! q' = ½ q ⊗ (0, ω)
 //! ```
 //!
 //! A deployment alone is `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone
-//! is Hughes's spherical damper. Both keep `|H|` and `H` in space exactly; neither keeps the
-//! energy (a deployment's internal work, a damper's loss).
+//! is Hughes's spherical damper; wheels of constant momentum `h` along axes `a` make a
+//! gyrostat (see [`super::Wheel`]); `τ_b` is the sum of the external torques in body axes (see
+//! [`Torques`]: the gravity gradient of a circular orbit, constant torques). Without torques
+//! every such model keeps `|H|` and `H` in space exactly; a deployment or a damper does not
+//! keep the energy (internal work, loss). With the gravity gradient alone (and constant
+//! wheels) the Jacobi integral is kept ([`Model::jacobi`]).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -27,7 +32,7 @@ use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, Conserved, MidAxis, Model,
     MomentumProjection,
 };
-use super::{Damper, Deployment};
+use super::{Damper, Deployment, Torques};
 
 /// A constant tensor, its inverse, and what the runs read of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,6 +78,19 @@ impl ConstantInertia {
         })
     }
 
+    /// The principal moments, when the tensor is diagonal.
+    pub fn moments(&self) -> Option<Vector3<f64>> {
+        self.diagonal
+    }
+
+    #[inline(always)]
+    fn apply(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        match self.diagonal {
+            Some(d) => v.component_mul(&d),
+            None => self.tensor * v,
+        }
+    }
+
     #[inline(always)]
     fn solve(&self, l: &Vector3<f64>) -> Vector3<f64> {
         match self.diagonal {
@@ -99,6 +117,15 @@ impl InertiaLaw {
         }
     }
 
+    /// `I(t) v`.
+    #[inline(always)]
+    pub fn apply(&self, t: f64, v: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            InertiaLaw::Constant(c) => c.apply(v),
+            InertiaLaw::Schedule(d) => d.inertia_at(t) * v,
+        }
+    }
+
     /// `I(t)`.
     pub fn tensor_at(&self, t: f64) -> Matrix3<f64> {
         match self {
@@ -122,6 +149,9 @@ pub struct GeneralModel<const N: usize> {
     inertia: InertiaLaw,
     /// The damper, when `N` is 10 (a placeholder otherwise, never read).
     damper: Damper,
+    /// The wheels' total momentum `Σ h a` in body axes, if there are wheels.
+    wheels: Option<Vector3<f64>>,
+    torques: Torques,
     kinds: Kinds,
 }
 
@@ -152,8 +182,41 @@ impl<const N: usize> GeneralModel<N> {
         Ok(Self {
             inertia,
             damper: damper.unwrap_or(Damper::try_new(1.0, 0.0)?),
+            wheels: None,
+            torques: Torques::default(),
             kinds,
         })
+    }
+
+    /// The same model with wheels of total momentum `wheels` (`Σ h a`, body axes), if any.
+    pub fn with_wheels(mut self, wheels: Option<Vector3<f64>>) -> Self {
+        self.wheels = wheels;
+        self.with_kinds()
+    }
+
+    /// The same model with the external torques `torques`.
+    pub fn with_torques(mut self, torques: Torques) -> Self {
+        self.torques = torques;
+        self.with_kinds()
+    }
+
+    fn with_kinds(mut self) -> Self {
+        let mut kinds = match self.inertia {
+            InertiaLaw::Constant(_) => Kinds::NONE,
+            InertiaLaw::Schedule(_) => Kinds::DEPLOYMENT,
+        };
+        if self.has_damper() {
+            kinds = kinds.union(Kinds::DAMPER);
+        }
+        if self.wheels.is_some() {
+            kinds = kinds.union(Kinds::WHEEL);
+        }
+        kinds = kinds.union(self.torques.kinds());
+        self.kinds = match kinds == Kinds::NONE {
+            true => Kinds::FREE,
+            false => kinds,
+        };
+        self
     }
 
     /// The state at `t0` from the body rates `omega0`, the damper's rates `sigma0` and the
@@ -167,7 +230,7 @@ impl<const N: usize> GeneralModel<N> {
     ) -> [f64; N] {
         let omega = Vector3::from(omega0);
         let sigma = Vector3::from(sigma0);
-        let mut h = self.inertia.tensor_at(t0) * omega;
+        let mut h = self.inertia.tensor_at(t0) * omega + self.wheels.unwrap_or_default();
         if self.has_damper() {
             h += sigma * self.damper.sphere();
         }
@@ -190,6 +253,11 @@ impl<const N: usize> GeneralModel<N> {
         self.has_damper().then_some(&self.damper)
     }
 
+    /// Whether it has wheels.
+    pub fn has_wheels(&self) -> bool {
+        self.wheels.is_some()
+    }
+
     #[inline(always)]
     const fn has_damper(&self) -> bool {
         N == 10
@@ -203,14 +271,24 @@ impl<const N: usize> GeneralModel<N> {
         Vector3::new(x[3], x[4], x[5])
     }
 
-    /// The body's own angular momentum `H − j σ`.
+    /// The body's own angular momentum `H − j σ − Σ h a`.
     #[inline(always)]
     fn body_momentum(&self, x: &[f64; N]) -> Vector3<f64> {
-        let h = Vector3::new(x[0], x[1], x[2]);
+        let mut h = Vector3::new(x[0], x[1], x[2]);
+        if let Some(w) = self.wheels {
+            h -= w;
+        }
         match self.has_damper() {
             true => h - Self::sigma(x) * self.damper.sphere(),
             false => h,
         }
+    }
+
+    /// The external torque in body axes at `(t, x)`.
+    #[inline(always)]
+    pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+        self.torques
+            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v))
     }
 }
 
@@ -219,7 +297,11 @@ impl<const N: usize> OdeSystem<N> for GeneralModel<N> {
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.inertia.omega_from(t, &self.body_momentum(x));
-        let dh = h.cross(&omega) * s;
+        let mut dh = h.cross(&omega);
+        if !self.torques.is_empty() {
+            dh += self.torque(t, x);
+        }
+        let dh = dh * s;
         let mut dx = [0.0; N];
         dx[..3].copy_from_slice(dh.as_slice());
         if self.has_damper() {
@@ -237,10 +319,7 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     type Kept = MomentumProjection;
 
     fn conserved(&self) -> Conserved {
-        match self.kinds == Kinds::FREE {
-            true => Conserved::FREE,
-            false => Conserved::MOMENTA,
-        }
+        self.kinds.conserved()
     }
 
     fn kinds(&self) -> Kinds {
@@ -257,6 +336,27 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
         Vector3::new(x[0], x[1], x[2])
     }
 
+    /// `H' = H × ω + τ_b`.
+    #[inline(always)]
+    fn momentum_rate(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+        let h = self.momentum_body(t, x).cross(&self.omega_body(t, x));
+        match self.torques.is_empty() {
+            true => h,
+            false => h + self.torque(t, x),
+        }
+    }
+
+    /// With a gravity gradient: `J = T − n ẑ_b · H + (3/2) n² r̂_bᵀ I r̂_b` (see [`Torques`]).
+    fn jacobi(&self, t: f64, x: &[f64; N]) -> Option<f64> {
+        self.torques.jacobi(
+            t,
+            &attitude(x),
+            &self.inertia.tensor_at(t),
+            self.energy(t, x),
+            &self.momentum_body(t, x),
+        )
+    }
+
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(x);
         let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
@@ -266,15 +366,25 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
         }
     }
 
-    /// `|H| / λ_min` without a damper (`|ω| = |I⁻¹ H|`); `√(2T / λ_min)` with one (the
-    /// total energy `T ≥ ½ ωᵀ I ω` never rises). The sphere's rates turn at the body's; its
-    /// slip decays at the damper's own rate, the model's [`Model::stiffness`].
+    /// `(|H| + |Σ h a|) / λ_min` without a damper (`|ω| = |I⁻¹ (H − Σ h a)|`);
+    /// `√(2T / λ_min)` with one (the total energy `T ≥ ½ ωᵀ I ω` never rises). The sphere's
+    /// rates turn at the body's; its slip decays at the damper's own rate, the model's
+    /// [`Model::stiffness`]. With a gravity gradient, the larger of that and the bound the
+    /// Jacobi integral gives ([`Torques::rate_bound`]). A constant torque spins the body up
+    /// without bound: the bound is the start's, and a long run under one wants an adaptive
+    /// method or a `dt` of its own.
     fn rate_bound(&self, x0: &[f64; N]) -> f64 {
         let least = self.inertia.least();
-        match self.has_damper() {
+        let wheels = self.wheels.map_or(0.0, |w| w.norm());
+        let free = match self.has_damper() {
             true => (2.0 * self.energy(0.0, x0) / least).sqrt(),
-            false => self.momentum_body(0.0, x0).norm() / least,
-        }
+            false => (self.momentum_body(0.0, x0).norm() + wheels) / least,
+        };
+        let orbit = self.jacobi(0.0, x0).and_then(|j| {
+            let largest = self.inertia.tensor_at(0.0).symmetric_eigenvalues().max();
+            self.torques.rate_bound(least, largest, j, wheels)
+        });
+        free.max(orbit.unwrap_or(0.0))
     }
 
     fn stiffness(&self) -> f64 {
@@ -328,7 +438,10 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
             true => Some(self.damper.in_units(scale)?),
             false => None,
         };
-        Self::try_new(inertia, damper)
+        let wheels = self.wheels.map(|w| w.map(|v| scale.rate_to_unit(v)));
+        Ok(Self::try_new(inertia, damper)?
+            .with_wheels(wheels)
+            .with_torques(self.torques.in_units(scale)?))
     }
 }
 
@@ -393,6 +506,54 @@ mod tests {
         let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.2, 0.1, 0.9], [1.0, 0.0, 0.0, 0.0]);
         let omega = m.omega_body(0.0, &x);
         assert!((omega - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
+    }
+
+    fn orbiting(wheels: Option<Vector3<f64>>, torques: &[super::super::Torque]) -> GeneralModel<7> {
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        GeneralModel::try_new(
+            InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
+            None,
+        )
+        .unwrap()
+        .with_wheels(wheels)
+        .with_torques(Torques::of(torques).unwrap())
+    }
+
+    /// `dJ/dt` along the right-hand side by a central difference.
+    fn jacobi_rate(m: &GeneralModel<7>, t: f64, x: &[f64; 7]) -> f64 {
+        let h = 1e-6;
+        let j = |s: f64| m.jacobi(t + s, &along(m, t, x, s)).unwrap();
+        (j(h) - j(-h)) / (2.0 * h)
+    }
+
+    #[test]
+    fn the_jacobi_integral_is_stationary_in_the_gravity_gradient_with_wheels() {
+        let gg = super::super::Torque::gravity_gradient(0.8).unwrap();
+        let m = orbiting(Some(Vector3::new(0.3, -0.5, 0.7)), &[gg]);
+        assert_eq!(m.conserved().names(), ["q_norm", "jacobi"]);
+        let q = [0.6, -0.2, 0.7, 0.3];
+        let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
+        let x = m.state_from(1.3, [0.3, -0.7, 1.1], [0.0; 3], q.map(|v| v / n));
+        let j = m.jacobi(1.3, &x).unwrap();
+        assert!(jacobi_rate(&m, 1.3, &x).abs() < 1e-8 * j.abs().max(1.0));
+        // a constant torque breaks it, and the model no longer declares it
+        let push = super::super::Torque::constant([0.0, 0.2, 0.1], super::super::Frame::Body);
+        let pushed = orbiting(None, &[gg, push.unwrap()]);
+        assert!(jacobi_rate(&pushed, 1.3, &x).abs() > 1e-3);
+        assert_eq!(pushed.conserved().names(), ["q_norm"]);
+    }
+
+    #[test]
+    fn wheels_keep_the_momentum_in_space_and_the_bodys_energy() {
+        let m = orbiting(Some(Vector3::new(0.3, -0.5, 0.7)), &[]);
+        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let h = 1e-6;
+        let e = |s: f64| m.energy(s, &along(&m, 0.0, &x, s));
+        assert!(((e(h) - e(-h)) / (2.0 * h)).abs() < 1e-9);
+        // H' = H × ω: |H| stationary
+        let dh = m.momentum_rate(0.0, &x);
+        assert!(dh.dot(&m.momentum_body(0.0, &x)).abs() < 1e-14);
+        assert!((m.omega_body(0.0, &x) - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
     }
 
     #[test]

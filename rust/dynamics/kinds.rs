@@ -92,6 +92,12 @@ impl Kinds {
     pub const DEPLOYMENT: Self = Self(2);
     /// A spherical viscous damper ([`Damper`]).
     pub const DAMPER: Self = Self(4);
+    /// Momentum wheels of constant relative momentum ([`super::Wheel`]).
+    pub const WHEEL: Self = Self(8);
+    /// The gravity gradient of a circular orbit ([`super::Torque::GravityGradient`]).
+    pub const GRAVITY_GRADIENT: Self = Self(16);
+    /// A constant external torque ([`super::Torque::Constant`]).
+    pub const TORQUE: Self = Self(32);
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -108,6 +114,21 @@ impl Kinds {
             .filter(|m| self.contains(m.kind))
             .map(|m| m.name)
             .collect()
+    }
+
+    /// What a system made of these models keeps: what each of them keeps, the Jacobi integral
+    /// only where there is an orbit to measure it in.
+    pub fn conserved(self) -> Conserved {
+        let kept = MODELS
+            .iter()
+            .filter(|m| self.contains(m.kind))
+            .fold(Conserved::FREE.union(Conserved::JACOBI), |c, m| {
+                c.intersection(m.keeps)
+            });
+        match self.contains(Self::GRAVITY_GRADIENT) {
+            true => kept,
+            false => kept.without(Conserved::JACOBI),
+        }
     }
 
     /// The first model of `self` that `runner` does not hold.
@@ -133,7 +154,7 @@ pub struct ModelInfo {
 }
 
 /// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 3] = [
+pub const MODELS: [ModelInfo; 6] = [
     ModelInfo {
         kind: Kinds::FREE,
         name: "free",
@@ -151,5 +172,26 @@ pub const MODELS: [ModelInfo; 3] = [
         name: "damper",
         keeps: Conserved::MOMENTA,
         about: "a spherical viscous nutation damper (energy never rising)",
+    },
+    ModelInfo {
+        kind: Kinds::WHEEL,
+        name: "wheel",
+        // with a gravity gradient too, the Jacobi integral stays kept (see `torques`)
+        keeps: Conserved::MOMENTA.union(Conserved::JACOBI),
+        about: "momentum wheels of constant relative momentum (a gyrostat: \
+                I ω' = (I ω + Σ h a) × ω)",
+    },
+    ModelInfo {
+        kind: Kinds::GRAVITY_GRADIENT,
+        name: "gravity_gradient",
+        keeps: Conserved::JACOBI.union(Conserved::Q_NORM),
+        about: "the gravity gradient of a circular orbit in the world x–y plane \
+                (τ = 3 n² r̂_b × I r̂_b; the Jacobi integral kept)",
+    },
+    ModelInfo {
+        kind: Kinds::TORQUE,
+        name: "torque",
+        keeps: Conserved::Q_NORM,
+        about: "a constant external torque in body or world axes (nothing kept but |q|)",
     },
 ];

@@ -1,7 +1,7 @@
 //! The models: the right-hand sides a run integrates. The constant free body
 //! ([`FreeRigidBody`], eq. 1) and the general model ([`GeneralModel`]: a constant or
 //! scheduled body with parts) implement one trait ([`Model`]); what a user describes is a
-//! [`System`], which the run turns into one of them. Each model the registry knows has an
+//! [`System`] (a body, its parts — dampers, wheels — and its external torques), which the run turns into one of them. Each model the registry knows has an
 //! entry in [`MODELS`]; the registry of methods ([`crate::run::registry`]) says which methods
 //! run which.
 
@@ -12,6 +12,8 @@ mod general;
 mod kinds;
 pub mod model;
 mod system;
+mod torques;
+mod wheel;
 
 pub use damper::Damper;
 pub use deployment::Deployment;
@@ -20,3 +22,5 @@ pub use general::{ConstantInertia, GeneralModel, InertiaLaw};
 pub use kinds::{Kinds, ModelInfo, MODELS};
 pub use model::{Conserved, MidAxis, Model};
 pub use system::{Part, System, SystemBody};
+pub use torques::{Frame, Torque, Torques};
+pub use wheel::Wheel;

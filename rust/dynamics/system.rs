@@ -1,5 +1,5 @@
 //! What is simulated, as the user describes it: a body (a constant tensor, or a deployment's
-//! schedule) with its internal parts, in the user's own axes. A run turns it into a model
+//! schedule) with its internal parts and external torques, in the user's own axes. A run turns it into a model
 //! ([`super::FreeRigidBody`] or [`super::GeneralModel`]), in principal axes where the body is
 //! constant ([`crate::run::simulate_system`]).
 
@@ -9,8 +9,8 @@ use crate::body::Inertia;
 use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
-use super::kinds::{Kinds, MODELS};
-use super::{Conserved, Damper, Deployment};
+use super::kinds::Kinds;
+use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel};
 
 /// A system's body.
 #[derive(Debug, Clone, PartialEq)]
@@ -30,6 +30,8 @@ pub enum Part {
         damper: Damper,
         sigma0: Option<[f64; 3]>,
     },
+    /// A momentum wheel of constant relative momentum (no state of its own).
+    Wheel(Wheel),
 }
 
 impl Part {
@@ -37,6 +39,7 @@ impl Part {
     pub fn name(&self) -> &'static str {
         match self {
             Part::Damper { .. } => "damper",
+            Part::Wheel(_) => "wheel",
         }
     }
 
@@ -44,6 +47,7 @@ impl Part {
     pub fn width(&self) -> usize {
         match self {
             Part::Damper { .. } => 3,
+            Part::Wheel(_) => 0,
         }
     }
 }
@@ -53,6 +57,7 @@ impl Part {
 pub struct System {
     body: SystemBody,
     parts: Vec<Part>,
+    torques: Vec<Torque>,
 }
 
 impl System {
@@ -73,14 +78,30 @@ impl System {
             ));
         }
         for part in &parts {
-            let Part::Damper { sigma0, .. } = part;
-            if let Some(s) = sigma0 {
+            if let Part::Damper {
+                sigma0: Some(s), ..
+            } = part
+            {
                 if !s.iter().all(|v| v.is_finite()) {
                     return Err(Error::invalid("sigma0", "must be three finite rates", s));
                 }
             }
         }
-        Ok(Self { body, parts })
+        Ok(Self {
+            body,
+            parts,
+            torques: Vec::new(),
+        })
+    }
+
+    /// The same system under the external `torques`.
+    ///
+    /// # Errors
+    /// More than one gravity gradient.
+    pub fn with_torques(mut self, torques: Vec<Torque>) -> Result<Self> {
+        Torques::of(&torques)?;
+        self.torques = torques;
+        Ok(self)
     }
 
     /// A constant body alone.
@@ -88,6 +109,7 @@ impl System {
         Self {
             body: SystemBody::Rigid(inertia),
             parts: Vec::new(),
+            torques: Vec::new(),
         }
     }
 
@@ -99,19 +121,29 @@ impl System {
         &self.parts
     }
 
+    pub fn torques(&self) -> &[Torque] {
+        &self.torques
+    }
+
+    /// The wheels' total momentum `Σ h a` in the user's body axes, if there are wheels.
+    pub fn wheels_momentum(&self) -> Option<Vector3<f64>> {
+        self.parts.iter().fold(None, |sum, p| match p {
+            Part::Wheel(w) => Some(sum.unwrap_or_default() + w.momentum_body()),
+            _ => sum,
+        })
+    }
+
     /// The damper and its start, if there is one.
     pub fn damper(&self) -> Option<(Damper, Option<[f64; 3]>)> {
-        self.parts
-            .iter()
-            .map(|p| match p {
-                Part::Damper { damper, sigma0 } => (*damper, *sigma0),
-            })
-            .next()
+        self.parts.iter().find_map(|p| match p {
+            Part::Damper { damper, sigma0 } => Some((*damper, *sigma0)),
+            _ => None,
+        })
     }
 
     /// The constant body alone, if the system is nothing else: the free body.
     pub fn as_free(&self) -> Option<&Inertia> {
-        match (&self.body, self.parts.is_empty()) {
+        match (&self.body, self.parts.is_empty() && self.torques.is_empty()) {
             (SystemBody::Rigid(inertia), true) => Some(inertia),
             _ => None,
         }
@@ -126,7 +158,11 @@ impl System {
         for part in &self.parts {
             kinds = kinds.union(match part {
                 Part::Damper { .. } => Kinds::DAMPER,
+                Part::Wheel(_) => Kinds::WHEEL,
             });
+        }
+        for torque in &self.torques {
+            kinds = kinds.union(torque.kind());
         }
         match kinds == Kinds::NONE {
             true => Kinds::FREE,
@@ -136,13 +172,7 @@ impl System {
 
     /// What its exact motion keeps: what each of its models keeps.
     pub fn conserved(&self) -> Conserved {
-        let kinds = self.kinds();
-        MODELS
-            .iter()
-            .filter(|m| kinds.contains(m.kind))
-            .fold(Conserved::FREE.union(Conserved::JACOBI), |c, m| {
-                c.intersection(m.keeps)
-            })
+        self.kinds().conserved()
     }
 
     /// About how many bytes a copy of the system holds on the heap (its parts, a
@@ -174,7 +204,9 @@ impl System {
 
     /// The energy, the total angular momentum in body axes and in space at one frame from
     /// the body rates `omega`, the parts' state `parts` and the attitude `q` (user axes), as
-    /// the run's model defines them.
+    /// the run's model defines them: the energy is the body's and its dampers' kinetic energy
+    /// (a wheel's spin relative to the body left out: with constant momentum, a constant), the
+    /// momentum counts the wheels' `Σ h a`.
     pub fn observe(
         &self,
         t: f64,
@@ -187,10 +219,14 @@ impl System {
         let (mut energy, mut l) = (0.5 * omega.dot(&body_l), body_l);
         let mut at = 0;
         for part in &self.parts {
-            let Part::Damper { damper, .. } = part;
-            let sigma = Vector3::new(parts[at], parts[at + 1], parts[at + 2]);
-            energy += 0.5 * damper.sphere() * sigma.norm_squared();
-            l += sigma * damper.sphere();
+            match part {
+                Part::Damper { damper, .. } => {
+                    let sigma = Vector3::new(parts[at], parts[at + 1], parts[at + 2]);
+                    energy += 0.5 * damper.sphere() * sigma.norm_squared();
+                    l += sigma * damper.sphere();
+                }
+                Part::Wheel(w) => l += w.momentum_body(),
+            }
             at += part.width();
         }
         let world = rotation_matrix(&Quaternion::new(q[0], q[1], q[2], q[3])) * l;

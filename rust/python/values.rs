@@ -9,7 +9,9 @@ use pyo3::types::PyTuple;
 
 use crate::body::{Inertia, RigidBody};
 use crate::buffer::{try_collect, try_with_capacity};
-use crate::dynamics::{Conserved, Damper, Deployment, Part, System, SystemBody, MODELS};
+use crate::dynamics::{
+    Conserved, Damper, Deployment, Frame, Part, System, SystemBody, Torque, Wheel, MODELS,
+};
 use crate::error::Error;
 use crate::run::options::RunOptions;
 use crate::run::registry::MethodInfo;
@@ -176,6 +178,66 @@ impl PyDamper {
     }
 }
 
+/// A momentum wheel of constant relative momentum, validated.
+#[pyclass(name = "Wheel", module = "dzhanibekov._core", frozen)]
+pub(crate) struct PyWheel {
+    inner: Wheel,
+}
+
+#[pymethods]
+impl PyWheel {
+    #[new]
+    fn new(axis: [f64; 3], momentum: f64) -> PyResult<Self> {
+        Ok(Self {
+            inner: Wheel::try_new(axis, momentum)?,
+        })
+    }
+
+    /// The unit spin axis in body axes.
+    #[getter]
+    fn axis(&self) -> [f64; 3] {
+        self.inner.axis().into()
+    }
+}
+
+/// An external torque, validated: the gravity gradient of a circular orbit, or a constant
+/// torque in body or world axes.
+#[pyclass(name = "Torque", module = "dzhanibekov._core", frozen)]
+pub(crate) struct PyTorque {
+    inner: Torque,
+}
+
+#[pymethods]
+impl PyTorque {
+    /// The gravity gradient of a circular orbit of rate `orbit_rate` in the world x–y plane.
+    #[staticmethod]
+    fn gravity_gradient(orbit_rate: f64) -> PyResult<Self> {
+        Ok(Self {
+            inner: Torque::gravity_gradient(orbit_rate)?,
+        })
+    }
+
+    /// A constant torque `vector` fixed in `frame` ('body' or 'world').
+    #[staticmethod]
+    fn constant(vector: [f64; 3], frame: &str) -> PyResult<Self> {
+        let frame: Frame = frame.parse()?;
+        Ok(Self {
+            inner: Torque::constant(vector, frame)?,
+        })
+    }
+
+    /// The registry's model it is.
+    #[getter]
+    fn kind(&self) -> &'static str {
+        self.inner
+            .kind()
+            .names()
+            .first()
+            .copied()
+            .unwrap_or("torque")
+    }
+}
+
 /// What is simulated: a body (a `RigidBody` or a `Deployment`) with its parts, validated.
 #[pyclass(name = "System", module = "dzhanibekov._core", frozen)]
 pub(crate) struct PySystem {
@@ -184,11 +246,15 @@ pub(crate) struct PySystem {
 
 #[pymethods]
 impl PySystem {
-    /// `body` with `dampers`, each with its sphere's start (`None`: co-rotating).
+    /// `body` with `dampers`, each with its sphere's start (`None`: co-rotating), `wheels`
+    /// and external `torques`.
     #[new]
+    #[pyo3(signature = (body, dampers, wheels = Vec::new(), torques = Vec::new()))]
     fn new(
         body: &Bound<'_, PyAny>,
         dampers: Vec<(PyRef<'_, PyDamper>, Option<[f64; 3]>)>,
+        wheels: Vec<PyRef<'_, PyWheel>>,
+        torques: Vec<PyRef<'_, PyTorque>>,
     ) -> PyResult<Self> {
         let body = match (body.cast::<PyRigidBody>(), body.cast::<PyDeployment>()) {
             (Ok(b), _) => SystemBody::Rigid(b.get().inner),
@@ -208,9 +274,11 @@ impl PySystem {
                 damper: d.inner,
                 sigma0: *sigma0,
             })
+            .chain(wheels.iter().map(|w| Part::Wheel(w.inner)))
             .collect();
+        let torques = torques.iter().map(|t| t.inner).collect();
         Ok(Self {
-            inner: System::try_new(body, parts)?,
+            inner: System::try_new(body, parts)?.with_torques(torques)?,
         })
     }
 
@@ -226,12 +294,14 @@ impl PySystem {
         PyTuple::new(py, self.inner.conserved().names())
     }
 
-    /// Each part's name and how many numbers of state it has.
+    /// Each part with state of its own: its name and how many numbers of state it has (a
+    /// wheel has none).
     #[getter]
     fn parts(&self) -> Vec<(&'static str, usize)> {
         self.inner
             .parts()
             .iter()
+            .filter(|p| p.width() > 0)
             .map(|p| (p.name(), p.width()))
             .collect()
     }
@@ -416,6 +486,8 @@ pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
     m.add_class::<PyDeployment>()?;
     m.add_class::<PyDamper>()?;
+    m.add_class::<PyWheel>()?;
+    m.add_class::<PyTorque>()?;
     m.add_class::<PySystem>()?;
     m.add_class::<PyRunOptions>()?;
     m.add_class::<PyMethodInfo>()?;

@@ -1,10 +1,12 @@
 //! Methods made for the free rigid body: RK4 with the invariants projected back, the
 //! splittings that keep them to round-off, and the classic geometric integrators of the
 //! atlas: the implicit midpoint rule, the discrete Moser–Veselov algorithm (plain and with
-//! modified moments), Runge–Kutta–Munthe-Kaas and Crouch–Grossman on the unit quaternions.
+//! modified moments), Runge–Kutta–Munthe-Kaas and Crouch–Grossman on the unit quaternions;
+//! and Strang's splitting of a body under torques on the exact free flow.
 
 mod crouch_grossman;
 mod dmv;
+mod exact_kick;
 mod implicit_midpoint;
 mod lie;
 mod projected;
@@ -13,6 +15,7 @@ mod splitting;
 
 pub use crouch_grossman::CrouchGrossman3;
 pub use dmv::{DiscreteMoserVeselov, Dmv, DmvModified};
+pub use exact_kick::ExactKick;
 pub use implicit_midpoint::ImplicitMidpoint;
 pub use projected::Rk4Projected;
 pub use rkmk::Rkmk4;

@@ -17,8 +17,8 @@ use crate::ode::controller::Adaptive;
 pub use crate::ode::controller::{DEFAULT_ATOL, DEFAULT_RTOL};
 use crate::ode::{EmbeddedPair, Stats, Stepper};
 use crate::rigid::{
-    CrouchGrossman3, Dmv, DmvModified, ImplicitMidpoint, Rk4Projected, Rkmk4, Splitting2,
-    Splitting4, Splitting6,
+    CrouchGrossman3, Dmv, DmvModified, ExactKick, ImplicitMidpoint, Rk4Projected, Rkmk4,
+    Splitting2, Splitting4, Splitting6,
 };
 use crate::run::adaptive::{integrate_adaptive, Units};
 use crate::run::fixed::integrate;
@@ -54,6 +54,8 @@ pub enum Method {
     Rkmk4,
     /// Crouch–Grossman of order 3 on the unit quaternions.
     CrouchGrossman3,
+    /// Strang's splitting of a body under torques on the exact free flow (order 2).
+    SplittingExact,
     /// Dormand–Prince 5(4) with error control and dense output.
     Dopri5(Adaptive),
     /// DOP853: Dormand–Prince 8(5,3) with error control and dense output.
@@ -142,8 +144,16 @@ const ALL_INVARIANTS: Conserved = Conserved::FREE.union(Conserved::JACOBI);
 /// The momenta and `|q|`: what a composition of exact rotations keeps.
 const ROTATIONS: Conserved = Conserved::MOMENTA;
 const FREE_ONLY: Kinds = Kinds::FREE;
-/// Every model: the free body, deployments and damped bodies.
-const EVERY_MODEL: Kinds = Kinds::FREE.union(Kinds::DEPLOYMENT).union(Kinds::DAMPER);
+/// The torque-free models: the free body, deployments, damped bodies and wheels (a
+/// projection onto `|L|` and `L_world` is valid for them alone).
+const TORQUE_FREE: Kinds = Kinds::FREE
+    .union(Kinds::DEPLOYMENT)
+    .union(Kinds::DAMPER)
+    .union(Kinds::WHEEL);
+/// Every model: the torque-free ones and those under external torques.
+const EVERY_MODEL: Kinds = TORQUE_FREE
+    .union(Kinds::GRAVITY_GRADIENT)
+    .union(Kinds::TORQUE);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -151,7 +161,7 @@ const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
 }
 
 /// The registry, in the order users see it.
-pub const METHODS: [MethodInfo; 13] = [
+pub const METHODS: [MethodInfo; 14] = [
     MethodInfo {
         method: Method::Rk4,
         name: "rk4",
@@ -182,11 +192,12 @@ pub const METHODS: [MethodInfo; 13] = [
         rhs_per_step: fixed::<Rk4Projected<crate::dynamics::FreeProjection>>(),
         batch: false,
         rk4_dissipation: true,
-        models: EVERY_MODEL,
+        models: TORQUE_FREE,
         stability: Some(RK4_STABILITY),
         about: "RK4, each step projected back onto what the model keeps: for the free body the \
                 energy, |L|, L_world and |q| = 1 (E and |L| to round-off for dt·Ω ≲ 0.25, beyond \
-                to the square of RK4's change per step); for the others |L|, L_world and |q|",
+                to the square of RK4's change per step); for the other torque-free models |L|, L_world \
+                and |q| (under an external torque L is not kept: refused)",
     },
     MethodInfo {
         method: Method::Splitting,
@@ -330,6 +341,24 @@ pub const METHODS: [MethodInfo; 13] = [
         stability: None,
         about: "Crouch–Grossman of order 3 on the unit quaternions (Crouch & Grossman 1993), \
                 explicit and commutator-free",
+    },
+    MethodInfo {
+        method: Method::SplittingExact,
+        name: "splitting_exact",
+        order: Some(2),
+        // not measured yet over many bodies: the splitting's constant
+        step_rule: StepRule::Accuracy {
+            constant: 1.0 / 6.0,
+        },
+        keeps: Conserved::Q_NORM,
+        rhs_per_step: <ExactKick as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,
+        batch: false,
+        rk4_dissipation: false,
+        models: Kinds::GRAVITY_GRADIENT.union(Kinds::TORQUE),
+        stability: None,
+        about: "Strang's splitting of a constant body under torques: the exact free motion \
+                (elliptic functions) between half kicks of the torque (order 2; |q| to \
+                round-off)",
     },
     MethodInfo {
         method: Method::Dopri5(Adaptive::DEFAULT),
@@ -570,7 +599,8 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
         | Method::Dmv
         | Method::DmvModified
         | Method::Rkmk4
-        | Method::CrouchGrossman3 => return None,
+        | Method::CrouchGrossman3
+        | Method::SplittingExact => return None,
     };
     Some(run.map(|(_, stats)| stats))
 }
@@ -647,8 +677,16 @@ impl<const N: usize> Runs<N> for GeneralModel<N> {
         obs: &mut O,
         cancel: &AtomicBool,
     ) -> Result<Stats> {
-        run_any(method, self, x0, grid, obs, cancel)
-            .unwrap_or_else(|| refused(method, self.kinds()))
+        if let Some(run) = run_any(method, self, x0, grid, obs, cancel) {
+            return run;
+        }
+        match method {
+            Method::SplittingExact => {
+                let (_, stats) = integrate(&ExactKick::of(self)?, self, x0, grid, obs, cancel)?;
+                Ok(stats)
+            }
+            other => refused(other, self.kinds()),
+        }
     }
 }
 
@@ -714,6 +752,21 @@ mod tests {
         assert!((rk4_r(-s.real, 0.0).0 - 1.0).abs() < 1e-14);
         assert!(norm(rk4_r(-0.99 * s.real, 0.0)) < 1.0);
         assert!(norm(rk4_r(-1.01 * s.real, 0.0)) > 1.0);
+    }
+
+    #[test]
+    fn a_projection_onto_the_momentum_is_refused_under_a_torque() {
+        let e = Method::Rk4Projected
+            .for_kinds(Kinds::GRAVITY_GRADIENT)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("'gravity_gradient'") && e.contains("'dop853'"),
+            "{e}"
+        );
+        assert!(Method::Rk4Projected.for_kinds(Kinds::WHEEL).is_ok());
+        assert!(Method::Splitting.for_kinds(Kinds::TORQUE).is_err());
+        assert!(Method::Rk4.for_kinds(Kinds::TORQUE).is_ok());
     }
 
     #[test]

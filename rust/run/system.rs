@@ -9,7 +9,8 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 use crate::body::Inertia;
 use crate::dynamics::model::state_to_unit;
 use crate::dynamics::{
-    state_from, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System, SystemBody,
+    state_from, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System,
+    SystemBody, Torques,
 };
 use crate::error::{Error, Result};
 use crate::float::{exponent, RateScale, UNSCALED};
@@ -136,15 +137,25 @@ fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge
         ),
     };
     let (omega, q) = (edge.vector_in(omega0), edge.attitude_in(q0));
+    // wheels' momenta and body-fixed torques in the run's axes, over the moments' power of two
+    let wheels = system
+        .wheels_momentum()
+        .map(|w| Vector3::from(edge.vector_in(w.into())).map(scaled));
+    let torques = Torques::of(system.torques())?
+        .in_axes(|v| edge.vector_in(v))
+        .with_moments_scaled(m)?;
+    let parts = |model: GeneralModel<7>| model.with_wheels(wheels).with_torques(torques);
     let built = match system.damper() {
         None => {
-            let model = GeneralModel::<7>::try_new(law, None)?;
+            let model = parts(GeneralModel::<7>::try_new(law, None)?);
             let x0 = model.state_from(0.0, omega, [0.0; 3], q);
             Built::Plain(model, x0)
         }
         Some((damper, sigma0)) => {
             let damper = damper.with_moments_scaled(m)?;
-            let model = GeneralModel::<10>::try_new(law, Some(damper))?;
+            let model = GeneralModel::<10>::try_new(law, Some(damper))?
+                .with_wheels(wheels)
+                .with_torques(torques);
             let sigma = edge.vector_in(sigma0.unwrap_or(omega0));
             let x0 = model.state_from(0.0, omega, sigma, q);
             Built::Damped(model, x0)

@@ -629,7 +629,7 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     dt = t_end / ((frames - 1) * steps)
     if not (math.isfinite(dt) and dt > 0):
         dt = t_end
-    method = draw(st.sampled_from(tuple(dz.METHODS)))
+    method = draw(st.sampled_from(FREE_METHODS))
     chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(FIGURES), unique=True, max_size=3)))
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
@@ -888,6 +888,9 @@ def check_polhodes(kwargs: dict[str, Any], result: Any, caught: list[warnings.Wa
 
 MODEL_METHODS = ("rk4", "rk4_projected", "dopri5", "dop853")
 STOWED_HOSTILE = (1.0, 2.0, 3.0)
+FREE_METHODS = tuple(m for m, info in dz.METHODS.items() if "free" in info.models)
+"""The methods that run the free body (splitting_exact runs bodies under torques only)."""
+STOWED_DEPLOYMENT = dz.Deployment([0.0, 1.0], [STOWED_HOSTILE, (1.0, 3.0, 2.0)])
 """Moments where a Deployment is wanted."""
 
 
@@ -1233,13 +1236,17 @@ ENTRIES: dict[str, Entry] = {
         examples=60,
         min_success=0.9,
     ),
-    **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS},
+    **{f"simulate[{m}]": _simulate_entry(m) for m in dz.METHODS
+       if "free" in dz.METHODS[m].models},  # splitting_exact runs bodies under torques only
     "simulate[deployment]": _model_entry("deployment"),
     "simulate[damper]": _model_entry("damper"),
     "simulate[deployments]": Entry(
         call=dz.simulate,
         valid=deployments_args(),
-        hostile={"system": st.sampled_from([[], [STOWED_HOSTILE], "x", None, 1.0]),
+        # a list that mixes a deployment with what is no system (a list of moments alone is
+        # a valid batch of bodies)
+        hostile={"system": st.sampled_from([[], [STOWED_DEPLOYMENT, STOWED_HOSTILE, "x"], "x",
+                                            None, 1.0]),
                  "omega0": hostile_vector3().filter(lambda v: not _rate_rows(v)),
                  "t_end": hostile_real(positive=True),
                  "frames": hostile_int(2),
@@ -1330,7 +1337,7 @@ ENTRIES: dict[str, Entry] = {
     ),
     "summarize": Entry(
         call=dz.summarize,
-        valid=st.sampled_from(tuple(dz.METHODS)).flatmap(lambda m: run_args(m, flips=False)),
+        valid=st.sampled_from(FREE_METHODS).flatmap(lambda m: run_args(m, flips=False)),
         hostile=run_hostile(tuple(dz.METHODS), flips=False),
         check=check_summary,
         covers=(dz.summarize, dz.Summary),

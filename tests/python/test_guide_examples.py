@@ -11,7 +11,7 @@ import pytest
 GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide"
 
 
-@pytest.mark.parametrize("page", ["bodies.md", "changing.md", "montecarlo.md"])
+@pytest.mark.parametrize("page", ["bodies.md", "changing.md", "montecarlo.md", "orbit.md"])
 def test_the_guides_examples_run_as_written(page: str) -> None:
     path = GUIDE / page
     if not path.exists():

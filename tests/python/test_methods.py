@@ -10,7 +10,9 @@ import dzhanibekov as dz
 
 BODY, OMEGA0, Q0 = (1.0, 1.7, 2.3), np.array([0.4, -0.9, 0.6]), (0.8, 0.1, -0.3, 0.5)
 # every fixed-step method of the registry (the atlas's among them)
-FIXED = tuple(m for m, info in dz.METHODS.items() if info.order is not None and not info.adaptive)
+FIXED = tuple(m for m, info in dz.METHODS.items()
+              if info.order is not None and not info.adaptive and "free" in info.models)
+"""The fixed-step methods of the free body (splitting_exact runs bodies under torques)."""
 ADAPTIVE = ("dopri5", "dop853")
 
 

@@ -33,7 +33,7 @@ from ..body import Body
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
-from ..methods import METHODS
+from ..methods import DEFAULT_MAX_STEPS, METHODS
 from ..shapes import Shape, box_shape
 from ..system import System
 from .bodies import BODY_KEYS, build_body, default_signal_point
@@ -406,7 +406,7 @@ def _run(src: str, v: Mapping[str, Any]) -> dict[str, Any]:
                                                           positive=True)
                   for key in ("rtol", "atol")}
     try:
-        run_options(t_end=t_end, frames=frames, dt=dt, method=method, max_steps=None,
+        run_options(t_end=t_end, frames=frames, dt=dt, method=method, max_steps=DEFAULT_MAX_STEPS,
                     flips=True, threads=None, **tolerances)
     except (TypeError, ValueError) as exc:
         raise SceneError(src, "run", str(exc)) from None

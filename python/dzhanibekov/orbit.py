@@ -1,0 +1,410 @@
+"""A spacecraft in orbit: external torques, momentum wheels and the orbiting (LVLH) frame.
+
+Torques go in ``dz.System(body, torques=[...])``, wheels in ``parts=[...]``; the core adds
+them to the general model's momentum law ``H' = H × ω + τ_b`` with
+``ω = I⁻¹ (H − Σ h a)`` (body axes). See the guide page "A spacecraft in orbit".
+
+**The orbit.** A circular orbit of rate ``n`` in the world x–y plane: the body's centre is
+at ``r̂(t) = (cos nt, sin nt, 0)`` from the planet (``t = 0`` at world +x), the orbit normal
+is world +z. **The orbiting frame** (LVLH, Hughes's ``F_o``) has its axes, in world axes,
+
+- ``o1 = (−sin nt, cos nt, 0)``: along-track (the velocity),
+- ``o2 = (0, 0, −1)``: minus the orbit normal,
+- ``o3 = (−cos nt, −sin nt, 0)``: nadir (toward the planet),
+
+and turns at ``n`` about the orbit normal (``−o2``). A body aligned with it and at rest in it
+has body rates ``ω = (0, −n, 0)``; :func:`lvlh_start` gives the start of any attitude and
+rates relative to it. Roll, pitch and yaw are the turns about ``o1``, ``o2``, ``o3``.
+
+>>> import dzhanibekov as dz
+>>> sat = dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityGradient(1.0)])
+>>> sat.kinds, sat.conserved
+(('gravity_gradient',), ('q_norm', 'jacobi'))
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from . import _core
+from ._args import as_array, as_float
+
+__all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "lvlh_frame",
+           "lvlh_attitude", "lvlh_start", "pitch_libration_rate", "dual_spin_threshold"]
+
+_FRAMES = ("body", "world")
+
+
+class GravityGradient:
+    """The gravity gradient of a circular orbit of rate `orbit_rate` in the world x–y plane.
+
+    The torque in body axes is ``τ = 3 n² r̂_b × (I r̂_b)``, with ``r̂_b`` the direction
+    ``(cos nt, sin nt, 0)`` from the planet to the body (world axes) seen in body axes
+    (Hughes, *Spacecraft Attitude Dynamics*, 1986, §8.2). The motion keeps the Jacobi
+    integral ``J = T − n ẑ_b·H + (3/2) n² r̂_bᵀ I r̂_b`` (the energy seen from the orbiting
+    frame plus the gradient's potential; Hughes §9.1): a run's ``drift.jacobi`` measures its
+    error. ``|L|`` and ``L`` in space are not kept.
+
+    Parameters
+    ----------
+    orbit_rate : float
+        The orbit's rate ``n = √(μ / R³)``, radians per unit time, positive.
+
+    Raises
+    ------
+    ValueError
+        `orbit_rate` not positive and finite.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> sat = dz.System(dz.Body((2.0, 3.0, 1.5)), torques=[dz.GravityGradient(0.1)])
+    >>> traj = dz.simulate(sat, *dz.lvlh_start(0.1, pitch=0.01), t_end=60.0, method="dop853")
+    >>> traj.drift.kept
+    ('q_norm', 'jacobi')
+    >>> bool(traj.drift.jacobi < 1e-8)
+    True
+    """
+
+    __slots__ = ("orbit_rate", "_core")
+
+    orbit_rate: float
+
+    def __init__(self, orbit_rate: Any) -> None:
+        self.orbit_rate = as_float("orbit_rate", orbit_rate, positive=True)
+        self._core = _core.Torque.gravity_gradient(self.orbit_rate)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (GravityGradient, (self.orbit_rate,))
+
+    def __repr__(self) -> str:
+        return f"GravityGradient(orbit_rate={self.orbit_rate!r})"
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, GravityGradient) and self.orbit_rate == other.orbit_rate
+
+    def __hash__(self) -> int:
+        return hash(("gravity_gradient", self.orbit_rate))
+
+
+class ConstantTorque:
+    """A constant external torque, fixed in body axes or in space.
+
+    It keeps nothing but ``|q| = 1`` (``System.conserved`` says so, and a run's ``drift.kept``).
+    It spins the body up without bound: the step planned for ``dt=None`` is the start's, so
+    a long run wants an adaptive method (``"dop853"``) or a ``dt`` of its own.
+
+    Parameters
+    ----------
+    vector : array_like, shape (3,)
+        The torque, finite.
+    frame : {"body", "world"}
+        The axes it is fixed in: the body's own (``"body"``) or space's (``"world"``).
+
+    Raises
+    ------
+    ValueError
+        A `vector` not of shape (3,) or not finite; an unknown `frame`.
+    TypeError
+        A `frame` that is not a string.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> push = dz.System(dz.Body((1.0, 2.0, 3.0)), torques=[dz.ConstantTorque((0, 0, 0.1))])
+    >>> traj = dz.simulate(push, (0.0, 0.0, 0.0), t_end=10.0, method="rk4", dt=0.01)
+    >>> round(float(traj.omega[-1, 2]), 12)   # τ t / I_z
+    0.333333333333
+    """
+
+    __slots__ = ("vector", "frame", "_core")
+
+    vector: tuple[float, float, float]
+    frame: str
+
+    def __init__(self, vector: Any, frame: Any = "body") -> None:
+        v = as_array("vector", vector, "(3,)", last=3, ndim=(1,))
+        if not isinstance(frame, str):
+            raise TypeError(f"`frame` must be 'body' or 'world', got {type(frame).__name__}")
+        if frame not in _FRAMES:
+            raise ValueError(f"`frame` must be 'body' or 'world', got {frame!r}")
+        self.vector = (float(v[0]), float(v[1]), float(v[2]))
+        self.frame = frame
+        self._core = _core.Torque.constant(self.vector, frame)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (ConstantTorque, (self.vector, self.frame))
+
+    def __repr__(self) -> str:
+        return f"ConstantTorque(vector={self.vector!r}, frame={self.frame!r})"
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, ConstantTorque) and self.vector == other.vector
+                and self.frame == other.frame)
+
+    def __hash__(self) -> int:
+        return hash(("constant", self.vector, self.frame))
+
+
+Torque = GravityGradient | ConstantTorque
+"""The external torques a system takes."""
+
+
+class Wheel:
+    """A momentum wheel: a rotor spinning about a fixed body `axis` with constant relative
+    angular momentum `momentum` (a gyrostat; Hughes, *Spacecraft Attitude Dynamics*, ch. 6).
+
+    The body's tensor counts the rotor as a rigid part. In body axes
+    ``I ω' = (I ω + Σ h a) × ω`` (plus the external torque): without torques the total
+    angular momentum ``H = I ω + Σ h a`` is fixed in space, and the body's energy
+    ``½ ωᵀ I ω`` is kept too (``h`` is constant). Several wheels, any axes, add up. A wheel
+    has no state of its own (nothing in ``traj.parts``); ``traj.momentum_world`` counts it.
+
+    Parameters
+    ----------
+    axis : array_like, shape (3,)
+        The spin axis in the body's own axes, finite and not zero (normalised).
+    momentum : float
+        The rotor's angular momentum relative to the body along `axis`, finite.
+
+    Raises
+    ------
+    ValueError
+        An `axis` of the wrong shape, not finite or zero; a `momentum` not finite.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> dual = dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Wheel((0, 1, 0), 2.0)])
+    >>> dual.kinds, dual.conserved
+    (('wheel',), ('momentum', 'momentum_world', 'q_norm'))
+    """
+
+    __slots__ = ("axis", "momentum", "_core")
+
+    axis: tuple[float, float, float]
+    momentum: float
+
+    def __init__(self, axis: Any, momentum: Any) -> None:
+        a = as_array("axis", axis, "(3,)", last=3, ndim=(1,))
+        if not np.any(a):
+            raise ValueError("`axis` must not be zero, got (0, 0, 0)")
+        self.axis = (float(a[0]), float(a[1]), float(a[2]))
+        self.momentum = as_float("momentum", momentum)
+        self._core = _core.Wheel(self.axis, self.momentum)
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        return (Wheel, (self.axis, self.momentum))
+
+    def __repr__(self) -> str:
+        return f"Wheel(axis={self.axis!r}, momentum={self.momentum!r})"
+
+    def __eq__(self, other: object) -> bool:
+        return (isinstance(other, Wheel) and self.axis == other.axis
+                and self.momentum == other.momentum)
+
+    def __hash__(self) -> int:
+        return hash(("wheel", self.axis, self.momentum))
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of scalar-first quaternions, broadcast over leading axes."""
+    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
+    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
+    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
+
+
+# world-from-LVLH at t = 0: columns o1 = +y, o2 = −z, o3 = −x
+_Q_LVLH0 = np.array([0.5, -0.5, -0.5, 0.5])
+
+
+def lvlh_frame(t: Any, orbit_rate: Any) -> np.ndarray:
+    """The orbiting frame's attitude at times `t`: world-from-LVLH quaternions, scalar first.
+
+    Parameters
+    ----------
+    t : array_like
+        Times, any shape.
+    orbit_rate : float
+        The orbit's rate ``n``, positive.
+
+    Returns
+    -------
+    ndarray, shape t.shape + (4,)
+        ``q_o(t) = q_z(nt) ⊗ q_o(0)``, whose rotation has the columns along-track, minus the
+        orbit normal and nadir (see the module doc).
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> dz.lvlh_frame(0.0, 1.0).tolist()
+    [0.5, -0.5, -0.5, 0.5]
+    """
+    n = as_float("orbit_rate", orbit_rate, positive=True)
+    half = 0.5 * n * np.asarray(t, dtype=np.float64)
+    turn = np.stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)],
+                    axis=-1)
+    return _product(turn, _Q_LVLH0)
+
+
+def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
+    """The attitude relative to the orbiting frame: LVLH-from-body quaternions
+    ``q_o(t)* ⊗ q(t)``, scalar first, one a frame.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A run (its ``t`` and ``q``); a :class:`Batch` too (quaternions ``(runs, frames, 4)``).
+    orbit_rate : float, optional
+        The orbit's rate; by default the run's system's :class:`GravityGradient`'s.
+
+    Returns
+    -------
+    ndarray, shape q.shape
+        Identity where the body's axes are along-track, minus orbit normal and nadir.
+
+    Raises
+    ------
+    ValueError
+        No `orbit_rate` given and the run's system has no gravity gradient.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> sat = dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityGradient(1.0)])
+    >>> traj = dz.simulate(sat, *dz.lvlh_start(1.0), t_end=5.0, method="dop853", rtol=1e-10)
+    >>> bool(abs(dz.lvlh_attitude(traj)[:, 0]).min() > 1 - 1e-9)   # stays aligned
+    True
+    """
+    if orbit_rate is None:
+        rates = [t.orbit_rate for t in getattr(getattr(traj, "system", None), "torques", ())
+                 if isinstance(t, GravityGradient)]
+        if not rates:
+            raise ValueError("`orbit_rate` must be given: the run's system has no "
+                             "dz.GravityGradient")
+        orbit_rate = rates[0]
+    q = np.asarray(traj.q, dtype=np.float64)
+    frame = lvlh_frame(traj.t, orbit_rate)
+    conj = frame * np.array([1.0, -1.0, -1.0, -1.0])
+    return _product(conj, q)
+
+
+def lvlh_start(orbit_rate: Any, q_rel: Any = (1.0, 0.0, 0.0, 0.0), omega_rel: Any = (0.0, 0.0, 0.0),
+               *, pitch: Any = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The start ``(omega0, q0)`` at ``t = 0`` of a body with attitude `q_rel` and rates
+    `omega_rel` relative to the orbiting frame, for :func:`~dzhanibekov.simulate`.
+
+    ``q0 = q_o(0) ⊗ q_rel`` and ``ω0 = ω_rel + n ẑ_b``, with ``ẑ_b`` the orbit normal in
+    body axes: at rest in LVLH a body still turns at ``n`` about the orbit normal.
+
+    Parameters
+    ----------
+    orbit_rate : float
+        The orbit's rate ``n``, positive.
+    q_rel : array_like, shape (4,)
+        LVLH-from-body attitude, scalar first (normalised); identity: aligned.
+    omega_rel : array_like, shape (3,)
+        Rates relative to the orbiting frame, in body axes.
+    pitch : float, optional
+        A pitch angle (radians, about ``o2``, minus the orbit normal) applied after `q_rel`.
+
+    Returns
+    -------
+    omega0 : ndarray, shape (3,)
+    q0 : ndarray, shape (4,)
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> omega0, q0 = dz.lvlh_start(0.5)
+    >>> omega0.tolist(), q0.tolist()
+    ([0.0, -0.5, 0.0], [0.5, -0.5, -0.5, 0.5])
+    """
+    n = as_float("orbit_rate", orbit_rate, positive=True)
+    q = as_array("q_rel", q_rel, "(4,)", last=4, ndim=(1,))
+    norm = float(np.linalg.norm(q))
+    if norm == 0.0:
+        raise ValueError("`q_rel` must not be zero")
+    w = as_array("omega_rel", omega_rel, "(3,)", last=3, ndim=(1,))
+    angle = as_float("pitch", pitch)
+    turn = np.array([math.cos(angle / 2), 0.0, math.sin(angle / 2), 0.0])
+    q = _product(q / norm, turn)
+    q0 = _product(_Q_LVLH0, q)
+    # the orbit normal, world +z, is −o2: in body axes −M(q)ᵀ e2 (M's second row)
+    u0, u1, u2, u3 = q
+    o2 = np.array([2 * (u1 * u2 + u0 * u3), u0 * u0 - u1 * u1 + u2 * u2 - u3 * u3,
+                   2 * (u2 * u3 - u0 * u1)])
+    return w - n * o2, q0
+
+
+def pitch_libration_rate(inertia: Any, orbit_rate: Any) -> float:
+    """The angular frequency of small pitch librations about the LVLH equilibrium,
+    ``n √(3 (I_x − I_z) / I_y)``, for principal moments `inertia` ``(I_x, I_y, I_z)`` along
+    along-track (roll), minus orbit normal (pitch) and nadir (yaw) (Hughes, *Spacecraft
+    Attitude Dynamics*, 1986, §9.3: ``I_y θ'' + 3 n² (I_x − I_z) θ = 0``).
+
+    Raises
+    ------
+    ValueError
+        ``I_x ≤ I_z``: the pitch equilibrium is unstable, nothing librates.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> round(dz.pitch_libration_rate((2.0, 3.0, 1.0), 1.0), 12)
+    1.0
+    """
+    i = as_array("inertia", inertia, "(3,)", last=3, ndim=(1,))
+    n = as_float("orbit_rate", orbit_rate, positive=True)
+    if not i[0] > i[2]:
+        raise ValueError(f"`inertia` must have I_x > I_z for a stable pitch, got {tuple(i)}")
+    return n * math.sqrt(3.0 * (i[0] - i[2]) / i[1])
+
+
+def dual_spin_threshold(inertia: Any, axis: Any, rate: Any) -> tuple[float, float]:
+    """The wheel momenta that leave a spin unstable: a spin at `rate` ``Ω`` about principal
+    axis `axis` (``k``) with a wheel of momentum ``h`` along it is unstable for ``h`` strictly
+    between ``Ω (I_i − I_k)`` and ``Ω (I_j − I_k)`` (``i``, ``j`` the other two axes), stable
+    outside.
+
+    Linearising ``I ω' = (I ω + h e_k) × ω`` about ``ω = Ω e_k`` gives
+    ``I_i ω_i' = ±((I_k − I_j) Ω + h) ω_j`` and ``I_j ω_j' = ∓((I_i − I_k) Ω − h) ω_i``: the
+    spin is stable when the product of the brackets is negative (the gyrostat's dual-spin
+    rule; Hughes, *Spacecraft Attitude Dynamics*, 1986, ch. 6). For the intermediate axis the
+    interval holds 0 (a spin without wheel flips); a wheel beyond ``Ω (I_max − I_mid)`` along
+    the spin (or beyond ``Ω (I_mid − I_min)`` against it) stops the flips. For the major or
+    minor axis, ``h = 0`` is outside: a plain spin is (linearly) stable.
+
+    Parameters
+    ----------
+    inertia : array_like, shape (3,)
+        Principal moments.
+    axis : int
+        The spin axis: 0, 1 or 2.
+    rate : float
+        The spin rate ``Ω`` (its sign sets which way ``h`` counts as along the spin).
+
+    Returns
+    -------
+    (low, high) : tuple of float
+        The open interval of unstable ``h`` (empty when equal).
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> dz.dual_spin_threshold((1.0, 2.0, 3.0), axis=1, rate=1.0)
+    (-1.0, 1.0)
+    """
+    i = as_array("inertia", inertia, "(3,)", last=3, ndim=(1,))
+    if isinstance(axis, bool) or not isinstance(axis, (int, np.integer)) or axis not in (0, 1, 2):
+        raise ValueError(f"`axis` must be 0, 1 or 2, got {axis!r}")
+    w = as_float("rate", rate)
+    k = int(axis)
+    a, b = (w * (i[m] - i[k]) for m in range(3) if m != k)
+    return (float(min(a, b)), float(max(a, b)))

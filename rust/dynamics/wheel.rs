@@ -1,0 +1,78 @@
+//! A momentum wheel, a part of a body (a gyrostat): a symmetric rotor spinning about an axis
+//! `a` fixed in the body, carrying the angular momentum `h a` relative to the body (Hughes,
+//! *Spacecraft Attitude Dynamics*, 1986, ch. 6, the gyrostat).
+//!
+//! **Variables** (body axes): the body's tensor `I` counts the rotor as a rigid part; its
+//! relative momentum `h` is held constant (a motor keeps the rotor's spin relative to the
+//! body). The total angular momentum is `H = I ω + Σ h a`, so that
+//!
+//! ```text
+//! ω  = I⁻¹ (H − Σ h a)
+//! H' = H × ω (+ τ_b)        I ω' = (I ω + Σ h a) × ω (+ τ_b)
+//! ```
+//!
+//! Without an external torque `H` is fixed in space and, `h` being constant, the body's
+//! kinetic energy `½ ωᵀ I ω` is kept too (`ω · (H × ω) = 0`). A wheel has no state of its
+//! own: its momentum is a parameter of the model.
+
+use nalgebra::Vector3;
+
+use crate::error::{Error, Result};
+
+/// A momentum wheel (see the module doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Wheel {
+    /// The unit spin axis in body axes.
+    axis: Vector3<f64>,
+    /// The relative angular momentum `h` along it.
+    momentum: f64,
+}
+
+impl Wheel {
+    /// A wheel spinning about `axis` (body axes, any non-zero length: normalised here) with
+    /// relative angular momentum `momentum`.
+    ///
+    /// # Errors
+    /// An `axis` that is not finite or has zero length; a `momentum` that is not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::Wheel;
+    /// let w = Wheel::try_new([0.0, 2.0, 0.0], 0.5).unwrap();
+    /// assert_eq!(w.momentum_body().y, 0.5);
+    /// assert!(Wheel::try_new([0.0, 0.0, 0.0], 0.5).is_err());
+    /// ```
+    pub fn try_new(axis: [f64; 3], momentum: f64) -> Result<Self> {
+        let a = Vector3::from(axis);
+        let norm = a.norm();
+        if !(a.iter().all(|v| v.is_finite()) && norm > 0.0 && norm.is_finite()) {
+            return Err(Error::invalid(
+                "axis",
+                "must be three finite numbers, not all zero",
+                axis,
+            ));
+        }
+        if !momentum.is_finite() {
+            return Err(Error::invalid("momentum", "must be finite", momentum));
+        }
+        Ok(Self {
+            axis: a / norm,
+            momentum,
+        })
+    }
+
+    /// The unit spin axis in body axes.
+    pub fn axis(&self) -> Vector3<f64> {
+        self.axis
+    }
+
+    /// The relative angular momentum along the axis.
+    pub fn momentum(&self) -> f64 {
+        self.momentum
+    }
+
+    /// `h a`, in body axes.
+    pub fn momentum_body(&self) -> Vector3<f64> {
+        self.axis * self.momentum
+    }
+}
