@@ -247,7 +247,15 @@ def lvlh_frame(t: Any, orbit_rate: Any) -> np.ndarray:
     [0.5, -0.5, -0.5, 0.5]
     """
     n = as_float("orbit_rate", orbit_rate, positive=True)
-    half = 0.5 * n * np.asarray(t, dtype=np.float64)
+    if isinstance(t, (str, bytes)) or t is None:
+        raise TypeError(f"`t` must be times (a number or an array of them), got {t!r}")
+    try:
+        times = np.asarray(t, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"`t` must be times (a number or an array of them), got {t!r}") from None
+    if not np.isfinite(times).all():
+        raise ValueError("`t` must hold finite times")
+    half = 0.5 * n * times
     turn = np.stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)],
                     axis=-1)
     return _product(turn, _Q_LVLH0)
@@ -282,6 +290,10 @@ def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
     >>> bool(abs(dz.lvlh_attitude(traj)[:, 0]).min() > 1 - 1e-9)   # stays aligned
     True
     """
+    from .results import Batch, Trajectory  # results imports this module's classes
+
+    if not isinstance(traj, (Trajectory, Batch)):
+        raise TypeError(f"`traj` must be a Trajectory or a Batch, got {type(traj).__name__}")
     if orbit_rate is None:
         rates = [t.orbit_rate for t in getattr(getattr(traj, "system", None), "torques", ())
                  if isinstance(t, GravityGradient)]
