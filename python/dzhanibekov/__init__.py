@@ -24,14 +24,14 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
-from .orbit import (ConstantTorque, GravityGradient, Wheel, lvlh_attitude, lvlh_frame,
-                    lvlh_start, pitch_libration_rate, dual_spin_threshold)
+from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
 from .flips import flip_period
 from .io import ReadError, load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
+from .lvlh import lvlh_attitude, lvlh_frame, lvlh_start
 from . import scenes
 from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo

@@ -209,7 +209,7 @@ def check_sweep(kwargs: dict[str, Any], result: Any, caught: list[warnings.Warni
                 try:
                     dz.summarize(**one)
                 except dz.TooLargeError:  # alone, refused before it runs: no run either
-                    pass
+                    continue
                 except ValueError as exc:  # the run alone fails as the sweep says
                     why = {"diverged": "diverged", "too many steps": "max_steps",
                            "too many flips": "flip"}[str(result.status.flat[i])]

@@ -1,0 +1,171 @@
+"""The orbiting (LVLH) frame: where a body in a circular orbit is, and its attitude
+relative to the frame that follows the orbit.
+
+**The orbit.** A circular orbit of rate ``n`` in the world x–y plane: the body's centre is
+at ``r̂(t) = (cos nt, sin nt, 0)`` from the planet (``t = 0`` at world +x), the orbit normal
+is world +z. **The orbiting frame** (LVLH, Hughes's ``F_o``) has its axes, in world axes,
+
+- ``o1 = (−sin nt, cos nt, 0)``: along-track (the velocity),
+- ``o2 = (0, 0, −1)``: minus the orbit normal,
+- ``o3 = (−cos nt, −sin nt, 0)``: nadir (toward the planet),
+
+and turns at ``n`` about the orbit normal (``−o2``). A body aligned with it and at rest in it
+has body rates ``ω = (0, −n, 0)``; :func:`lvlh_start` gives the start of any attitude and
+rates relative to it. Roll, pitch and yaw are the turns about ``o1``, ``o2``, ``o3``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ._args import as_array, as_float
+from .orbit import GravityGradient
+from .results import Batch, Trajectory
+
+__all__ = ["lvlh_frame", "lvlh_attitude", "lvlh_start"]
+
+
+def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton products of scalar-first quaternions, broadcast over leading axes."""
+    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
+    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
+    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
+
+
+# world-from-LVLH at t = 0: columns o1 = +y, o2 = −z, o3 = −x
+_Q_LVLH0 = np.array([0.5, -0.5, -0.5, 0.5])
+
+
+def lvlh_frame(t: Any, orbit_rate: Any) -> np.ndarray:
+    """The orbiting frame's attitude at times `t`: world-from-LVLH quaternions, scalar first.
+
+    Parameters
+    ----------
+    t : array_like
+        Times, any shape.
+    orbit_rate : float
+        The orbit's rate ``n``, positive.
+
+    Returns
+    -------
+    ndarray, shape t.shape + (4,)
+        ``q_o(t) = q_z(nt) ⊗ q_o(0)``, whose rotation has the columns along-track, minus the
+        orbit normal and nadir (see the module doc).
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> dz.lvlh_frame(0.0, 1.0).tolist()
+    [0.5, -0.5, -0.5, 0.5]
+    """
+    n = as_float("orbit_rate", orbit_rate, positive=True)
+    if isinstance(t, (str, bytes)) or t is None:
+        raise TypeError(f"`t` must be times (a number or an array of them), got {t!r}")
+    try:
+        times = np.asarray(t, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"`t` must be times (a number or an array of them), got {t!r}") from None
+    if not np.isfinite(times).all():
+        raise ValueError("`t` must hold finite times")
+    half = 0.5 * n * times
+    turn = np.stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)],
+                    axis=-1)
+    return _product(turn, _Q_LVLH0)
+
+
+def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
+    """The attitude relative to the orbiting frame: LVLH-from-body quaternions
+    ``q_o(t)* ⊗ q(t)``, scalar first, one a frame.
+
+    Parameters
+    ----------
+    traj : Trajectory
+        A run (its ``t`` and ``q``); a :class:`Batch` too (quaternions ``(runs, frames, 4)``).
+    orbit_rate : float, optional
+        The orbit's rate; by default the run's system's :class:`GravityGradient`'s.
+
+    Returns
+    -------
+    ndarray, shape q.shape
+        Identity where the body's axes are along-track, minus orbit normal and nadir.
+
+    Raises
+    ------
+    ValueError
+        No `orbit_rate` given and the run's system has no gravity gradient.
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> sat = dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityGradient(1.0)])
+    >>> traj = dz.simulate(sat, *dz.lvlh_start(1.0), t_end=5.0, method="dop853", rtol=1e-10)
+    >>> bool(abs(dz.lvlh_attitude(traj)[:, 0]).min() > 1 - 1e-9)   # stays aligned
+    True
+    """
+    if not isinstance(traj, (Trajectory, Batch)):
+        raise TypeError(f"`traj` must be a Trajectory or a Batch, got {type(traj).__name__}")
+    if orbit_rate is None:
+        rates = [t.orbit_rate for t in getattr(getattr(traj, "system", None), "torques", ())
+                 if isinstance(t, GravityGradient)]
+        if not rates:
+            raise ValueError("`orbit_rate` must be given: the run's system has no "
+                             "dz.GravityGradient")
+        orbit_rate = rates[0]
+    q = np.asarray(traj.q, dtype=np.float64)
+    frame = lvlh_frame(traj.t, orbit_rate)
+    conj = frame * np.array([1.0, -1.0, -1.0, -1.0])
+    return _product(conj, q)
+
+
+def lvlh_start(orbit_rate: Any, q_rel: Any = (1.0, 0.0, 0.0, 0.0), omega_rel: Any = (0.0, 0.0, 0.0),
+               *, pitch: Any = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The start ``(omega0, q0)`` at ``t = 0`` of a body with attitude `q_rel` and rates
+    `omega_rel` relative to the orbiting frame, for :func:`~dzhanibekov.simulate`.
+
+    ``q0 = q_o(0) ⊗ q_rel`` and ``ω0 = ω_rel + n ẑ_b``, with ``ẑ_b`` the orbit normal in
+    body axes: at rest in LVLH a body still turns at ``n`` about the orbit normal.
+
+    Parameters
+    ----------
+    orbit_rate : float
+        The orbit's rate ``n``, positive.
+    q_rel : array_like, shape (4,)
+        LVLH-from-body attitude, scalar first (normalised); identity: aligned.
+    omega_rel : array_like, shape (3,)
+        Rates relative to the orbiting frame, in body axes.
+    pitch : float, optional
+        A pitch angle (radians, about ``o2``, minus the orbit normal) applied after `q_rel`.
+
+    Returns
+    -------
+    omega0 : ndarray, shape (3,)
+    q0 : ndarray, shape (4,)
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> omega0, q0 = dz.lvlh_start(0.5)
+    >>> omega0.tolist(), q0.tolist()
+    ([0.0, -0.5, 0.0], [0.5, -0.5, -0.5, 0.5])
+    """
+    n = as_float("orbit_rate", orbit_rate, positive=True)
+    q = as_array("q_rel", q_rel, "(4,)", last=4, ndim=(1,))
+    norm = float(np.linalg.norm(q))
+    if norm == 0.0:
+        raise ValueError("`q_rel` must not be zero")
+    w = as_array("omega_rel", omega_rel, "(3,)", last=3, ndim=(1,))
+    angle = as_float("pitch", pitch)
+    turn = np.array([math.cos(angle / 2), 0.0, math.sin(angle / 2), 0.0])
+    q = _product(q / norm, turn)
+    q0 = _product(_Q_LVLH0, q)
+    # the orbit normal, world +z, is −o2: in body axes −M(q)ᵀ e2 (M's second row)
+    u0, u1, u2, u3 = q
+    o2 = np.array([2 * (u1 * u2 + u0 * u3), u0 * u0 - u1 * u1 + u2 * u2 - u3 * u3,
+                   2 * (u2 * u3 - u0 * u1)])
+    return w - n * o2, q0
