@@ -78,10 +78,7 @@ impl Stepper<7, FreeRigidBody> for CrouchGrossman3 {
             &mul(&exp(&k1.map(|k| B[0] * k)), &exp(&k2.map(|k| B[1] * k))),
             &exp(&k3.map(|k| B[2] * k)),
         );
-        let mut q = mul(&[x[3], x[4], x[5], x[6]], &p);
-        let mut l = rotate_back(&p, &l0);
-        self.norms.pull_back(&mut l, &mut q);
-        *x = [l[0], l[1], l[2], q[0], q[1], q[2], q[3]];
+        self.norms.turn(x, &p, &l0);
     }
 
     /// `L = I ω`.

@@ -5,7 +5,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{amax, dot, mul, rotate_back, scale_momentum, solve3, Norms};
+use super::lie::{amax, dot, scale_momentum, solve3, Norms};
 
 /// Newton's iteration stops once its correction is below this fraction of the unknown: the
 /// error left is then about the square of it, round-off.
@@ -184,10 +184,7 @@ impl<const MODIFIED: bool> DiscreteMoserVeselov<MODIFIED> {
         }
         let norm = 1.0 / (1.0 + dot(&c, &c)).sqrt();
         let p = [norm, norm * c[0], norm * c[1], norm * c[2]];
-        let mut q = mul(&[x[3], x[4], x[5], x[6]], &p);
-        let mut l = rotate_back(&p, &l);
-        self.norms.pull_back(&mut l, &mut q);
-        *x = [l[0], l[1], l[2], q[0], q[1], q[2], q[3]];
+        self.norms.turn(x, &p, &l);
         n
     }
 }

@@ -169,6 +169,16 @@ impl Norms {
         }
     }
 
+    /// The step's end: the body turned by `p` (body-frame, unit) from `x` — `q ← q ⊗ p`, the
+    /// momentum seen from the turned axes `L ← R(p)ᵀ l0` — pulled back and stored in `x`.
+    #[inline(always)]
+    pub(crate) fn turn(&self, x: &mut [f64; 7], p: &[f64; 4], l0: &[f64; 3]) {
+        let mut q = mul(&[x[3], x[4], x[5], x[6]], p);
+        let mut l = rotate_back(p, l0);
+        self.pull_back(&mut l, &mut q);
+        *x = [l[0], l[1], l[2], q[0], q[1], q[2], q[3]];
+    }
+
     /// Pulls `l` and `q` back toward `|L₀|` and 1 if they have wandered.
     #[inline(always)]
     pub(crate) fn pull_back(&self, l: &mut [f64; 3], q: &mut [f64; 4]) {

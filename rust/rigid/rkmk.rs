@@ -4,7 +4,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{cross, exp, mul, rotate_back, scale_momentum, Norms};
+use super::lie::{cross, exp, rotate_back, scale_momentum, Norms};
 
 /// The classical fourth-order Runge–Kutta method lifted to the rotation group by Munthe-Kaas's
 /// construction (RKMK4), explicit, working on `[L, q]` (observers see `[ω, q]`).
@@ -88,10 +88,7 @@ impl Stepper<7, FreeRigidBody> for Rkmk4 {
             (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]) * (1.0 / 6.0) + c14[j] * (1.0 / 12.0)
         });
         let p = exp(&sigma);
-        let mut q = mul(&[x[3], x[4], x[5], x[6]], &p);
-        let mut l = rotate_back(&p, &l0);
-        self.norms.pull_back(&mut l, &mut q);
-        *x = [l[0], l[1], l[2], q[0], q[1], q[2], q[3]];
+        self.norms.turn(x, &p, &l0);
     }
 
     /// `L = I ω`.
