@@ -44,6 +44,7 @@ from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
+from ..lvlh import jacobi_values
 from ..results import Trajectory
 
 __all__ = [
@@ -649,12 +650,15 @@ def omega_figure(scene: Drawable, *, ax: Axes | None = None,
 def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
                       save: str | Path | None = None) -> Figure:
     """The drift of the invariants against time, log scale: relative energy and ``|L|``, the
-    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``.
+    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``. Under an
+    external torque the energy and angular momentum are the torque's to change, not kept:
+    the figure draws what the model keeps instead (``|q| − 1``, and in the gravity gradient
+    the Jacobi integral, relative to its largest term).
 
     Returns
     -------
     Figure
-        Four lines, labelled by invariant; exact zeros (the first frame) are not drawn.
+        A line per invariant, labelled; exact zeros (the first frame) are not drawn.
     """
     result = compute(scene)
     _need(result, "invariants figure")
@@ -663,13 +667,17 @@ def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
     inv = traj.invariants()  # the run's own system's, as the run's drift measures them
     l_body = np.linalg.norm(inv["momentum_body"], axis=1)
     l0 = float(l_body[0])
-    series = {
+    series = {} if traj.system.torques else {
         "energy  |E/E₀ − 1|": _relative(inv["energy"], float(inv["energy"][0])),
         "|L|  ||L|/|L₀| − 1|": _relative(l_body, l0),
         "L in space  |L − L₀|/|L₀|": np.linalg.norm(
             inv["momentum_world"] - inv["momentum_world"][0], axis=1) / (l0 if l0 > 0 else 1.0),
-        "|q| − 1": np.abs(inv["q_norm"] - 1),
     }
+    if "jacobi" in traj.system.conserved:
+        j = jacobi_values(traj)
+        series["Jacobi integral  |J − J₀|/max|J|"] = np.abs(j - j[0]) / max(
+            float(np.abs(j).max()), np.finfo(float).tiny)
+    series["|q| − 1"] = np.abs(inv["q_norm"] - 1)
     if ax is None:
         fig = Figure(figsize=(7.0, 3.4), layout="constrained")
         ax = fig.add_subplot()
