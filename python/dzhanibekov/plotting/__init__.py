@@ -1,9 +1,10 @@
 """Everything drawn, with matplotlib: the figures of a scene or a trajectory (:mod:`.figures`),
-stability maps of a sweep (:mod:`.maps`), a Monte Carlo study's figure (:mod:`.study`), the
+stability maps of a sweep (:mod:`.maps`), the dual-spin and gravity-gradient maps
+(:mod:`.stability`), a Monte Carlo study's figure (:mod:`.study`), the
 animation (:func:`animation`, a ``FuncAnimation`` for notebooks) and its GIF/MP4 files
 (:mod:`.movie`)."""
 
-from . import maps, movie, study
+from . import maps, movie, stability, study
 from .figures import (
     FIGURE_FUNCTIONS,
     animation,
@@ -15,6 +16,7 @@ from .figures import (
     phases_figure,
     polhode_figure,
 )
+from .stability import dual_spin_figure, gravity_gradient_figure
 from .study import study_figure
 
 __all__ = [
@@ -23,6 +25,9 @@ __all__ = [
     "movie",
     "study",
     "study_figure",
+    "stability",
+    "dual_spin_figure",
+    "gravity_gradient_figure",
     "compute",
     "phases_figure",
     "path_figure",
