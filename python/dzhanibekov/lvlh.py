@@ -201,8 +201,11 @@ def jacobi_values(traj: Trajectory) -> np.ndarray:
                             1 - 2 * (q1 * q1 + q2 * q2)], -1)], -2)
     z_b = m[..., 2, :]
     r_b = np.cos(n * traj.t)[:, None] * m[..., 0, :] + np.sin(n * traj.t)[:, None] * m[..., 1, :]
-    tensors = np.stack([traj.system.tensor_at(float(t)) for t in traj.t])
-    potential = np.einsum("fi,fij,fj->f", r_b, tensors, r_b)
+    if traj.system.kinds.count("deployment"):
+        tensors = np.stack([traj.system.tensor_at(float(t)) for t in traj.t])
+        potential = np.einsum("fi,fij,fj->f", r_b, tensors, r_b)
+    else:  # a constant body
+        potential = np.einsum("fi,ij,fj->f", r_b, traj.system.tensor_at(0.0), r_b)
     h_dot = np.einsum("fi,fi->f", z_b, inv["momentum_body"])
     values: np.ndarray = inv["energy"] - n * h_dot + 1.5 * n * n * potential
     return values

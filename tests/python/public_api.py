@@ -833,10 +833,20 @@ def check_result(kwargs: dict[str, Any], result: Any, caught: list[warnings.Warn
 
 def figure_args(figure: str) -> st.SearchStrategy[dict[str, Any]]:
     needs = {"phases": {}, "path": {"path": True}}.get(figure, {})
+    # the orbit's figures draw what only a run in orbit, or with a wheel, has
+    # (by a method that runs them: the scenes' own may be the free body's exact solution)
+    system = {"lvlh": {"orbit": dz.GravityGradient(0.7), "method": "rk4"},
+              "wheel_off": {"wheel": dz.Wheel((0.0, 0.0, 1.0), 2.0), "method": "rk4"}
+              }.get(figure, {})
 
     def build(fields: dict[str, Any]) -> dz.Scene:
         d = fields["draw"]
         fields["draw"] = dz.scenes.Draw(**{**d.__dict__, **needs})
+        fields.update(system)
+        if system:
+            fields.pop("deployment", None)
+            fields.pop("damper", None)
+            fields.pop("sigma0", None)
         return quiet_scene(fields)
 
     return scene_fields(figures=(figure,)).map(build).map(lambda s: {"scene": s})

@@ -11,10 +11,12 @@ from .figures import (
     compute,
     fig3_figure,
     invariants_figure,
+    lvlh_figure,
     omega_figure,
     path_figure,
     phases_figure,
     polhode_figure,
+    wheel_off_figure,
 )
 from .stability import dual_spin_figure, gravity_gradient_figure
 from .study import study_figure
@@ -35,5 +37,7 @@ __all__ = [
     "omega_figure",
     "invariants_figure",
     "polhode_figure",
+    "lvlh_figure",
+    "wheel_off_figure",
     "FIGURE_FUNCTIONS",
 ]
