@@ -14,7 +14,9 @@ was.
 table per kind (:data:`LAYOUTS`): each variable's dimensions, type and values (finite, unit
 quaternions to the run's own recorded drift, times that start at 0 and increase, flip
 counts that match the flip times …), each attribute, and the rules that tie them together;
-then each run's system is rebuilt (the core checks its body, deployment and parts as when
+then each run's system is rebuilt (its wheels and torques from their tables, padded between a
+batch's runs: :func:`dzhanibekov._tables.wheel_vars`, :func:`dzhanibekov._tables.torque_vars`;
+the core checks its body, deployment, parts and torques as when
 the run was made) and what the loaded result derives from it (principal moments, energy,
 angular momentum) must be what the file says. Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
 what is wrong. A new field of a result is one row of its table.

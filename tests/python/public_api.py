@@ -630,7 +630,9 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     if not (math.isfinite(dt) and dt > 0):
         dt = t_end
     method = draw(st.sampled_from(FREE_METHODS))
-    chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(FIGURES), unique=True, max_size=3)))
+    # (the orbit's figures need an orbit or a wheel: `figure_args` gives them one)
+    chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(
+        [f for f in FIGURES if f not in ("lvlh", "wheel_off")]), unique=True, max_size=3)))
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
         name=draw(st.from_regex(NAME_RE, fullmatch=True)),

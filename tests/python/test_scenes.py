@@ -391,6 +391,13 @@ def test_bad_orbit_keys_are_refused_naming_the_key(old, new, key, detail):
                                                                  err.value.detail)
 
 
+@pytest.mark.parametrize("figure, table", [("lvlh", "[orbit]"), ("wheel_off", "[wheel]")])
+def test_an_orbit_figure_without_its_orbit_or_wheel_is_refused_naming_the_key(figure, table):
+    with pytest.raises(dz.SceneError) as err:
+        dz.SCENES["fig3a"].replace(draw=Draw(figures=(figure,)))
+    assert err.value.key == "draw.figures" and table in err.value.detail
+
+
 def test_an_orbit_scene_with_a_deployment_is_refused_naming_the_key():
     with pytest.raises(dz.SceneError) as err:
         dz.SCENES["deployment"].replace(orbit=dz.GravityGradient(1.0))

@@ -383,6 +383,14 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     draw = _draw(src, v["draw"], run["t_end"])
     ellipsoid = _ellipsoid(src, v["ellipsoid"])
     models = _models(src, v)
+    given_system = v["given"]
+    has = {"lvlh": v.get("orbit") is not None or (given_system is not None and any(
+               isinstance(t, GravityGradient) for t in given_system.torques)),
+           "wheel_off": v.get("wheel") is not None or (given_system is not None and any(
+               isinstance(p, Wheel) for p in given_system.parts))}
+    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]")):
+        if figure in draw.figures and not has[figure]:
+            raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
 
     if draw.box and box is None and body.shape is None:
         derived = uniform_box(inertia)
