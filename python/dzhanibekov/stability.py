@@ -1,7 +1,8 @@
 """Stability where wheels and orbits decide it: maps computed by runs, beside their closed forms.
 
 - :func:`dual_spin_map`: a spin about each principal axis with a wheel along it, over the
-  wheel's momentum ``h``; the largest tilt of the spin axis in space from a small nudge,
+  wheel's momentum ``h``; the largest angle of the body's rate from the spin axis after a
+  small nudge,
   against :func:`~dzhanibekov.dual_spin_threshold` (unstable for ``h`` strictly inside its
   interval).
 - :func:`gravity_gradient_map`: a body at rest in the orbiting frame (LVLH), nudged, over the
@@ -118,8 +119,8 @@ def _axes(axes: Any) -> tuple[int, ...]:
 
 @dataclass(frozen=True, eq=False)
 class DualSpinMap:
-    """What :func:`dual_spin_map` measured: per spin axis and wheel momentum, the largest tilt
-    of the spin axis in space from its start.
+    """What :func:`dual_spin_map` measured: per spin axis and wheel momentum, the largest
+    angle of the body's angular velocity from the spin axis.
 
     Attributes
     ----------
@@ -131,13 +132,14 @@ class DualSpinMap:
         The spin axes, one row each.
     momenta : ndarray, shape (H,)
         The wheel momenta ``h`` (along the spin axis), one column each.
-    tilt : ndarray, shape (len(axes), H)
-        The largest angle (rad) between the spin axis in space and its start over the run.
+    departure : ndarray, shape (len(axes), H)
+        The largest angle (rad) between the body's angular velocity ω and the spin axis
+        (body axes; π when the spin reverses) over the run.
     thresholds : ndarray, shape (len(axes), 2)
         :func:`~dzhanibekov.dual_spin_threshold` of each axis: the open interval of unstable
         ``h``.
     limit : float
-        The tilt (rad) above which a run counts as departed (:attr:`stable`).
+        The departure (rad) above which a run counts as departed (:attr:`stable`).
     nudge, t_end : float
         The transverse rates of the start, and the length of each run.
     """
@@ -146,7 +148,7 @@ class DualSpinMap:
     rate: float
     axes: tuple[int, ...]
     momenta: np.ndarray
-    tilt: np.ndarray
+    departure: np.ndarray
     thresholds: np.ndarray
     limit: float
     nudge: float
@@ -155,7 +157,7 @@ class DualSpinMap:
     @property
     def stable(self) -> np.ndarray:
         """Whether each run's spin axis stayed within :attr:`limit` of its start."""
-        return np.asarray(self.tilt < self.limit)
+        return np.asarray(self.departure < self.limit)
 
     @property
     def predicted(self) -> np.ndarray:
@@ -176,10 +178,12 @@ def dual_spin_map(inertia: Any, momenta: Any, *, axes: Any = (0, 1, 2), rate: An
     For each spin axis ``k`` in `axes` and each ``h`` in `momenta`, a body of principal
     moments `inertia` with a :class:`~dzhanibekov.Wheel` of momentum ``h`` along ``e_k``
     starts spinning at ``ω = Ω e_k`` plus `nudge` about each other axis (one batch of runs);
-    the map is the largest angle the spin axis turns away from its start direction in space.
-    A spin the wheel stabilises wobbles by about the nudge; an unstable one departs by far
-    more than `limit` (a flip: near π; 1 % of ``h`` inside the unstable interval, 0.1 rad
-    and more for moments of order one). The closed form's interval
+    the map is the largest angle of the body's angular velocity from the spin axis ``e_k``
+    (body axes). A spin the wheel stabilises wobbles by about the nudge; an unstable one
+    departs by far more than `limit` (a flip reverses the spin: π; 1 % of ``h`` inside the
+    unstable interval, 0.1 rad and more for moments of order one). (The spin axis's tilt in
+    space would not do: at ``h = −I_k Ω`` the total angular momentum along it vanishes and a
+    stable spin's axis wanders in space.) The closed form's interval
     (:func:`~dzhanibekov.dual_spin_threshold`) goes with the map.
 
     Parameters
@@ -198,11 +202,11 @@ def dual_spin_map(inertia: Any, momenta: Any, *, axes: Any = (0, 1, 2), rate: An
         Each run's length; by default 400 / ``|Ω|`` (about 64 turns), which shows a departure
         growing at 1 % of ``h`` from the threshold of a body with moments of order one.
     frames, method, dt
-        As for :func:`~dzhanibekov.simulate`: the tilt is measured at the frames. The
+        As for :func:`~dzhanibekov.simulate`: the departure is measured at the frames. The
         default, ``"dop853"``, picks each run's steps (RK4's planned step, shared by the
         batch and bounded for the largest ``h``, is some hundred times shorter).
     limit : float
-        The tilt (rad) that counts as departed, in (0, π).
+        The departure (rad) that counts as departed, in (0, π).
 
     Returns
     -------
@@ -245,15 +249,13 @@ def dual_spin_map(inertia: Any, momenta: Any, *, axes: Any = (0, 1, 2), rate: An
     batch = simulate(systems, np.array(omega0), t_end=end, frames=frames_, method=method,
                      dt=dt, flips=False, progress=False)
     assert isinstance(batch, Batch)
-    tilt = np.empty((len(axes_), len(h)))
+    departure = np.empty((len(axes_), len(h)))
     for a, k in enumerate(axes_):
-        e = np.zeros(3)
-        e[k] = 1.0
-        rows = slice(a * len(h), (a + 1) * len(h))
-        spin = rotate(batch.q[rows].reshape(-1, 4), e).reshape(len(h), frames_, 3)
-        tilt[a] = _angle(spin, spin[:, :1]).max(axis=1)
+        rows = batch.omega[a * len(h):(a + 1) * len(h)]
+        across = np.linalg.norm(np.delete(rows, k, axis=2), axis=2)
+        departure[a] = np.arctan2(across, rows[:, :, k] * math.copysign(1.0, w)).max(axis=1)
     thresholds = np.array([dual_spin_threshold(body.inertia, k, w) for k in axes_])
-    return DualSpinMap(inertia=body.inertia, rate=w, axes=axes_, momenta=h, tilt=tilt,
+    return DualSpinMap(inertia=body.inertia, rate=w, axes=axes_, momenta=h, departure=departure,
                        thresholds=thresholds, limit=lim, nudge=eps, t_end=end)
 
 

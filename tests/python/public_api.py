@@ -1396,9 +1396,9 @@ ENTRIES: dict[str, Entry] = {
                  "frames": st.sampled_from([1, 0, -3, 2.5, "10", None]),
                  "limit": st.sampled_from([0.0, 4.0, math.nan, "1", None])},
         check=lambda kw, m, _: _assert(
-            m.tilt.shape == m.predicted.shape == (len(m.axes), len(kw["momenta"]))
-            and bool(np.isfinite(m.tilt).all()) and bool((m.tilt >= 0).all())
-            and bool((m.tilt <= math.pi + 1e-12).all())),
+            m.departure.shape == m.predicted.shape == (len(m.axes), len(kw["momenta"]))
+            and bool(np.isfinite(m.departure).all()) and bool((m.departure >= 0).all())
+            and bool((m.departure <= math.pi + 1e-12).all())),
         covers=(dz.dual_spin_map, dz.DualSpinMap),
         warns=(dz.InertiaWarning, dz.StepSizeWarning),
         examples=30,

@@ -30,9 +30,10 @@ _COLOURS = ("tab:blue", "tab:orange", "tab:green")
 
 def dual_spin_figure(result: DualSpinMap, *, ax: Axes | None = None,
                      save: str | Path | None = None) -> Figure:
-    """The dual-spin map: per spin axis, the largest tilt of the spin axis against the
-    wheel's momentum ``h`` (log scale), with the closed form's unstable interval of ``h``
-    shaded in the axis's colour and the tilt that counts as departed dashed.
+    """The dual-spin map: per spin axis, the largest angle of the body's rate from the spin
+    axis against the wheel's momentum ``h`` (log scale), with the closed form's unstable
+    interval of ``h`` shaded in the axis's colour and the angle that counts as departed
+    dashed.
 
     Parameters
     ----------
@@ -54,8 +55,8 @@ def dual_spin_figure(result: DualSpinMap, *, ax: Axes | None = None,
         fig = Figure(figsize=(7.0, 3.6), layout="constrained")
         ax = fig.add_subplot()
     fig = _figure_of(ax)
-    tiny = max(float(np.min(result.tilt[result.tilt > 0], initial=np.inf)), 1e-16) \
-        if (result.tilt > 0).any() else 1e-16
+    tiny = max(float(np.min(result.departure[result.departure > 0], initial=np.inf)), 1e-16) \
+        if (result.departure > 0).any() else 1e-16
     for row, k in enumerate(result.axes):
         colour = _COLOURS[k]
         low, high = result.thresholds[row]
@@ -64,13 +65,13 @@ def dual_spin_figure(result: DualSpinMap, *, ax: Axes | None = None,
             for edge in (low, high):
                 ax.axvline(edge, color=colour, lw=0.8, ls=":")
         moment = result.inertia[k]
-        ax.plot(result.momenta, np.maximum(result.tilt[row], tiny), "o-", ms=3, lw=1.0,
+        ax.plot(result.momenta, np.maximum(result.departure[row], tiny), "o-", ms=3, lw=1.0,
                 color=colour, label=f"spin about {_AXIS_NAMES[k]} (I = {moment:g})")
     ax.axhline(result.limit, color="0.3", lw=0.8, ls="--",
-               label=f"departed: tilt > {result.limit:g} rad")
+               label=f"departed: > {result.limit:g} rad")
     ax.set_yscale("log")
     ax.set_xlabel("wheel momentum h along the spin axis")
-    ax.set_ylabel("largest tilt of the spin axis (rad)")
+    ax.set_ylabel("largest angle of ω from the spin axis (rad)")
     ax.set_title(f"dual spin, Ω = {result.rate:g}, nudge {result.nudge:g}·Ω, t = "
                  f"{result.t_end:g}: shaded, the closed form's unstable h", fontsize=9)
     ax.legend(loc="lower right", fontsize=7)
