@@ -37,6 +37,8 @@ from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
 from .montecarlo import MonteCarlo, StudyError, monte_carlo
 from .simulate import rotate, simulate
+from .stability import (DualSpinMap, GravityGradientMap, dual_spin_map, gravity_gradient_map,
+                        gravity_gradient_moments, gravity_gradient_region)
 from .summary import Summary, summarize
 
 __all__ = [
@@ -57,6 +59,12 @@ __all__ = [
     "lvlh_start",
     "pitch_libration_rate",
     "dual_spin_threshold",
+    "dual_spin_map",
+    "DualSpinMap",
+    "gravity_gradient_map",
+    "GravityGradientMap",
+    "gravity_gradient_region",
+    "gravity_gradient_moments",
     "StiffDamperWarning",
     "damper_rate",
     "FLAT_SHARE",

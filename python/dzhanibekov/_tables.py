@@ -31,10 +31,13 @@ from typing import Any
 import numpy as np
 
 from .body import tensor_moments
+from .damper import Damper
+from .orbit import ConstantTorque, GravityGradient, Wheel
 
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
            "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
-           "system_vars", "knot_vars", "DRIFTS", "QUATERNION", "AXIS"]
+           "system_vars", "knot_vars", "wheel_vars", "torque_vars", "unstorable", "DRIFTS",
+           "QUATERNION", "AXIS", "TORQUE_KINDS", "TORQUE_FRAMES"]
 
 AXIS = ("x", "y", "z")
 QUATERNION = ("Q", "U", "V", "W")
@@ -81,13 +84,28 @@ def _coords(t: np.ndarray) -> dict[str, Any]:
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
-UNSAVED_KINDS = ("wheel", "gravity_gradient", "torque")
-"""Models whose parameters a file does not hold yet: `dz.save` refuses their runs (a file that
-loads as another system would lie); `to_xarray` gives their states without them."""
+TORQUE_KINDS = ("gravity_gradient", "constant")
+"""What ``torque_kind`` names: one row of the torque table per torque, its parameters in the
+columns of its kind (NaN, or ``""`` for text, in the others'; see :func:`system_vars`)."""
+
+TORQUE_FRAMES = ("body", "world")
 
 
-def unsaved_kinds(kinds: Any) -> list[str]:
-    return [k for k in UNSAVED_KINDS if k in tuple(kinds)]
+def unstorable(system: Any) -> list[str]:
+    """What of `system` a file cannot hold (its parameters would be lost, and the file would
+    load as another system): the parts and torques of kinds the layout has no columns for
+    (a wheel whose momentum is not one number, a torque that is not a gravity gradient or a
+    constant torque), by their type's name. Empty when the whole system can be saved."""
+    out: list[str] = []
+    for part in getattr(system, "parts", ()):
+        if isinstance(part, Wheel) and not isinstance(part.momentum, float):
+            out.append("a wheel with a momentum schedule")
+        elif not isinstance(part, (Damper, Wheel)):
+            out.append(type(part).__name__)
+    for torque in getattr(system, "torques", ()):
+        if type(torque) not in (GravityGradient, ConstantTorque):
+            out.append(type(torque).__name__)
+    return out
 
 
 def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
@@ -95,7 +113,9 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
     index of the leading dims `lead`: ``()`` for one run, ``("run",)`` for a batch), so that
     a file rebuilds each run's own system (`dzhanibekov.io`): the body's tensor in its own
     axes (with its mass and centre of mass), or a deployment's knots (NaN-padded between
-    runs); each damper's sphere, coefficient and start (NaN: co-rotating)."""
+    runs); each damper's sphere, coefficient and start (NaN: co-rotating); the wheels (dim
+    ``wheel``) and the torques (dim ``torque``), see :func:`wheel_vars` and
+    :func:`torque_vars`."""
     items = list(systems)
     first = items[0]
     kinds = tuple(first.kinds)
@@ -123,7 +143,73 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
         out["damper_sigma0"] = (lead + ("axis",), squeeze(sigma0),
                                 {"long_name": "damper sphere's initial rate, body axes (NaN: "
                                  "co-rotating)"})
+    out |= wheel_vars(items, lead) | torque_vars(items, lead)
     return out
+
+
+def wheel_vars(systems: list[Any], lead: tuple[str, ...]) -> dict[str, Any]:
+    """The wheels of each system, one row per wheel (dim ``wheel``, padded between runs):
+    ``wheel_axis`` as given (not normalised), ``wheel_momentum``, and ``wheel_position``, the
+    wheel's index in ``System.parts`` (the damper, if any, takes the index left free), so
+    that the loaded system has its parts in their order. Padding: NaN, position −1. None
+    when no system has a wheel. (A momentum schedule would add ``wheel_knot`` columns.)"""
+    wheels = [[(k, p) for k, p in enumerate(s.parts) if isinstance(p, Wheel)] for s in systems]
+    w = max(len(row) for row in wheels)
+    if not w:
+        return {}
+    squeeze = _squeeze(lead)
+    axis = np.full((len(systems), w, 3), np.nan)
+    momentum = np.full((len(systems), w), np.nan)
+    position = np.full((len(systems), w), -1, dtype=np.int64)
+    for i, row in enumerate(wheels):
+        for j, (k, wheel) in enumerate(row):
+            axis[i, j], momentum[i, j], position[i, j] = wheel.axis, wheel.momentum, k
+    return {
+        "wheel_axis": (lead + ("wheel", "axis"), squeeze(axis),
+                       {"long_name": "wheel's spin axis, body axes, as given (NaN-padded)"}),
+        "wheel_momentum": (lead + ("wheel",), squeeze(momentum),
+                           {"long_name": "wheel's angular momentum relative to the body "
+                            "along its axis (NaN-padded)"}),
+        "wheel_position": (lead + ("wheel",), squeeze(position),
+                           {"long_name": "wheel's index among the system's parts (-1: "
+                            "padding)"}),
+    }
+
+
+def torque_vars(systems: list[Any], lead: tuple[str, ...]) -> dict[str, Any]:
+    """The external torques of each system, one row per torque in their order (dim
+    ``torque``, padded between runs): ``torque_kind`` (one of :data:`TORQUE_KINDS`, ``""``
+    for padding) and the columns of each kind, NaN (or ``""``) in the rows of the others:
+    ``torque_orbit_rate`` (a gravity gradient's), ``torque_vector`` and ``torque_frame`` (a
+    constant torque's). None when no system has a torque. A new kind of torque is a new value
+    of ``torque_kind`` and its own columns (a table: ``torque_knot`` columns, NaN-padded)."""
+    rows = [list(s.torques) for s in systems]
+    m = max(len(row) for row in rows)
+    if not m:
+        return {}
+    squeeze = _squeeze(lead)
+    kind = np.full((len(systems), m), "", dtype=object)
+    frame = np.full((len(systems), m), "", dtype=object)
+    rate = np.full((len(systems), m), np.nan)
+    vector = np.full((len(systems), m, 3), np.nan)
+    for i, row in enumerate(rows):
+        for j, torque in enumerate(row):
+            if isinstance(torque, GravityGradient):
+                kind[i, j], rate[i, j] = "gravity_gradient", torque.orbit_rate
+            else:
+                kind[i, j], vector[i, j], frame[i, j] = "constant", torque.vector, torque.frame
+    return {
+        "torque_kind": (lead + ("torque",), squeeze(kind.astype(str)),
+                        {"long_name": "kind of external torque ('' : padding)"}),
+        "torque_orbit_rate": (lead + ("torque",), squeeze(rate),
+                              {"long_name": "gravity gradient's orbit rate (NaN: another "
+                               "kind)"}),
+        "torque_vector": (lead + ("torque", "axis"), squeeze(vector),
+                          {"long_name": "constant torque (NaN: another kind)"}),
+        "torque_frame": (lead + ("torque",), squeeze(frame.astype(str)),
+                         {"long_name": "axes a constant torque is fixed in: body or world "
+                          "('' : another kind)"}),
+    }
 
 
 def _squeeze(lead: tuple[str, ...]) -> Callable[[np.ndarray], np.ndarray]:

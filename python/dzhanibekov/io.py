@@ -4,7 +4,7 @@
   `MonteCarlo` study as a netCDF-4 file (xarray with the h5netcdf engine; the ``io`` extra;
   :mod:`dzhanibekov.netcdf`). Arrays round-trip bit for bit, and the file carries what is
   needed to rebuild the object: each run's system (the body's tensor, a deployment's knots,
-  the parts with their parameters), every part's state, so that what a loaded run derives
+  the parts with their parameters, the wheels and the external torques), every part's state, so that what a loaded run derives
   (energy, angular momentum in space) is the saved run's, bit for bit.
 - :func:`write_aem` / :func:`read_aem`: the attitudes of a trajectory (or of every run of a
   batch) as a CCSDS Attitude Ephemeris Message (CCSDS 504.0-B-2, KVN), the text file

@@ -169,3 +169,43 @@ def lvlh_start(orbit_rate: Any, q_rel: Any = (1.0, 0.0, 0.0, 0.0), omega_rel: An
     o2 = np.array([2 * (u1 * u2 + u0 * u3), u0 * u0 - u1 * u1 + u2 * u2 - u3 * u3,
                    2 * (u2 * u3 - u0 * u1)])
     return w - n * o2, q0
+
+
+def jacobi_values(traj: Trajectory) -> np.ndarray:
+    """The Jacobi integral ``J = T − n ẑ_b·H + (3/2) n² r̂_bᵀ I r̂_b`` at every frame of a run in
+    the gravity gradient (Hughes, *Spacecraft Attitude Dynamics*, 1986, §9.1; ``T`` and
+    ``H`` the run's own energy and total angular momentum in body axes, wheels included;
+    ``ẑ_b`` the orbit normal and ``r̂_b`` the direction from the planet, in body axes):
+    what a figure draws of the run's ``drift.jacobi``. For the figures; the run's drift is
+    the core's own measure.
+
+    Raises
+    ------
+    ValueError
+        The run's system has no :class:`GravityGradient`.
+    """
+    rates = [t.orbit_rate for t in traj.system.torques if isinstance(t, GravityGradient)]
+    if not rates:
+        raise ValueError("`traj` must be a run in the gravity gradient (dz.GravityGradient)")
+    n = rates[0]
+    inv = traj.invariants()
+    q = np.asarray(traj.q, dtype=np.float64)
+    q = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    q0, q1, q2, q3 = np.moveaxis(q, -1, 0)
+    # rows of M(q) (world-from-body): a world vector v in body axes is Mᵀ v
+    m = np.stack([np.stack([1 - 2 * (q2 * q2 + q3 * q3), 2 * (q1 * q2 - q0 * q3),
+                            2 * (q1 * q3 + q0 * q2)], -1),
+                  np.stack([2 * (q1 * q2 + q0 * q3), 1 - 2 * (q1 * q1 + q3 * q3),
+                            2 * (q2 * q3 - q0 * q1)], -1),
+                  np.stack([2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1),
+                            1 - 2 * (q1 * q1 + q2 * q2)], -1)], -2)
+    z_b = m[..., 2, :]
+    r_b = np.cos(n * traj.t)[:, None] * m[..., 0, :] + np.sin(n * traj.t)[:, None] * m[..., 1, :]
+    if traj.system.kinds.count("deployment"):
+        tensors = np.stack([traj.system.tensor_at(float(t)) for t in traj.t])
+        potential = np.einsum("fi,fij,fj->f", r_b, tensors, r_b)
+    else:  # a constant body
+        potential = np.einsum("fi,ij,fj->f", r_b, traj.system.tensor_at(0.0), r_b)
+    h_dot = np.einsum("fi,fi->f", z_b, inv["momentum_body"])
+    values: np.ndarray = inv["energy"] - n * h_dot + 1.5 * n * n * potential
+    return values

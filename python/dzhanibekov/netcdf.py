@@ -14,7 +14,9 @@ was.
 table per kind (:data:`LAYOUTS`): each variable's dimensions, type and values (finite, unit
 quaternions to the run's own recorded drift, times that start at 0 and increase, flip
 counts that match the flip times …), each attribute, and the rules that tie them together;
-then each run's system is rebuilt (the core checks its body, deployment and parts as when
+then each run's system is rebuilt (its wheels and torques from their tables, padded between a
+batch's runs: :func:`dzhanibekov._tables.wheel_vars`, :func:`dzhanibekov._tables.torque_vars`;
+the core checks its body, deployment, parts and torques as when
 the run was made) and what the loaded result derives from it (principal moments, energy,
 angular momentum) must be what the file says. Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
 what is wrong. A new field of a result is one row of its table.
@@ -40,6 +42,7 @@ from .damper import Damper
 from .deployment import Deployment
 from .methods import METHODS
 from .montecarlo import MonteCarlo
+from .orbit import ConstantTorque, GravityGradient, Wheel
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
 from .system import System, Systems
 
@@ -318,6 +321,8 @@ PART_NAMES = ("damper",)
 _BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
 _KNOT_VARS = ("knot_times", "knot_tensors")
 _DAMPER_VARS = ("damper_inertia", "damper_damping", "damper_sigma0")
+_WHEEL_VARS = ("wheel_axis", "wheel_momentum", "wheel_position")
+_TORQUE_VARS = ("torque_kind", "torque_orbit_rate", "torque_vector", "torque_frame")
 _DERIVED = ("energy", "momentum_body", "momentum_world")
 _KEPT = (*_tables.DRIFTS, "jacobi")
 
@@ -332,8 +337,8 @@ def system_parts(d: Loaded) -> str | None:
     deployment's knots, and each named part's parameters and state; none for an empty
     batch."""
     runs = _runs(d)
-    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *PART_NAMES,
-                                 *_DERIVED) if name in d.values]
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *_WHEEL_VARS,
+                                 *_TORQUE_VARS, *PART_NAMES, *_DERIVED) if name in d.values]
     if runs == 0:
         return None if not present else f"`{present[0]}` must not be there: the batch is empty"
     body = [name in d.values for name in _BODY_VARS]
@@ -358,7 +363,70 @@ def system_parts(d: Loaded) -> str | None:
         if (s0.any(axis=1) != s0.all(axis=1)).any():
             return "`damper_sigma0` must be three rates, or NaN for each (co-rotating)"
     if "knot_times" in d.values:
-        return _knots_padded(d["knot_times"], d["knot_tensors"])
+        problem = _knots_padded(d["knot_times"], d["knot_tensors"])
+        if problem:
+            return problem
+    return _wheels_padded(d) or _torques_padded(d)
+
+
+def _first_then(valid: np.ndarray) -> bool:
+    """Whether each row of `valid` (runs, k) is True first, then False."""
+    n = valid.sum(axis=1)
+    return bool((valid == (np.arange(valid.shape[1]) < n[:, None])).all())
+
+
+def _wheels_padded(d: Loaded) -> str | None:
+    """Each run's wheels first, then padding; their positions and the damper's (if any)
+    number the parts 0, 1, …"""
+    have = [name in d.values for name in _WHEEL_VARS]
+    if not any(have):
+        return None
+    if not all(have):
+        return "`wheel_axis`, `wheel_momentum` and `wheel_position` must be there together"
+    position = d["wheel_position"].reshape(-1, d["wheel_position"].shape[-1])
+    axis = d["wheel_axis"].reshape(len(position), -1, 3)
+    momentum = d["wheel_momentum"].reshape(len(position), -1)
+    valid = position >= 0
+    if not _first_then(valid) or (position[~valid] != -1).any():
+        return "`wheel_position` must hold each run's wheels first, then -1"
+    if not (np.isfinite(axis).all(axis=2) == valid).all() or \
+            not np.isnan(axis[~valid]).all() or not (np.isfinite(momentum) == valid).all():
+        return ("`wheel_axis` and `wheel_momentum` must be finite for each run's wheels and "
+                "NaN beyond them")
+    damper = 1 if "damper_inertia" in d.values else 0
+    for i, row in enumerate(position):
+        taken = sorted(row[row >= 0].tolist())
+        parts = len(taken) + damper
+        if len(set(taken)) != len(taken) or any(k >= parts for k in taken):
+            return (f"`wheel_position` of run {i} must number its wheels among its {parts} "
+                    f"parts (0 … {parts - 1}, each once), got {taken}")
+    return None
+
+
+def _torques_padded(d: Loaded) -> str | None:
+    """Each run's torques first, then padding; each row has its kind's parameters and
+    nothing in the columns of the other kinds."""
+    have = [name in d.values for name in _TORQUE_VARS]
+    if not any(have):
+        return None
+    if not all(have):
+        return f"`{'`, `'.join(_TORQUE_VARS)}` must be there together"
+    kind = d["torque_kind"].reshape(-1, d["torque_kind"].shape[-1])
+    frame = d["torque_frame"].reshape(kind.shape)
+    rate = d["torque_orbit_rate"].reshape(kind.shape)
+    vector = d["torque_vector"].reshape(kind.shape + (3,))
+    if not _first_then(kind != ""):
+        return "`torque_kind` must hold each run's torques first, then ''"
+    gradient, constant = kind == "gravity_gradient", kind == "constant"
+    finite_vector = np.isfinite(vector).all(axis=2)
+    if not (np.isfinite(rate) == gradient).all() or not np.isnan(rate[~gradient]).all():
+        return "`torque_orbit_rate` must be a number exactly for a gravity gradient, else NaN"
+    if not (finite_vector == constant).all() or not np.isnan(vector[~constant]).all():
+        return "`torque_vector` must be a vector exactly for a constant torque, else NaN"
+    if not (np.isin(frame[constant], _tables.TORQUE_FRAMES)).all() or \
+            (frame[~constant] != "").any():
+        return ("`torque_frame` must be 'body' or 'world' for a constant torque, '' for any "
+                "other")
     return None
 
 
@@ -396,13 +464,33 @@ def _systems(d: Loaded) -> list[System]:
         com = rows("body_center_of_mass")
         bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
                                  com[i]) for i in range(n)]
-    parts: list[list[Damper]] = [[] for _ in range(n)]
+    parts: list[dict[int, Damper | Wheel]] = [{} for _ in range(n)]
+    if "wheel_position" in d.values:
+        position, axis = rows("wheel_position"), rows("wheel_axis")
+        momentum = rows("wheel_momentum")
+        for i in range(n):
+            for k, a, h in zip(position[i], axis[i], momentum[i]):
+                if k >= 0:
+                    parts[i][int(k)] = Wheel(tuple(a.tolist()), float(h))
     if "damper_inertia" in d.values:
         j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
         for i in range(n):
-            parts[i].append(Damper(float(j[i]), float(c[i]),
-                                   None if np.isnan(s0[i]).any() else s0[i]))
-    return [System(b, parts=p) for b, p in zip(bodies, parts)]
+            free = next(k for k in range(len(parts[i]) + 1) if k not in parts[i])
+            parts[i][free] = Damper(float(j[i]), float(c[i]),
+                                    None if np.isnan(s0[i]).any() else s0[i])
+    torques: list[list[GravityGradient | ConstantTorque]] = [[] for _ in range(n)]
+    if "torque_kind" in d.values:
+        kind, rate = rows("torque_kind"), rows("torque_orbit_rate")
+        vector, frame = rows("torque_vector"), rows("torque_frame")
+        for i in range(n):
+            for k, kd in enumerate(kind[i]):
+                if kd == "gravity_gradient":
+                    torques[i].append(GravityGradient(float(rate[i, k])))
+                elif kd == "constant":
+                    torques[i].append(ConstantTorque(tuple(vector[i, k].tolist()),
+                                                     str(frame[i, k])))
+    return [System(b, parts=[p[k] for k in sorted(p)], torques=t)
+            for b, p, t in zip(bodies, parts, torques)]
 
 
 def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
@@ -611,6 +699,15 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
         "damper_damping": Var(lead, "f", (finite, non_negative), optional=_OPT),
         "damper_sigma0": Var(lead + ("axis",), "f", (finite_or_nan,), optional=_OPT),
         "damper": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "wheel_axis": Var(lead + ("wheel", "axis"), "f", (finite_or_nan,), optional=_OPT),
+        "wheel_momentum": Var(lead + ("wheel",), "f", (finite_or_nan,), optional=_OPT),
+        "wheel_position": Var(lead + ("wheel",), "i", optional=_OPT),
+        "torque_kind": Var(lead + ("torque",), "U", (one_of(("", *_tables.TORQUE_KINDS)),),
+                           optional=_OPT),
+        "torque_orbit_rate": Var(lead + ("torque",), "f", (finite_or_nan,), optional=_OPT),
+        "torque_vector": Var(lead + ("torque", "axis"), "f", (finite_or_nan,), optional=_OPT),
+        "torque_frame": Var(lead + ("torque",), "U", (one_of(("", *_tables.TORQUE_FRAMES)),),
+                            optional=_OPT),
         "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
         "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
         "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
@@ -812,12 +909,15 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
     if kind is None:
         raise TypeError(f"`result` must be a Trajectory, Batch, Sweep, DeploymentSweep or "
                         f"MonteCarlo, got {type(result).__name__}")
-    system = getattr(result, "system", None) or getattr(
-        getattr(result, "systems", None), "first", None)
-    if system is not None and (unsaved := _tables.unsaved_kinds(system.kinds)):
-        raise ValueError(f"`result` is a run of a system with {', '.join(unsaved)}, which a "
-                         "file cannot hold yet (its parameters would be lost): keep its "
-                         "arrays with result.to_xarray().to_netcdf(path) or numpy.savez")
+    systems: Any = (result.system,) if isinstance(result, Trajectory) else \
+        (result.systems.shared,) if isinstance(result, Batch) and result.systems.shared \
+        else result.systems.each or () if isinstance(result, Batch) else ()
+    for system in systems:  # (a batch of principal moments is of free bodies)
+        if unsaved := _tables.unstorable(system):
+            raise ValueError(f"`result` is a run of a system with {', '.join(unsaved)}, "
+                             "which a file cannot hold yet (its parameters would be lost): "
+                             "keep its arrays with result.to_xarray().to_netcdf(path) or "
+                             "numpy.savez")
     p = as_path(path)
     suffix = p.suffix.lower()
     if suffix not in SUFFIXES:

@@ -56,7 +56,7 @@ def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):
     assert json.loads((out / "stable-largest.json").read_text())["flip_times"] == []
     captured = capsys.readouterr()
     table = captured.out
-    for name in dz.SCENES:
+    for name in PAPER_RENDER:
         assert name in table
     # a line on stderr as each scene's figures and each animation are done (not a terminal:
     # no bars), counted; the table comes after them, on stdout
@@ -95,6 +95,16 @@ def test_run_takes_a_shipped_scene_by_name_and_replaces_files_in_place(tmp_path)
     assert main(["run", "fig3b", "--out", str(out)]) == 0
     assert (out / "keep.txt").read_text() == "mine"
     assert_picture(out / "fig3b-omega.png")
+
+
+@pytest.mark.parametrize("name", ["gravity-gradient", "dual-spin"])
+def test_run_renders_the_orbit_scenes(name, tmp_path):
+    out = tmp_path / "out"
+    assert main(["run", name, "--out", str(out), "--no-progress"]) == 0
+    expected = {f"{name}-{f}.png" for f in dz.SCENES[name].draw.figures} | {f"{name}.json"}
+    assert {p.name for p in out.iterdir()} == expected
+    for path in out.glob("*.png"):
+        assert_picture(path)
 
 
 def test_a_bad_scene_file_is_named_with_its_key_and_nothing_is_written(tmp_path, capsys):

@@ -19,6 +19,7 @@ import pytest  # noqa: E402
 from scipy.spatial.transform import Rotation  # noqa: E402
 
 import dzhanibekov as dz  # noqa: E402
+from dzhanibekov.methods import METHODS  # noqa: E402
 from dzhanibekov.plotting import figures as plotting  # noqa: E402
 from dzhanibekov.scenes.scene import Draw  # noqa: E402
 
@@ -226,6 +227,48 @@ def test_a_run_at_any_rate_is_the_run_at_unit_rate_scaled(method, k):
     assert tuple(scaled.drift) == tuple(unit.drift) and scaled.n_steps == unit.n_steps
 
 
+# bodies in orbit: moments scaled by 2^a, rates (and the orbit's) by 2^k, time by 2^-k; a
+# torque scales as I ω², by 2^(a + 2k), a wheel's momentum as I ω, by 2^(a + k): the motion is
+# the same, and in the motion's own units the run is the same bits
+_ORBIT_MODELS = {
+    "gravity_gradient": (lambda m, s: dict(torques=[dz.GravityGradient(0.8 * s)]),
+                         ("rk4", "dop853", "splitting_exact")),
+    "body_torque": (lambda m, s: dict(torques=[dz.ConstantTorque(
+        np.array([0.1, -0.2, 0.05]) * (m * s * s))]), ("rk4", "dop853", "splitting_exact")),
+    "world_torque": (lambda m, s: dict(torques=[dz.ConstantTorque(
+        np.array([0.0, 0.3, -0.1]) * (m * s * s), frame="world")]),
+                     ("rk4", "dop853", "splitting_exact")),
+    "wheels_in_orbit": (lambda m, s: dict(parts=[dz.Wheel((0, 1, 0), 0.7 * m * s)],
+                                          torques=[dz.GravityGradient(0.8 * s)]),
+                        ("rk4", "dop853")),
+    "wheel": (lambda m, s: dict(parts=[dz.Wheel((1, 1, 0), -0.4 * m * s)]),
+              ("rk4_projected", "dopri5")),
+}
+_SCALES = [(900, 0), (-900, 0), (0, 900), (0, -900), (900, -450), (-900, 450), (600, -900)]
+
+
+@pytest.mark.parametrize("a, k", _SCALES, ids=[f"I2^{a},w2^{k}" for a, k in _SCALES])
+@pytest.mark.parametrize("model", list(_ORBIT_MODELS))
+def test_a_run_in_orbit_at_any_scale_is_the_unit_run_scaled(model, a, k):
+    make, methods = _ORBIT_MODELS[model]
+    if model.endswith("_torque") and abs(a + 2 * k) > 1000:
+        pytest.skip("the torque itself, 2^(a + 2k) of order one, is beyond float64")
+    inertia = np.array([2.0, 3.0, 1.5])
+    omega, q0 = np.array([0.3, -0.7, 1.1]), np.array([0.6, -0.2, 0.7, 0.3])
+    m, s = 2.0**a, 2.0**k
+    for method in methods:
+        dt = None if METHODS[method].adaptive else 0.01
+        unit = dz.simulate(dz.System(dz.Body(inertia), **make(1.0, 1.0)), omega, q0,
+                           t_end=10.0, frames=11, dt=dt, method=method)
+        scaled = dz.simulate(dz.System(dz.Body(inertia * m), **make(m, s)), omega * s, q0,
+                             t_end=10.0 / s, frames=11, dt=None if dt is None else dt / s,
+                             method=method)
+        np.testing.assert_array_equal(scaled.q, unit.q, err_msg=method)
+        np.testing.assert_array_equal(scaled.omega / s, unit.omega, err_msg=method)
+        assert tuple(scaled.drift) == tuple(unit.drift), method
+        assert scaled.n_steps == unit.n_steps, method
+
+
 def test_a_span_beyond_float64_in_the_motions_units_is_named():
     with pytest.warns(dz.StepSizeWarning), \
             pytest.raises(ValueError, match=r"t_end · max\|omega0\|"):
@@ -261,10 +304,13 @@ def test_figures_of_a_body_at_rest_draw_without_warnings():
                      omega0=(0.0, 0.0, 0.0), t_end=1.0, frames=3, signal_point=(0.0, 0.0, 0.0),
                      draw=Draw(path=True, momentum=True,
                                figures=("path", "omega", "invariants", "polhode", "phases")))
+    # the orbit's figures draw a run in orbit, or with a wheel: the same body at rest there
+    needs = {"lvlh": dict(orbit=dz.GravityGradient(1.0)),
+             "wheel_off": dict(wheel=dz.Wheel((0.0, 0.0, 1.0), 0.5))}
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for name, figure in plotting.FIGURE_FUNCTIONS.items():
-            figure(scene).canvas.draw()
+            figure(scene.replace(**needs[name]) if name in needs else scene).canvas.draw()
 
 
 def test_phases_need_at_least_one_column():

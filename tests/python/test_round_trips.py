@@ -5,10 +5,15 @@ the figures, the viewer, a batch and a sweep. What is checked cannot be faked by
 result read back equals the one written bit for bit, derived quantities included; the energy and
 the angular momentum in space a result reports are those of the run's own body, recomputed here
 from its tensor (½ ω·Iω and q ⊗ Iω ⊗ q̄, the textbook formulas); a batch's rows are its single
-runs; the momentum in space is constant for every kind (none has an external torque).
+runs; the momentum in space is constant for every kind without an external torque, and for the
+kinds with one it changes as the torque says (a constant torque in space: by τ t; the gravity
+gradient: the Jacobi integral, recomputed here from its textbook formula, is kept).
 """
 
+
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import pytest
@@ -28,6 +33,20 @@ SYSTEMS = [
     ("damper", dz.System(dz.Body((10.0, 9.5, 1.0)), parts=[dz.Damper(0.05, 0.02)]),
      (0.02, 0.01, 1.0)),
     ("tensor_damper", dz.System(TILTED, parts=[dz.Damper(0.05, 0.02, sigma0=(0.0, 0.0, 0.5))]),
+     (0.02, 0.01, 1.0)),
+    ("wheel", dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Wheel((0, 1, 0), 1.5)]),
+     (0.01, 1.0, 0.01)),
+    # parts in an order of their own (a damper between two wheels) and a tilted body
+    ("wheels_damper", dz.System(TILTED, parts=[dz.Wheel((1, 1, 0), 0.3), dz.Damper(0.05, 0.02),
+                                               dz.Wheel((0, 0, 2), -0.2)]), (0.02, 0.01, 1.0)),
+    ("gravity_gradient", dz.System(dz.Body((2.0, 3.0, 1.5)), torques=[dz.GravityGradient(0.5)]),
+     (0.01, -0.45, 0.02)),
+    ("world_torque", dz.System(dz.Body((1.0, 2.0, 3.0)),
+                               torques=[dz.ConstantTorque((0.0, 0.02, -0.01), frame="world")]),
+     (0.01, 1.0, 0.01)),
+    # every model at once: torques in an order of their own
+    ("orbit", dz.System(TILTED, parts=[dz.Wheel((0, 0, 1), 0.4)],
+                        torques=[dz.ConstantTorque((0.01, 0.0, 0.0)), dz.GravityGradient(0.3)]),
      (0.02, 0.01, 1.0)),
 ]
 IDS = [name for name, _, _ in SYSTEMS]
@@ -49,12 +68,35 @@ def tensor_at(traj: dz.Trajectory, k: int) -> np.ndarray:
 
 
 def own_omega_momentum(traj: dz.Trajectory, k: int) -> np.ndarray:
-    """The total angular momentum in body axes: Iω plus a damper's sphere j σ."""
+    """The total angular momentum in body axes: Iω plus a damper's sphere j σ plus each
+    wheel's h a (a unit)."""
     L = tensor_at(traj, k) @ traj.omega[k]
-    if "damper" in traj.parts:
-        (damper,) = traj.system.parts
-        L = L + damper.inertia * traj.parts["damper"][k]
+    for part in getattr(traj.system, "parts", ()):
+        if isinstance(part, dz.Damper):
+            L = L + part.inertia * traj.parts["damper"][k]
+        elif isinstance(part, dz.Wheel):
+            L = L + part.momentum * np.asarray(part.axis) / np.linalg.norm(part.axis)
     return L
+
+
+def torques(traj: dz.Trajectory) -> tuple:
+    return tuple(getattr(traj.system, "torques", ()))
+
+
+def to_body(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    return Rotation.from_quat(np.roll(q, -1)).inv().apply(v)
+
+
+def jacobi(traj: dz.Trajectory, n: float) -> np.ndarray:
+    """J = ½ ωᵀIω − n ẑ_b·(Iω) + (3/2) n² r̂_bᵀ I r̂_b, r̂ = (cos nt, sin nt, 0) (Hughes,
+    Spacecraft Attitude Dynamics, 1986, §9.1)."""
+    out = []
+    for k, t in enumerate(traj.t):
+        tensor, w, q = tensor_at(traj, k), traj.omega[k], traj.q[k]
+        z = to_body(q, np.array([0.0, 0.0, 1.0]))
+        r = to_body(q, np.array([math.cos(n * t), math.sin(n * t), 0.0]))
+        out.append(0.5 * w @ tensor @ w - n * z @ tensor @ w + 1.5 * n * n * r @ tensor @ r)
+    return np.array(out)
 
 
 def test_reported_energy_and_momentum_are_the_runs_own(case):
@@ -68,9 +110,20 @@ def test_reported_energy_and_momentum_are_the_runs_own(case):
         if "damper" not in traj.parts:
             energy = 0.5 * traj.omega[k] @ tensor_at(traj, k) @ traj.omega[k]
             np.testing.assert_allclose(traj.energy[k], energy, rtol=1e-12)
-    # no external torque: L in space stays where it started (RK4 at dt = 1e-3)
-    spread = np.ptp(traj.momentum_world, axis=0).max() / np.linalg.norm(traj.momentum_world[0])
-    assert spread < 1e-6, (name, spread)
+    scale = np.linalg.norm(traj.momentum_world[0])
+    outside = torques(traj)
+    if not outside:
+        # no external torque: L in space stays where it started (RK4 at dt = 1e-3)
+        spread = np.ptp(traj.momentum_world, axis=0).max() / scale
+        assert spread < 1e-6, (name, spread)
+    elif all(isinstance(t, dz.ConstantTorque) and t.frame == "world" for t in outside):
+        # dL/dt = τ in space: L(t) = L(0) + τ t
+        tau = sum(np.asarray(t.vector) for t in outside)
+        expected = traj.momentum_world[0] + traj.t[:, None] * tau
+        assert np.abs(traj.momentum_world - expected).max() < 1e-6 * scale, name
+    elif all(isinstance(t, dz.GravityGradient) for t in outside):
+        j = jacobi(traj, outside[0].orbit_rate)
+        assert np.abs(j - j[0]).max() < 1e-9 * np.abs(j).max(), name
     np.testing.assert_allclose(np.linalg.norm(traj.q, axis=1), 1.0, atol=1e-12)
 
 
@@ -88,6 +141,8 @@ def assert_same_trajectory(a: dz.Trajectory, b: dz.Trajectory) -> None:
     assert (a.method, a.dt, a.n_steps) == (b.method, b.dt, b.n_steps)
     assert a.system.kinds == b.system.kinds
     assert a.system.part_names == b.system.part_names
+    # the same system: body, parts in their order, torques in theirs (wheels' axes as given)
+    assert a.system == b.system
 
 
 def test_save_load_round_trips_everything(case, tmp_path):
@@ -119,13 +174,25 @@ def test_figures_draw_the_runs_own_invariants(case):
     _, _, _, traj = case
     fig = dz.plotting.invariants_figure(traj)
     lines = {line.get_label(): line.get_ydata() for ax in fig.axes for line in ax.get_lines()}
-    in_space = next(y for label, y in lines.items() if label.startswith("L in space"))
-    # what the figure draws is the run's L in space (constant: no torque), not the stowed body's
-    expected = (np.linalg.norm(traj.momentum_world - traj.momentum_world[0], axis=1)
-                / np.linalg.norm(traj.momentum_body[0]))
-    shown = np.isfinite(in_space)
-    np.testing.assert_allclose(in_space[shown], expected[shown], rtol=1e-12, atol=0)
-    assert np.nanmax(in_space) < 1e-6
+    if torques(traj):
+        # the torque changes E and L: the figure draws what the model keeps, not them
+        assert not any(label.startswith(("L in space", "energy")) for label in lines), lines
+        if traj.system.conserved == ("q_norm", "jacobi"):
+            j = jacobi(traj, torques(traj)[0].orbit_rate)
+            drawn = next(y for label, y in lines.items() if label.startswith("Jacobi"))
+            expected = np.abs(j - j[0]) / np.abs(j).max()
+            shown = np.isfinite(drawn)
+            # the drift of J itself is ~1e-12 here: compare to round-off of J
+            np.testing.assert_allclose(drawn[shown], expected[shown], rtol=0, atol=1e-13)
+    else:
+        in_space = next(y for label, y in lines.items() if label.startswith("L in space"))
+        # what the figure draws is the run's L in space (constant: no torque), not the stowed
+        # body's
+        expected = (np.linalg.norm(traj.momentum_world - traj.momentum_world[0], axis=1)
+                    / np.linalg.norm(traj.momentum_body[0]))
+        shown = np.isfinite(in_space)
+        np.testing.assert_allclose(in_space[shown], expected[shown], rtol=1e-12, atol=0)
+        assert np.nanmax(in_space) < 1e-6
     for draw in (dz.plotting.omega_figure, dz.plotting.path_figure):
         assert draw(traj).axes
     if traj.system.is_free:
@@ -152,11 +219,12 @@ def test_batch_rows_are_the_single_runs_and_round_trip(case, tmp_path):
     back = dz.load(dz.save(batch, tmp_path / "batch.nc"))
     for field in ("omega", "q", "energy", "momentum_world"):
         np.testing.assert_array_equal(getattr(back, field), getattr(batch, field))
+    assert list(back.systems) == list(batch.systems)
 
 
 def test_sweep_runs_and_round_trips(case, tmp_path):
     _, system, omega0, _ = case
-    if isinstance(system, dz.System) and system.parts:
+    if isinstance(system, dz.System) and (system.parts or system.torques):
         # a sweep keeps the free body's flip statistics (or a deployment's verdict); a body
         # with parts is refused with the way to go instead
         with pytest.raises(ValueError, match="simulate a batch of it instead"):

@@ -16,7 +16,8 @@ def test_the_scene_files_ship_inside_the_package():
     names = {f.name for f in folder.iterdir() if f.name.endswith(".toml")}
     assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
-                     "deployment.toml", "explorer-1.toml"}
+                     "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
+                     "dual-spin.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -149,7 +150,8 @@ BAD = [
     ("mesh = [24, 12]", "mesh = [24]", "ellipsoid.mesh", "must be [eN, eM]"),
     ("mesh = [24, 12]", "mesh = [24, 1000]", "ellipsoid.mesh[1]", "must be at most 256"),
     ('figures = ["path"]', 'figures = ["path", "movie"]', "draw.figures",
-     "must name only ['phases', 'path', 'omega', 'invariants', 'polhode', 'shares', 'energy']"),
+     "must name only ['phases', 'path', 'omega', 'invariants', 'polhode', 'shares', 'energy', "
+     "'lvlh', 'wheel_off']"),
     ('figures = ["path"]', 'figures = "path"', "draw.figures", "must be a list of names"),
     ('figures = ["path"]', 'figures = ["path"]\nphases = [50.0, 150.0]', "draw.phases",
      "must be times in [0, run.t_end = 100]"),
@@ -200,7 +202,7 @@ def test_a_file_that_is_not_toml_or_not_there(tmp_path):
     path.write_text("title = 'unterminated\n")
     with pytest.raises(dz.SceneError, match=rf"^{path}: is not valid TOML: "):
         dz.load_scene(path)
-    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: deployment, example, explorer-1, fig3a"):
+    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: deployment, dual-spin, example, explorer-1, fig3a"):
         dz.load_scene(tmp_path / "missing.toml")
     assert isinstance(dz.SceneError("f", "k", "m"), ValueError)
 
@@ -298,3 +300,105 @@ def test_a_saved_scene_writes_its_arrays_on_one_line(tmp_path):
             source=str(tmp_path / f"{name}.toml"))
     deployment = dz.SCENES["deployment"].to_toml()
     assert "    [[1.0, 0.0, 0.0], [0.0, 2.0, 0.0], [0.0, 0.0, 3.0]],\n" in deployment
+
+
+# -- scenes in orbit (issue 21) ----------------------------------------------------------
+
+
+def test_the_gravity_gradient_scene_librates_at_the_closed_form_rate():
+    scene = dz.SCENES["gravity-gradient"]
+    n = scene.orbit.orbit_rate
+    assert n == pytest.approx(2 * np.pi / 5400, rel=1e-15)
+    omega0, q0 = dz.lvlh_start(n, pitch=0.05)      # its start, as its file says
+    np.testing.assert_array_equal(scene.omega0, omega0)
+    np.testing.assert_allclose(scene.q0, q0, rtol=0, atol=1e-16)
+    from dzhanibekov.plotting.figures import libration_period
+
+    traj = scene.run()
+    rel = dz.lvlh_attitude(traj)
+    assert np.abs(rel[:, [1, 3]]).max() < 1e-9                # a pure pitch motion
+    pitch = 2 * np.arctan2(rel[:, 2], rel[:, 0])
+    # Hughes §9.3: I_y θ'' + (3/2) n² (I_x − I_z) sin 2θ = 0, a pendulum in 2θ: its period
+    # is the small-angle 2π/ω_p times 1 + (2θ₀)²/16 + … (θ₀ = 0.05 rad: 6.25e-4)
+    closed = 2 * np.pi / (n * np.sqrt(3 * (3.0 - 1.0) / 3.5))
+    measured = libration_period(traj.t, pitch)
+    assert measured / closed - 1 == pytest.approx(0.1 ** 2 / 16, abs=2e-5)
+    assert dz.pitch_libration_rate(scene.inertia, n) == pytest.approx(2 * np.pi / closed)
+
+
+def test_the_dual_spin_scene_holds_its_axis_and_flips_with_the_wheel_off():
+    scene = dz.SCENES["dual-spin"]
+    inertia = scene.inertia
+    h, spin = scene.wheel.momentum, scene.omega0[2]
+    # the closed form: stable for h > Ω (I_x − I_z) (x the major axis, z the intermediate)
+    assert scene.wheel.axis == (0.0, 0.0, 1.0) and h > spin * (inertia[0] - inertia[2])
+    on = scene.run()
+    off = scene.replace(wheel=dz.Wheel((0, 0, 1), 0.0)).run()
+    assert len(on.flip_times) == 0 and len(off.flip_times) == 2
+    fig = dz.plotting.FIGURE_FUNCTIONS["wheel_off"](scene)
+    labels = [line.get_label() for line in fig.axes[0].get_lines()]
+    assert labels == ["wheel on: 0 flips", "wheel off (h = 0): 2 flips"]
+
+
+ORBIT_BASE = """\
+title = "orbit"
+[body]
+inertia = [3.0, 3.5, 1.0]
+[orbit]
+rate = 0.5
+[wheel]
+axis = [0.0, 1.0, 0.0]
+momentum = 0.1
+[torque]
+vector = [0.0, 0.0, 0.01]
+frame = "world"
+[start]
+omega = [0.0, -0.5, 0.0]
+[run]
+t_end = 1.0
+frames = 3
+"""
+
+
+def test_a_scene_takes_an_orbit_a_wheel_and_a_torque_and_round_trips(tmp_path):
+    s = dz.Scene.from_toml(ORBIT_BASE, "orbit")
+    assert s.system == dz.System(dz.Body((3.0, 3.5, 1.0)), parts=[dz.Wheel((0, 1, 0), 0.1)],
+                                 torques=[dz.GravityGradient(0.5),
+                                          dz.ConstantTorque((0, 0, 0.01), "world")])
+    assert dz.load_scene(s.save(tmp_path / "orbit.toml")) == s
+    assert s.run().drift.kept == ("q_norm",)
+
+
+@pytest.mark.parametrize("old, new, key, detail", [
+    ("momentum = 0.1", "momentum = nan", "wheel.momentum", "must be finite"),
+    ("axis = [0.0, 1.0, 0.0]", "axis = [0.0, 0.0, 0.0]", "wheel.axis", "must not be zero"),
+    ("axis = [0.0, 1.0, 0.0]", "axis = [0.0, 1.0]", "wheel.axis", "shape"),
+    ("axis = [0.0, 1.0, 0.0]\n", "", "wheel.axis", "is missing"),
+    ("momentum = 0.1", "momentum = 0.1\nspeed = 3", "wheel.speed",
+     "allowed in [wheel]: axis, momentum"),
+    ("rate = 0.5", "rate = -0.5", "orbit.rate", "`rate` must be positive"),
+    ("rate = 0.5", 'rate = "fast"', "orbit.rate", "`rate`"),
+    ("rate = 0.5", "period = 5400", "orbit.period", "allowed in [orbit]: rate"),
+    ('frame = "world"', 'frame = "orbit"', "torque.frame", "must be 'body' or 'world'"),
+    ("vector = [0.0, 0.0, 0.01]", "vector = [0.0, 0.01]", "torque.vector", "shape"),
+    ("[orbit]", "[orbit]\n[orbit.extra]", "orbit.extra", "allowed in [orbit]"),
+])
+def test_bad_orbit_keys_are_refused_naming_the_key(old, new, key, detail):
+    assert old in ORBIT_BASE
+    with pytest.raises(dz.SceneError) as err:
+        dz.Scene.from_toml(ORBIT_BASE.replace(old, new, 1), "orbit")
+    assert err.value.key == key and detail in err.value.detail, (err.value.key,
+                                                                 err.value.detail)
+
+
+@pytest.mark.parametrize("figure, table", [("lvlh", "[orbit]"), ("wheel_off", "[wheel]")])
+def test_an_orbit_figure_without_its_orbit_or_wheel_is_refused_naming_the_key(figure, table):
+    with pytest.raises(dz.SceneError) as err:
+        dz.SCENES["fig3a"].replace(draw=Draw(figures=(figure,)))
+    assert err.value.key == "draw.figures" and table in err.value.detail
+
+
+def test_an_orbit_scene_with_a_deployment_is_refused_naming_the_key():
+    with pytest.raises(dz.SceneError) as err:
+        dz.SCENES["deployment"].replace(orbit=dz.GravityGradient(1.0))
+    assert err.value.key == "orbit"

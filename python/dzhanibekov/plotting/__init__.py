@@ -1,20 +1,24 @@
 """Everything drawn, with matplotlib: the figures of a scene or a trajectory (:mod:`.figures`),
-stability maps of a sweep (:mod:`.maps`), a Monte Carlo study's figure (:mod:`.study`), the
+stability maps of a sweep (:mod:`.maps`), the dual-spin and gravity-gradient maps
+(:mod:`.stability`), a Monte Carlo study's figure (:mod:`.study`), the
 animation (:func:`animation`, a ``FuncAnimation`` for notebooks) and its GIF/MP4 files
 (:mod:`.movie`)."""
 
-from . import maps, movie, study
+from . import maps, movie, stability, study
 from .figures import (
     FIGURE_FUNCTIONS,
     animation,
     compute,
     fig3_figure,
     invariants_figure,
+    lvlh_figure,
     omega_figure,
     path_figure,
     phases_figure,
     polhode_figure,
+    wheel_off_figure,
 )
+from .stability import dual_spin_figure, gravity_gradient_figure
 from .study import study_figure
 
 __all__ = [
@@ -23,6 +27,9 @@ __all__ = [
     "movie",
     "study",
     "study_figure",
+    "stability",
+    "dual_spin_figure",
+    "gravity_gradient_figure",
     "compute",
     "phases_figure",
     "path_figure",
@@ -30,5 +37,7 @@ __all__ = [
     "omega_figure",
     "invariants_figure",
     "polhode_figure",
+    "lvlh_figure",
+    "wheel_off_figure",
     "FIGURE_FUNCTIONS",
 ]

@@ -44,6 +44,10 @@ from .. import _core
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
+from ..lvlh import jacobi_values, lvlh_attitude
+from ..orbit import GravityGradient, Wheel, dual_spin_threshold, pitch_libration_rate
+from ..simulate import simulate
+from ..system import System
 from ..results import Trajectory
 
 __all__ = [
@@ -57,6 +61,9 @@ __all__ = [
     "animation",
     "shares_figure",
     "energy_figure",
+    "lvlh_figure",
+    "wheel_off_figure",
+    "libration_period",
     "FIGURE_FUNCTIONS",
 ]
 
@@ -649,12 +656,15 @@ def omega_figure(scene: Drawable, *, ax: Axes | None = None,
 def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
                       save: str | Path | None = None) -> Figure:
     """The drift of the invariants against time, log scale: relative energy and ``|L|``, the
-    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``.
+    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``. Under an
+    external torque the energy and angular momentum are the torque's to change, not kept:
+    the figure draws what the model keeps instead (``|q| − 1``, and in the gravity gradient
+    the Jacobi integral, relative to its largest term).
 
     Returns
     -------
     Figure
-        Four lines, labelled by invariant; exact zeros (the first frame) are not drawn.
+        A line per invariant, labelled; exact zeros (the first frame) are not drawn.
     """
     result = compute(scene)
     _need(result, "invariants figure")
@@ -663,13 +673,17 @@ def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
     inv = traj.invariants()  # the run's own system's, as the run's drift measures them
     l_body = np.linalg.norm(inv["momentum_body"], axis=1)
     l0 = float(l_body[0])
-    series = {
+    series = {} if traj.system.torques else {
         "energy  |E/E₀ − 1|": _relative(inv["energy"], float(inv["energy"][0])),
         "|L|  ||L|/|L₀| − 1|": _relative(l_body, l0),
         "L in space  |L − L₀|/|L₀|": np.linalg.norm(
             inv["momentum_world"] - inv["momentum_world"][0], axis=1) / (l0 if l0 > 0 else 1.0),
-        "|q| − 1": np.abs(inv["q_norm"] - 1),
     }
+    if "jacobi" in traj.system.conserved:
+        j = jacobi_values(traj)
+        series["Jacobi integral  |J − J₀|/max|J|"] = np.abs(j - j[0]) / max(
+            float(np.abs(j).max()), np.finfo(float).tiny)
+    series["|q| − 1"] = np.abs(inv["q_norm"] - 1)
     if ax is None:
         fig = Figure(figsize=(7.0, 3.4), layout="constrained")
         ax = fig.add_subplot()
@@ -943,6 +957,136 @@ def energy_figure(scene: Scene | SceneResult, *, ax: Axes | None = None,
     return _saved(fig, save)
 
 
+def libration_period(t: np.ndarray, angle: np.ndarray) -> float:
+    """The mean period of an oscillation sampled at times `t`: the mean spacing of its
+    downward zero crossings (each located linearly between frames); NaN with fewer than two."""
+    k = np.nonzero((angle[:-1] > 0) & (angle[1:] <= 0))[0]
+    if len(k) < 2:
+        return math.nan
+    crossings = t[k] + angle[k] / (angle[k] - angle[k + 1]) * (t[k + 1] - t[k])
+    return float(np.mean(np.diff(crossings)))
+
+
+def lvlh_figure(scene: Drawable, *, ax: Axes | None = None,
+                save: str | Path | None = None) -> Figure:
+    """The attitude relative to the orbiting frame (LVLH) against time: roll, pitch and yaw
+    (the rotation vector's components along along-track, minus the orbit normal and nadir,
+    in degrees) of the run in the gravity gradient, with the small-angle closed form of the
+    pitch, ``θ₀ cos(ω_p t)`` (:func:`~dzhanibekov.pitch_libration_rate`), dashed; the title
+    gives the pitch period measured from the run's zero crossings beside ``2π/ω_p``.
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+        A run of a system with a :class:`~dzhanibekov.GravityGradient`.
+    ax : Axes, optional
+    save : str or Path, optional
+
+    Returns
+    -------
+    Figure
+
+    Raises
+    ------
+    ValueError
+        The scene has no orbit.
+    """
+    result, traj, fig, ax = _time_axes(scene, ax, "LVLH figure", span=False)
+    rates = [t.orbit_rate for t in traj.system.torques if isinstance(t, GravityGradient)]
+    if not rates:
+        raise ValueError("`scene` must run in an orbit ([orbit] in its file, a "
+                         "dz.GravityGradient in its system) for the LVLH figure")
+    n = rates[0]
+    rel = lvlh_attitude(traj, n)
+    rel = rel * np.where(rel[:, :1] < 0, -1.0, 1.0)  # the short way round
+    half = np.arctan2(np.linalg.norm(rel[:, 1:], axis=1), rel[:, 0])
+    scale = np.where(half > 1e-300, 2.0 * half / np.maximum(np.sin(half), 1e-300), 2.0)
+    angles = np.degrees(rel[:, 1:] * scale[:, None])
+    for k, (name, colour) in enumerate(zip(("roll", "pitch", "yaw"), COLORS["omega"])):
+        ax.plot(traj.t, angles[:, k], color=colour, lw=1.1, label=name)
+    units = units_of(result.scene)
+    title = _title(result, _width(fig))
+    inertia = traj.system.body.inertia if hasattr(traj.system.body, "inertia") else None
+    if inertia is not None and inertia[0] > inertia[2]:
+        w_p = pitch_libration_rate(inertia, n)
+        theta0 = angles[0, 1]
+        ax.plot(traj.t, theta0 * np.cos(w_p * traj.t), color="0.2", lw=0.9, ls="--",
+                label="θ₀ cos(ω_p t), ω_p = n √(3 (I_x − I_z) / I_y)")
+        measured = libration_period(traj.t, angles[:, 1])
+        closed = 2.0 * math.pi / w_p
+        title += (f"\npitch period: {measured:.5g} from the run, 2π/ω_p = {closed:.5g} "
+                  f"(closed form; {measured / closed - 1:+.1e})")
+    ax.set_xlabel(units.label("t", units.time))
+    ax.set_ylabel("angle from LVLH (degrees)")
+    ax.set_xlim(0, traj.t[-1])
+    ax.set_title(title, fontsize=9)
+    ax.legend(loc="upper right", fontsize=7)
+    return _saved(fig, save)
+
+
+def wheel_off_figure(scene: Drawable, *, ax: Axes | None = None,
+                     save: str | Path | None = None) -> Figure:
+    """The angle of the spin axis in space from its start, for the scene's run with its wheel
+    and for the same run with the wheel off (its momentum 0): the body that the wheel holds
+    steady flips without it. The spin axis is the body axis of the largest initial rate;
+    the title gives the closed-form threshold (:func:`~dzhanibekov.dual_spin_threshold`).
+
+    Parameters
+    ----------
+    scene : Scene or SceneResult
+        A run of a system with a :class:`~dzhanibekov.Wheel`.
+    ax : Axes, optional
+    save : str or Path, optional
+
+    Returns
+    -------
+    Figure
+
+    Raises
+    ------
+    ValueError
+        The scene's system has no wheel.
+    """
+    result, traj, fig, ax = _time_axes(scene, ax, "wheel-off figure", span=False)
+    system = traj.system
+    if not any(isinstance(p, Wheel) for p in system.parts):
+        raise ValueError("`scene` must run a system with a wheel ([wheel] in its file) for the "
+                         "wheel-off figure")
+    off = System(system.body, parts=[Wheel(p.axis, 0.0) if isinstance(p, Wheel) else p
+                                     for p in system.parts], torques=system.torques)
+    s = result.scene
+    other = simulate(off, s.omega0, s.q0, t_end=s.t_end, frames=s.frames, dt=s.dt,
+                     method=s.method, rtol=s.rtol, atol=s.atol, flips=True)
+    assert isinstance(other, Trajectory)
+    k = int(np.argmax(np.abs(traj.omega[0])))
+    e = np.zeros(3)
+    e[k] = 1.0
+    labels = {True: "wheel on", False: "wheel off (h = 0)"}
+    for run, on, colour in ((traj, True, "#1f3b73"), (other, False, "#c0392b")):
+        axis = _core.rotate(np.ascontiguousarray(run.q), e.reshape(1, 3)).reshape(-1, 3)
+        tilt = np.degrees(np.arctan2(np.linalg.norm(np.cross(axis, axis[0]), axis=1),
+                                     axis @ axis[0]))
+        flips = run.flip_times
+        count = "" if flips is None else f": {len(flips)} flip{'s' if len(flips) != 1 else ''}"
+        ax.plot(run.t, tilt, color=colour, lw=1.2, label=labels[on] + count)
+    units = units_of(s)
+    name = "xyz"[k]
+    title = f"{s.title}: the spin axis {name} in space, with the wheel and without"
+    body = system.body
+    if hasattr(body, "inertia") and all(p.axis == tuple(e) for p in system.parts
+                                        if isinstance(p, Wheel)):
+        low, high = dual_spin_threshold(body.inertia, k, float(traj.omega[0, k]))
+        h = sum(p.momentum for p in system.parts if isinstance(p, Wheel))
+        title += (f"\nh = {h:g}; the closed form: unstable for h in ({low:.4g}, {high:.4g})")
+    ax.set_xlabel(units.label("t", units.time))
+    ax.set_ylabel("angle from its start (degrees)")
+    ax.set_ylim(-5, 185)
+    ax.set_xlim(0, traj.t[-1])
+    ax.set_title(title, fontsize=9)
+    ax.legend(loc="center right", fontsize=8)
+    return _saved(fig, save)
+
+
 FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {
     "phases": phases_figure,
     "path": path_figure,
@@ -951,6 +1095,8 @@ FIGURE_FUNCTIONS: dict[str, Callable[..., Figure]] = {
     "polhode": polhode_figure,
     "shares": shares_figure,
     "energy": energy_figure,
+    "lvlh": lvlh_figure,
+    "wheel_off": wheel_off_figure,
 }
 """The figure function of each name a scene's `draw.figures` may hold."""
 

@@ -10,7 +10,8 @@ or changes a scene.
 Two steps, in order:
 
 - :func:`from_tables`: a file's nested tables → the keyword values of a scene (unknown keys,
-  missing keys, the body named by ``[body]``, the ``[deployment]`` and ``[damper]`` built);
+  missing keys, the body named by ``[body]``, the ``[deployment]``, ``[damper]``,
+  ``[wheel]``, ``[orbit]`` and ``[torque]`` built);
 - :func:`checked`: a scene's keyword values (from a file or from Python) → its checked
   fields and its body, every key checked alone and against the others (the run's options
   together, the phases within the run, sizes a drawing can hold).
@@ -34,6 +35,7 @@ from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
 from ..methods import DEFAULT_MAX_STEPS, METHODS
+from ..orbit import ConstantTorque, GravityGradient, Wheel
 from ..shapes import Shape, box_shape
 from ..system import System
 from .bodies import BODY_KEYS, build_body, default_signal_point
@@ -56,10 +58,13 @@ __all__ = [
     "uniform_box",
 ]
 
-FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy")
+FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy", "lvlh",
+           "wheel_off")
 """Figures a scene may ask for: the phases panel (Fig. 2), the signal point's path in 3-D
 (Fig. 3), ω(t) with the flips marked, the invariants' drift, the polhode, the share of
-``|L|`` on each body axis, and the total kinetic energy (with ``|L_world|``)."""
+``|L|`` on each body axis, the total kinetic energy (with ``|L_world|``), the attitude
+relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``) and the spin axis's tilt
+beside the same run with its wheel off (with ``[wheel]``)."""
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
@@ -161,6 +166,9 @@ TABLES: dict[str, tuple[str, ...]] = {
     "ellipsoid": ("convention", "mesh"),
     "deployment": ("times", "inertia"),
     "damper": ("inertia", "damping", "sigma"),
+    "wheel": ("axis", "momentum"),
+    "orbit": ("rate",),
+    "torque": ("vector", "frame"),
 }
 """The tables of a scene file and the keys each may hold."""
 _TOP = ("title", "about")
@@ -268,19 +276,34 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     if "damper" in data:
         kwargs["damper"] = _model(source, "damper", Damper, ("inertia", "damping"),
                                   tables["damper"])
+    if "wheel" in data:
+        kwargs["wheel"] = _model(source, "wheel", Wheel, ("axis", "momentum"), tables["wheel"])
+    if "orbit" in data:
+        kwargs["orbit"] = _model(source, "orbit", GravityGradient, ("rate",), tables["orbit"],
+                                 {"orbit_rate": "rate"})
+    if "torque" in data:
+        torque = tables["torque"]
+        frame = torque.get("frame", "body")
+        kwargs["torque"] = _model(source, "torque", ConstantTorque, ("vector", "frame"),
+                                  {**torque, "frame": frame})
     return kwargs
 
 
 def _model(source: str, name: str, kind: type, keys: tuple[str, ...],
-           table: Mapping[str, Any]) -> Any:
-    """The model (a `kind`) that the file's table `name` gives with its `keys`."""
+           table: Mapping[str, Any], renamed: Mapping[str, str] | None = None) -> Any:
+    """The model (a `kind`) that the file's table `name` gives with its `keys`; an error
+    names the key (`renamed`: the constructor's argument names that are a key's)."""
     for key in keys:
         if key not in table:
             raise SceneError(source, f"{name}.{key}", "is missing")
     try:
         return kind(*(table[key] for key in keys))
     except (TypeError, ValueError) as exc:
-        raise SceneError(source, name, str(exc)) from None
+        message = str(exc)
+        for argument, key in (renamed or {}).items():
+            message = message.replace(f"`{argument}`", f"`{key}`")
+        at = next((f"{name}.{key}" for key in keys if f"`{key}`" in message), name)
+        raise SceneError(source, at, message) from None
 
 
 # -- a scene's values ---------------------------------------------------------------------
@@ -360,6 +383,14 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     draw = _draw(src, v["draw"], run["t_end"])
     ellipsoid = _ellipsoid(src, v["ellipsoid"])
     models = _models(src, v)
+    given_system = v["given"]
+    has = {"lvlh": v.get("orbit") is not None or (given_system is not None and any(
+               isinstance(t, GravityGradient) for t in given_system.torques)),
+           "wheel_off": v.get("wheel") is not None or (given_system is not None and any(
+               isinstance(p, Wheel) for p in given_system.parts))}
+    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]")):
+        if figure in draw.figures and not has[figure]:
+            raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
 
     if draw.box and box is None and body.shape is None:
         derived = uniform_box(inertia)
@@ -452,9 +483,11 @@ def _ellipsoid(src: str, value: Any) -> EllipsoidStyle:
 
 
 def _models(src: str, v: Mapping[str, Any]) -> dict[str, Any]:
-    """The deployment, the damper and its initial rate, checked alone and together."""
-    for name, kind in (("deployment", Deployment), ("damper", Damper)):
-        if v[name] is not None and not isinstance(v[name], kind):
+    """The deployment, the damper and its initial rate, the wheel, the orbit and the torque,
+    checked alone and together."""
+    for name, kind in (("deployment", Deployment), ("damper", Damper), ("wheel", Wheel),
+                       ("orbit", GravityGradient), ("torque", ConstantTorque)):
+        if v.get(name) is not None and not isinstance(v[name], kind):
             raise SceneError(src, name, f"must be a {kind.__name__}, got {v[name]!r}")
     sigma0 = v["sigma0"]
     if sigma0 is not None:
@@ -463,6 +496,9 @@ def _models(src: str, v: Mapping[str, Any]) -> dict[str, Any]:
         sigma0 = _vector(src, "damper.sigma", sigma0, 3)
     if v["deployment"] is not None and v["damper"] is not None:
         raise SceneError(src, "damper", "cannot be combined with a [deployment]")
+    orbital = [name for name in ("wheel", "orbit", "torque") if v.get(name) is not None]
+    if orbital and v["deployment"] is not None:
+        raise SceneError(src, orbital[0], "cannot be combined with a [deployment] in a scene")
     return {"sigma0": sigma0}
 
 

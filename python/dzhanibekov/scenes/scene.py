@@ -79,6 +79,7 @@ from ..methods import DEFAULT_METHOD
 from ..simulate import simulate
 from ..summary import Summary, summarize
 from ..results import Trajectory
+from ..orbit import ConstantTorque, GravityGradient, Wheel
 from ..system import System
 from .parse import (CONVENTIONS, FIGURES, MAX_ANIMATION_FRAMES, MAX_DRAWN_SIZE, MAX_PHASES,
                     MAX_TEXT_NESTING, Draw, EllipsoidStyle, SceneError, checked, drawn_shape,
@@ -177,6 +178,14 @@ class Scene(metaclass=_Parsed):
     """A spherical viscous damper (``[damper]`` with ``inertia`` and ``damping``)."""
     sigma0: tuple[float, float, float] | None = None
     """The damper's initial rate (``damper.sigma``); None: co-rotating."""
+    wheel: Wheel | None = None
+    """A momentum wheel (``[wheel]`` with ``axis``, body axes, and ``momentum``)."""
+    orbit: GravityGradient | None = None
+    """The gravity gradient of a circular orbit (``[orbit]`` with ``rate``); the start is in
+    world axes (:func:`~dzhanibekov.lvlh_start` gives one relative to the orbiting frame)."""
+    torque: ConstantTorque | None = None
+    """A constant torque (``[torque]`` with ``vector`` and ``frame``, ``"body"`` (default) or
+    ``"world"``)."""
     source: str = field(default="", compare=False, repr=False)
     """Where the scene came from, for messages."""
     rtol: float | None = None
@@ -209,9 +218,12 @@ class Scene(metaclass=_Parsed):
         if self.given is not None:
             return self.given
         body = self.deployment if self.deployment is not None else self.body
-        parts = [] if self.damper is None else [
+        parts: list[Damper | Wheel] = [] if self.damper is None else [
             Damper(self.damper.inertia, self.damper.damping, self.sigma0)]
-        return System(body, parts=parts)
+        if self.wheel is not None:
+            parts.append(self.wheel)
+        torques = [t for t in (self.orbit, self.torque) if t is not None]
+        return System(body, parts=parts, torques=torques)
 
     def run(self, **overrides: Any) -> Trajectory:
         """Simulates the scene, keeping every frame; keywords override :func:`simulate`'s."""
@@ -315,6 +327,12 @@ class Scene(metaclass=_Parsed):
             out["damper"] = {"inertia": self.damper.inertia, "damping": self.damper.damping}
             if self.sigma0 is not None:
                 out["damper"]["sigma"] = list(self.sigma0)
+        if self.wheel is not None:
+            out["wheel"] = {"axis": list(self.wheel.axis), "momentum": self.wheel.momentum}
+        if self.orbit is not None:
+            out["orbit"] = {"rate": self.orbit.orbit_rate}
+        if self.torque is not None:
+            out["torque"] = {"vector": list(self.torque.vector), "frame": self.torque.frame}
         return out
 
     def to_toml(self) -> str:
