@@ -20,6 +20,7 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
+from .torques import TabulatedTorque
 
 __all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "pitch_libration_rate",
            "dual_spin_threshold"]
@@ -138,8 +139,11 @@ class ConstantTorque:
         return hash(("constant", self.vector, self.frame))
 
 
-Torque = GravityGradient | ConstantTorque
+Torque = GravityGradient | ConstantTorque | TabulatedTorque
 """The external torques a system takes."""
+
+TORQUE_TYPES = (GravityGradient, ConstantTorque, TabulatedTorque)
+"""The classes of :data:`Torque`, for ``isinstance``."""
 
 
 class Wheel:

@@ -23,7 +23,7 @@ from . import _core
 from .body import Body, as_body, principal_body
 from .damper import Damper
 from .deployment import Deployment
-from .orbit import ConstantTorque, GravityGradient, Torque, Wheel
+from .orbit import TORQUE_TYPES, Torque, Wheel
 
 __all__ = ["System", "as_system", "Systems"]
 
@@ -43,9 +43,9 @@ class System:
         Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
         in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
         no state of their own).
-    torques : sequence of GravityGradient or ConstantTorque, optional
-        External torques: the gravity gradient of a circular orbit (at most one) and
-        constant torques in body or world axes; they add up.
+    torques : sequence of GravityGradient, ConstantTorque or TabulatedTorque, optional
+        External torques: the gravity gradient of a circular orbit (at most one), constant
+        torques in body or world axes and tabulated ones; they add up.
 
     Raises
     ------
@@ -82,9 +82,10 @@ class System:
                                 f"{type(part).__name__}")
         torques_ = _sequence("torques", torques)
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, (GravityGradient, ConstantTorque)):
-                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient or a "
-                                f"dz.ConstantTorque, got {type(torque).__name__}")
+            if not isinstance(torque, TORQUE_TYPES):
+                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
+                                f"dz.ConstantTorque or a dz.TabulatedTorque, got "
+                                f"{type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)

@@ -153,6 +153,10 @@ pub struct GeneralModel<const N: usize> {
     wheels: Option<Vector3<f64>>,
     torques: Torques,
     kinds: Kinds,
+    /// Where the right-hand side has a kink or a jump (tabulated laws): every step ends there.
+    kinks: Vec<f64>,
+    /// Where it is not smooth: the kinks and a deployment's knots (adaptive steps end there).
+    knots: Vec<f64>,
 }
 
 /// # Construction
@@ -185,7 +189,10 @@ impl<const N: usize> GeneralModel<N> {
             wheels: None,
             torques: Torques::default(),
             kinds,
-        })
+            kinks: Vec::new(),
+            knots: Vec::new(),
+        }
+        .with_kinds())
     }
 
     /// The same model with wheels of total momentum `wheels` (`Σ h a`, body axes), if any.
@@ -216,6 +223,19 @@ impl<const N: usize> GeneralModel<N> {
             true => Kinds::FREE,
             false => kinds,
         };
+        self.with_knots()
+    }
+
+    /// The kinks and knots of the model's laws (see the fields).
+    fn with_knots(mut self) -> Self {
+        self.kinks = self.torques.kinks();
+        let mut knots = self.kinks.clone();
+        if let InertiaLaw::Schedule(d) = &self.inertia {
+            knots.extend_from_slice(d.times());
+        }
+        knots.sort_by(f64::total_cmp);
+        knots.dedup();
+        self.knots = knots;
         self
     }
 
@@ -408,10 +428,11 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     }
 
     fn knots(&self) -> &[f64] {
-        match &self.inertia {
-            InertiaLaw::Constant(_) => &[],
-            InertiaLaw::Schedule(d) => d.times(),
-        }
+        &self.knots
+    }
+
+    fn kinks(&self) -> &[f64] {
+        &self.kinks
     }
 
     fn kept(&self, t0: f64, x0: &[f64; N]) -> MomentumProjection {
@@ -439,6 +460,7 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
             false => None,
         };
         let wheels = self.wheels.map(|w| w.map(|v| scale.rate_to_unit(v)));
+        // the knots follow the laws' times, rebuilt in the run's units
         Ok(Self::try_new(inertia, damper)?
             .with_wheels(wheels)
             .with_torques(self.torques.in_units(scale)?))
@@ -529,7 +551,10 @@ mod tests {
     #[test]
     fn the_jacobi_integral_is_stationary_in_the_gravity_gradient_with_wheels() {
         let gg = super::super::Torque::gravity_gradient(0.8).unwrap();
-        let m = orbiting(Some(Vector3::new(0.3, -0.5, 0.7)), &[gg]);
+        let m = orbiting(
+            Some(Vector3::new(0.3, -0.5, 0.7)),
+            std::slice::from_ref(&gg),
+        );
         assert_eq!(m.conserved().names(), ["q_norm", "jacobi"]);
         let q = [0.6, -0.2, 0.7, 0.3];
         let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();

@@ -98,6 +98,8 @@ impl Kinds {
     pub const GRAVITY_GRADIENT: Self = Self(16);
     /// A constant external torque ([`super::Torque::Constant`]).
     pub const TORQUE: Self = Self(32);
+    /// A torque tabulated at knots ([`super::TabulatedTorque`]).
+    pub const TABULATED_TORQUE: Self = Self(64);
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -154,7 +156,7 @@ pub struct ModelInfo {
 }
 
 /// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 6] = [
+pub const MODELS: [ModelInfo; 7] = [
     ModelInfo {
         kind: Kinds::FREE,
         name: "free",
@@ -193,5 +195,12 @@ pub const MODELS: [ModelInfo; 6] = [
         name: "torque",
         keeps: Conserved::Q_NORM,
         about: "a constant external torque in body or world axes (nothing kept but |q|)",
+    },
+    ModelInfo {
+        kind: Kinds::TABULATED_TORQUE,
+        name: "tabulated_torque",
+        keeps: Conserved::Q_NORM,
+        about: "a torque tabulated at knots in body or world axes, linear between them, zero \
+                or held outside (nothing kept but |q|; every step ends on a knot)",
     },
 ];

@@ -12,6 +12,7 @@ mod general;
 mod kinds;
 pub mod model;
 mod system;
+mod tabulated;
 mod torques;
 mod wheel;
 
@@ -22,5 +23,6 @@ pub use general::{ConstantInertia, GeneralModel, InertiaLaw};
 pub use kinds::{Kinds, ModelInfo, MODELS};
 pub use model::{Conserved, MidAxis, Model};
 pub use system::{Part, System, SystemBody};
+pub use tabulated::{Outside, Table, TabulatedTorque};
 pub use torques::{Frame, Torque, Torques};
 pub use wheel::Wheel;

@@ -3,14 +3,15 @@
 
 use nalgebra::Matrix3;
 use numpy::ndarray::{Ix1, Ix3};
-use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray3};
+use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::body::{Inertia, RigidBody};
 use crate::buffer::{try_collect, try_with_capacity};
 use crate::dynamics::{
-    Conserved, Damper, Deployment, Frame, Part, System, SystemBody, Torque, Wheel, MODELS,
+    Conserved, Damper, Deployment, Frame, Outside, Part, System, SystemBody, TabulatedTorque,
+    Torque, Wheel, MODELS,
 };
 use crate::error::Error;
 use crate::run::options::RunOptions;
@@ -226,6 +227,33 @@ impl PyTorque {
         })
     }
 
+    /// A torque `vectors` (K, 3) at the increasing `times` (K,), linear between them, fixed
+    /// in `frame` ('body' or 'world'), `outside` the knots 'zero' or 'hold'.
+    #[staticmethod]
+    fn tabulated(
+        py: Python<'_>,
+        times: PyReadonlyArray1<'_, f64>,
+        vectors: PyReadonlyArray2<'_, f64>,
+        frame: &str,
+        outside: &str,
+    ) -> PyResult<Self> {
+        let frame: Frame = frame.parse()?;
+        let outside: Outside = outside.parse()?;
+        let times = times.as_array().to_vec();
+        let v = vectors.as_array();
+        if v.shape()[1] != 3 {
+            return Err(
+                Error::invalid("vectors", "must have shape (K, 3)", v.shape().to_vec()).into(),
+            );
+        }
+        let mut rows = try_with_capacity(v.shape()[0], "the knots", "give fewer knots")?;
+        rows.extend((0..v.shape()[0]).map(|k| [v[[k, 0]], v[[k, 1]], v[[k, 2]]]));
+        let table = py.detach(|| TabulatedTorque::try_new(times, rows, frame, outside))?;
+        Ok(Self {
+            inner: Torque::Tabulated(std::sync::Arc::new(table)),
+        })
+    }
+
     /// The registry's model it is.
     #[getter]
     fn kind(&self) -> &'static str {
@@ -276,7 +304,7 @@ impl PySystem {
             })
             .chain(wheels.iter().map(|w| Part::Wheel(w.inner)))
             .collect();
-        let torques = torques.iter().map(|t| t.inner).collect();
+        let torques = torques.iter().map(|t| t.inner.clone()).collect();
         Ok(Self {
             inner: System::try_new(body, parts)?.with_torques(torques)?,
         })

@@ -84,7 +84,7 @@ pub fn integrate_adaptive<const N: usize, S, P, O>(
     grid: &FrameGrid,
     settings: &Adaptive,
     units: &Units<N>,
-    knots: &[f64],
+    (knots, kinks): (&[f64], &[f64]),
     obs: &mut O,
     cancel: &AtomicBool,
 ) -> Result<([f64; N], Stats)>
@@ -210,6 +210,10 @@ where
             // a restart: the rhs from the new piece, no error history, the step not crippled
             // by the knot's shortening
             next_knot += 1;
+            if kinks.binary_search_by(|k| k.total_cmp(&t)).is_ok() {
+                // a kink or jump: the next step starts one float64 after it, on its far side
+                t = crate::run::fixed::after(t);
+            }
             f = sys.rhs(t, &x);
             stats.nfev += 1;
             err_prev = 1e-4;
@@ -275,7 +279,7 @@ mod tests {
             &grid,
             &settings,
             &units,
-            knots,
+            (knots, &[]),
             &mut ends,
             &cancel,
         )

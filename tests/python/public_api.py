@@ -1301,6 +1301,25 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.Wheel,),
         min_success=0.9,
     ),
+    "TabulatedTorque": Entry(
+        call=dz.TabulatedTorque,
+        valid=st.integers(2, 6).flatmap(lambda k: st.fixed_dictionaries(
+            {"times": st.lists(st.floats(0.01, 10.0), min_size=k, max_size=k).map(
+                lambda d: np.cumsum(d) - 1.0),
+             "vectors": real_arrays((k, 3), st.floats(-10.0, 10.0))},
+            optional={"frame": st.sampled_from(["body", "world"]),
+                      "outside": st.sampled_from(["zero", "hold"])})),
+        hostile={"times": st.sampled_from([[0.0], [1.0, 0.0, 2.0], [0.0, math.nan], "x", None,
+                                           [[0.0, 1.0]], [0.0, 0.0]]),
+                 "vectors": st.sampled_from([np.full((2, 3), math.nan), np.ones((2, 2)), "x",
+                                             None, np.ones(3), np.ones((50, 3))]),
+                 "frame": st.sampled_from(["Body", "orbit", "", None, 1]),
+                 "outside": st.sampled_from(["Zero", "extrapolate", "", None, 0])},
+        check=lambda kw, c, _: _assert(np.array_equal(c.times, kw["times"])
+                                       and np.array_equal(c.vectors, kw["vectors"])),
+        covers=(dz.TabulatedTorque,),
+        min_success=0.9,
+    ),
     "lvlh_frame": Entry(
         call=dz.lvlh_frame,
         valid=st.fixed_dictionaries({"t": st.floats(0.0, 100.0),

@@ -1,0 +1,197 @@
+"""Tabulated torques, wheel momentum schedules and Python-callable torques against references
+written here, independently of the package: scipy's solve_ivp (DOP853, rtol 1e-12) of the
+body-frame Euler equations in the rates, ``I ω' = (I ω + h) × ω − ḣ + τ_b``, with their own
+quaternion law ``q' = ½ q ⊗ (0, ω)``, integrated piece by piece between the knots (where
+the laws have kinks or jumps)."""
+
+import math
+import pickle
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+from scipy.spatial.transform import Rotation
+
+import dzhanibekov as dz
+
+
+# ---------------------------------------------------------------- the reference, written here
+
+def _qmul(a, b):
+    a0, a1, a2, a3 = a
+    b0, b1, b2, b3 = b
+    return np.array([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
+                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
+                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
+                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0])
+
+
+def _to_body(q, v):
+    """World vector `v` in body axes for world-from-body `q` (scalar first), by scipy."""
+    return Rotation.from_quat(q / np.linalg.norm(q), scalar_first=True).inv().apply(v)
+
+
+def _lerp(times, values, t, outside):
+    """The piecewise-linear law through (times, values) at `t`; zero or held outside."""
+    values = np.asarray(values, float)
+    if t < times[0] or t > times[-1]:
+        if outside == "zero":
+            return np.zeros(values.shape[1:])
+        return values[0] if t < times[0] else values[-1]
+    return np.array([np.interp(t, times, values[:, k]) for k in range(values.shape[1])])
+
+
+def _slope(times, values, t):
+    """The slope of the piecewise-linear law (held outside) on the piece holding `t`."""
+    values = np.asarray(values, float)
+    if t < times[0] or t >= times[-1]:
+        return np.zeros(values.shape[1:])
+    k = np.searchsorted(times, t, side="right")
+    return (values[k] - values[k - 1]) / (times[k] - times[k - 1])
+
+
+def reference(tensor, omega0, q0, t, *, torque=None, wheel=None, breaks=()):
+    """solve_ivp of ``I ω' = (I ω + h(t)) × ω − ḣ(t) + τ_b(t, q, ω)``, ``q' = ½ q ⊗ (0, ω)``
+    over the frames `t`, restarted at each of `breaks` (the midpoint of a piece decides the
+    piece's laws: at a jump, each side is integrated with its own). `wheel` is
+    ``(h(t), ḣ(t))`` in body axes; `torque(t, q, ω)` in body axes."""
+    tensor = np.asarray(tensor, float)
+    inv = np.linalg.inv(tensor)
+    edges = [t[0], *[b for b in breaks if t[0] < b < t[-1]], t[-1]]
+    y = np.concatenate([omega0, np.asarray(q0, float) / np.linalg.norm(q0)])
+    out = []
+    for a, b in zip(edges[:-1], edges[1:]):
+        mid = 0.5 * (a + b)
+
+        def rhs(s, y, mid=mid):
+            w, q = y[:3], y[3:]
+            h, hdot = wheel(mid, s) if wheel else (np.zeros(3), np.zeros(3))
+            tau = torque(mid, s, q, w) if torque else np.zeros(3)
+            dw = inv @ (np.cross(tensor @ w + h, w) - hdot + tau)
+            return np.concatenate([dw, 0.5 * _qmul(q, np.concatenate([[0.0], w]))])
+
+        inside = t[(t >= a) & (t <= b)] if b == t[-1] else t[(t >= a) & (t < b)]
+        sol = solve_ivp(rhs, (a, b), y, method="DOP853", t_eval=inside, rtol=1e-12,
+                        atol=1e-14, dense_output=True)
+        assert sol.success
+        out.append(sol.y.T)
+        y = sol.sol(b)
+    y = np.concatenate(out)
+    return y[:, :3], y[:, 3:]
+
+
+def _same_attitude(q, ref):
+    """About half the angle between attitudes, frame by frame (the sign of q free)."""
+    q = q / np.linalg.norm(q, axis=1, keepdims=True)
+    ref = ref / np.linalg.norm(ref, axis=1, keepdims=True)
+    return np.minimum(np.linalg.norm(q - ref, axis=1), np.linalg.norm(q + ref, axis=1))
+
+
+TENSOR = [[2.0, -0.3, 0.1], [-0.3, 3.0, 0.2], [0.1, 0.2, 4.0]]   # not principal: the edge too
+W0, Q0 = np.array([0.3, -0.7, 1.1]), np.array([0.6, -0.2, 0.7, 0.3])
+# knots off the frames and off the rk4 substeps (t_end 6, 31 frames, dt 2e-3)
+TIMES = np.array([0.5013, 1.7031, 3.2507, 4.4119])
+VECTORS = np.array([[0.2, -0.1, 0.05], [-0.15, 0.3, 0.1], [0.05, 0.05, -0.2],
+                    [0.1, -0.2, 0.3]])
+
+
+def _run(system, method, t_end=6.0, frames=31):
+    opts = dict(rtol=1e-12, atol=1e-14) if method == "dop853" else dict(dt=2e-3)
+    return dz.simulate(system, W0, Q0, t_end=t_end, frames=frames, method=method, **opts)
+
+
+# ---------------------------------------------------------------- tabulated torques
+
+@pytest.mark.parametrize("frame", ["body", "world"])
+@pytest.mark.parametrize("outside", ["zero", "hold"])
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_tabulated_torque_follows_an_independent_solution(frame, outside, method):
+    table = dz.TabulatedTorque(TIMES, VECTORS, frame=frame, outside=outside)
+    traj = _run(dz.System(dz.Body.from_tensor(TENSOR), torques=[table]), method)
+
+    def torque(mid, s, q, w):
+        v = _lerp(TIMES, VECTORS, s, outside)
+        if outside == "zero" and not TIMES[0] < mid < TIMES[-1]:
+            v = np.zeros(3)   # the side of an end's jump the piece lies on
+        return v if frame == "body" else _to_body(q, v)
+
+    omega, q = reference(TENSOR, W0, Q0, traj.t, torque=torque, breaks=TIMES)
+    # rk4 at dt = 2e-3 over 6 time units: its own error is ~1e-11; a straddled jump would be
+    # ~dt·|τ| = 1e-4, a straddled kink ~dt²
+    assert np.abs(traj.omega - omega).max() < 1e-9
+    assert _same_attitude(traj.q, q).max() < 1e-9
+    assert traj.drift.kept == ("q_norm",)
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_constant_table_is_the_constant_torque(method):
+    v = (0.1, -0.2, 0.05)
+    body = dz.Body.from_tensor(TENSOR)
+    const = _run(dz.System(body, torques=[dz.ConstantTorque(v)]), method)
+    # knots outside the run: the same torque, bit for bit
+    wide = dz.TabulatedTorque([-1.0, 100.0], [v, v])
+    same = _run(dz.System(body, torques=[wide]), method)
+    np.testing.assert_array_equal(same.omega, const.omega)
+    np.testing.assert_array_equal(same.q, const.q)
+    # knots inside it (held outside): every step ends on them, the run the same to round-off
+    # for rk4 (its steps split in two at a knot), to its tolerance for dop853 (other steps)
+    knotted = dz.TabulatedTorque(TIMES, np.tile(v, (len(TIMES), 1)), outside="hold")
+    split = _run(dz.System(body, torques=[knotted]), method)
+    bound = 1e-12 if method == "rk4" else 1e-10
+    assert np.abs(split.omega - const.omega).max() < bound
+    assert _same_attitude(split.q, const.q).max() < bound
+
+
+def test_a_pulse_gives_its_impulse_exactly_to_a_body_at_rest_about_a_principal_axis():
+    # τ_z a trapezoid 0 → 1 → 1 → 0 over knots off the step grid: ω_z(T) = ∫τ dt / I_z,
+    # exact for a method that ends its steps on the knots (the law is linear on each piece)
+    pulse = dz.TabulatedTorque([0.31, 0.77, 1.93, 2.41], [(0, 0, 0), (0, 0, 1), (0, 0, 1),
+                                                         (0, 0, 0)])
+    s = dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[pulse])
+    impulse = 0.5 * (0.77 - 0.31) + (1.93 - 0.77) + 0.5 * (2.41 - 1.93)
+    for method, opts in [("rk4", dict(dt=0.25)), ("dop853", {}), ("dopri5", {})]:
+        traj = dz.simulate(s, (0.0, 0.0, 0.0), t_end=3.0, method=method, **opts)
+        assert traj.omega[-1, 2] == pytest.approx(impulse / 4.0, rel=1e-13, abs=0)
+
+
+def test_a_tabulated_torque_is_a_value_and_refuses_bad_tables_by_name():
+    t = dz.TabulatedTorque(TIMES, VECTORS, frame="world", outside="hold")
+    assert pickle.loads(pickle.dumps(t)) == t
+    assert hash(pickle.loads(pickle.dumps(t))) == hash(t)
+    assert t != dz.TabulatedTorque(TIMES, VECTORS, frame="world")
+    assert "TabulatedTorque" in repr(t) and "knots=4" in repr(t)
+    np.testing.assert_allclose(t.torque_at(1.1), 0.5 * (VECTORS[0] + VECTORS[1]), atol=0.02)
+    with pytest.raises(ValueError, match="`times` must be strictly increasing"):
+        dz.TabulatedTorque([0.0, 2.0, 1.0], np.zeros((3, 3)))
+    with pytest.raises(ValueError, match="`times` must hold at least two"):
+        dz.TabulatedTorque([0.0], np.zeros((1, 3)))
+    with pytest.raises(ValueError, match="`times` must be finite"):
+        dz.TabulatedTorque([0.0, np.nan], np.zeros((2, 3)))
+    with pytest.raises(ValueError, match="`vectors` must give one torque per knot"):
+        dz.TabulatedTorque([0.0, 1.0], np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=r"`vectors` must have shape \(K, 3\)"):
+        dz.TabulatedTorque([0.0, 1.0], np.zeros((2, 2)))
+    with pytest.raises(ValueError, match="`vectors` must be finite"):
+        dz.TabulatedTorque([0.0, 1.0], [[0, 0, 0], [0, np.inf, 0]])
+    with pytest.raises(ValueError, match="`outside` must be 'zero' or 'hold'"):
+        dz.TabulatedTorque([0.0, 1.0], np.zeros((2, 3)), outside="extrapolate")
+    with pytest.raises(ValueError, match="`frame` must be 'body' or 'world'"):
+        dz.TabulatedTorque([0.0, 1.0], np.zeros((2, 3)), frame="lvlh")
+
+
+def test_methods_that_cannot_run_a_tabulated_torque_refuse_it_by_name():
+    s = dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[dz.TabulatedTorque(TIMES, VECTORS)])
+    for method in ("rk4_projected", "splitting", "exact"):
+        with pytest.raises(dz.DzhanibekovError, match=f"'{method}' cannot run model "
+                                                      "'tabulated_torque'"):
+            dz.simulate(s, W0, method=method)
+
+
+def test_a_batch_of_tabulated_systems_runs_each_row_as_alone():
+    body = dz.Body((2.0, 3.0, 4.0))
+    systems = [dz.System(body, torques=[dz.TabulatedTorque(TIMES, VECTORS * k)])
+               for k in (1.0, -0.5)]
+    batch = dz.simulate(systems, [W0, W0], t_end=6.0, frames=31, method="rk4", dt=2e-3)
+    for k, s in enumerate(systems):
+        one = dz.simulate(s, W0, t_end=6.0, frames=31, method="rk4", dt=2e-3)
+        np.testing.assert_array_equal(batch.omega[k], one.omega)
