@@ -105,6 +105,12 @@ class Damper:
 @final
 class Wheel:
     def __new__(cls, axis: tuple[float, float, float], momentum: float) -> Wheel: ...
+    @staticmethod
+    def scheduled(
+        axis: tuple[float, float, float],
+        times: npt.NDArray[np.float64],
+        values: npt.NDArray[np.float64],
+    ) -> Wheel: ...
     @property
     def axis(self) -> tuple[float, float, float]: ...
 

@@ -81,7 +81,8 @@ def _coords(t: np.ndarray) -> dict[str, Any]:
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
-UNSAVED_KINDS = ("wheel", "gravity_gradient", "torque")
+UNSAVED_KINDS = ("wheel", "gravity_gradient", "torque", "tabulated_torque", "wheel_schedule",
+                 "callable_torque")
 """Models whose parameters a file does not hold yet: `dz.save` refuses their runs (a file that
 loads as another system would lie); `to_xarray` gives their states without them."""
 

@@ -100,6 +100,8 @@ impl Kinds {
     pub const TORQUE: Self = Self(32);
     /// A torque tabulated at knots ([`super::TabulatedTorque`]).
     pub const TABULATED_TORQUE: Self = Self(64);
+    /// Momentum wheels whose momentum follows a schedule ([`super::WheelSchedule`]).
+    pub const WHEEL_SCHEDULE: Self = Self(128);
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -156,7 +158,7 @@ pub struct ModelInfo {
 }
 
 /// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 7] = [
+pub const MODELS: [ModelInfo; 8] = [
     ModelInfo {
         kind: Kinds::FREE,
         name: "free",
@@ -202,5 +204,14 @@ pub const MODELS: [ModelInfo; 7] = [
         keeps: Conserved::Q_NORM,
         about: "a torque tabulated at knots in body or world axes, linear between them, zero \
                 or held outside (nothing kept but |q|; every step ends on a knot)",
+    },
+    ModelInfo {
+        kind: Kinds::WHEEL_SCHEDULE,
+        name: "wheel_schedule",
+        // the wheels' work changes the energy (and, in an orbit, the Jacobi integral)
+        keeps: Conserved::MOMENTA,
+        about: "momentum wheels whose momentum follows a schedule, linear between knots \
+                (I ω' = (I ω + Σ h a) × ω − Σ ḣ a; |L| and L in space kept, the energy \
+                changed by the wheels' work; every step ends on a knot)",
     },
 ];

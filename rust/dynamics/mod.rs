@@ -15,6 +15,7 @@ mod system;
 mod tabulated;
 mod torques;
 mod wheel;
+mod wheel_schedule;
 
 pub use damper::Damper;
 pub use deployment::Deployment;
@@ -26,3 +27,4 @@ pub use system::{Part, System, SystemBody};
 pub use tabulated::{Outside, Table, TabulatedTorque};
 pub use torques::{Frame, Torque, Torques};
 pub use wheel::Wheel;
+pub use wheel_schedule::WheelSchedule;

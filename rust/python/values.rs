@@ -11,7 +11,7 @@ use crate::body::{Inertia, RigidBody};
 use crate::buffer::{try_collect, try_with_capacity};
 use crate::dynamics::{
     Conserved, Damper, Deployment, Frame, Outside, Part, System, SystemBody, TabulatedTorque,
-    Torque, Wheel, MODELS,
+    Torque, Wheel, WheelSchedule, MODELS,
 };
 use crate::error::Error;
 use crate::run::options::RunOptions;
@@ -179,10 +179,10 @@ impl PyDamper {
     }
 }
 
-/// A momentum wheel of constant relative momentum, validated.
+/// A momentum wheel of constant or scheduled relative momentum, validated.
 #[pyclass(name = "Wheel", module = "dzhanibekov._core", frozen)]
 pub(crate) struct PyWheel {
-    inner: Wheel,
+    inner: Part,
 }
 
 #[pymethods]
@@ -190,14 +190,34 @@ impl PyWheel {
     #[new]
     fn new(axis: [f64; 3], momentum: f64) -> PyResult<Self> {
         Ok(Self {
-            inner: Wheel::try_new(axis, momentum)?,
+            inner: Part::Wheel(Wheel::try_new(axis, momentum)?),
+        })
+    }
+
+    /// A wheel about `axis` whose momentum is `values` (K,) at the increasing `times` (K,),
+    /// linear between them and held outside.
+    #[staticmethod]
+    fn scheduled(
+        py: Python<'_>,
+        axis: [f64; 3],
+        times: PyReadonlyArray1<'_, f64>,
+        values: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let (times, values) = (times.as_array().to_vec(), values.as_array().to_vec());
+        let wheel = py.detach(|| WheelSchedule::try_new(axis, times, values))?;
+        Ok(Self {
+            inner: Part::ScheduledWheel(wheel),
         })
     }
 
     /// The unit spin axis in body axes.
     #[getter]
     fn axis(&self) -> [f64; 3] {
-        self.inner.axis().into()
+        match &self.inner {
+            Part::ScheduledWheel(w) => w.axis().into(),
+            Part::Wheel(w) => w.axis().into(),
+            Part::Damper { .. } => [f64::NAN; 3],
+        }
     }
 }
 
@@ -302,7 +322,7 @@ impl PySystem {
                 damper: d.inner,
                 sigma0: *sigma0,
             })
-            .chain(wheels.iter().map(|w| Part::Wheel(w.inner)))
+            .chain(wheels.iter().map(|w| w.inner.clone()))
             .collect();
         let torques = torques.iter().map(|t| t.inner.clone()).collect();
         Ok(Self {

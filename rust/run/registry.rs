@@ -149,7 +149,8 @@ const FREE_ONLY: Kinds = Kinds::FREE;
 const TORQUE_FREE: Kinds = Kinds::FREE
     .union(Kinds::DEPLOYMENT)
     .union(Kinds::DAMPER)
-    .union(Kinds::WHEEL);
+    .union(Kinds::WHEEL)
+    .union(Kinds::WHEEL_SCHEDULE);
 /// Every model: the torque-free ones and those under external torques.
 const EVERY_MODEL: Kinds = TORQUE_FREE
     .union(Kinds::GRAVITY_GRADIENT)

@@ -1290,14 +1290,27 @@ ENTRIES: dict[str, Entry] = {
     ),
     "Wheel": Entry(
         call=dz.Wheel,
-        valid=st.fixed_dictionaries({"axis": real_arrays((3,), st.floats(0.5, 2.0)),
-                                     "momentum": st.floats(-10.0, 10.0)}),
+        valid=st.fixed_dictionaries({
+            "axis": real_arrays((3,), st.floats(0.5, 2.0)),
+            # a constant momentum, or a schedule (times, values)
+            "momentum": st.one_of(st.floats(-10.0, 10.0), st.integers(2, 5).flatmap(
+                lambda k: st.tuples(
+                    st.lists(st.floats(0.01, 10.0), min_size=k, max_size=k).map(
+                        lambda d: [float(x) for x in np.cumsum(d)]),
+                    st.lists(st.floats(-10.0, 10.0), min_size=k, max_size=k))))}),
         hostile={"axis": st.sampled_from([(0.0, 0.0, 0.0), (math.nan, 1.0, 0.0), (1.0, 0.0),
                                           "x", None, np.ones((2, 3))]),
-                 "momentum": st.sampled_from([math.nan, math.inf, "1", None, (1.0,)])},
+                 "momentum": st.sampled_from([math.nan, math.inf, "1", None, (1.0,),
+                                              ([1.0, 0.0], [0.0, 1.0]),
+                                              ([0.0, 1.0], [0.0, math.nan]),
+                                              ([0.0, 1.0], [0.0, 1.0, 2.0]), ([0.0], [1.0]),
+                                              np.ones(2)])},
         # the axis is kept as given, or as its unit vector: either way along the same line
-        check=lambda kw, w, _: _assert(w.momentum == kw["momentum"] and np.allclose(
-            np.cross(np.asarray(w.axis, dtype=float), kw["axis"]), 0.0, atol=1e-12)),
+        check=lambda kw, w, _: _assert(
+            (w.momentum == kw["momentum"] if not isinstance(kw["momentum"], tuple) else
+             w.momentum == (tuple(kw["momentum"][0]), tuple(kw["momentum"][1])))
+            and np.allclose(np.cross(np.asarray(w.axis, dtype=float), kw["axis"]), 0.0,
+                            atol=1e-12)),
         covers=(dz.Wheel,),
         min_success=0.9,
     ),

@@ -195,3 +195,98 @@ def test_a_batch_of_tabulated_systems_runs_each_row_as_alone():
     for k, s in enumerate(systems):
         one = dz.simulate(s, W0, t_end=6.0, frames=31, method="rk4", dt=2e-3)
         np.testing.assert_array_equal(batch.omega[k], one.omega)
+
+
+# ---------------------------------------------------------------- wheel momentum schedules
+
+AXES = [np.array([0.0, 1.0, 0.0]), np.array([1.0, 0.0, 1.0]) / math.sqrt(2.0)]
+SPIN = [(np.array([0.7, 2.3, 4.1]), np.array([0.0, 1.5, -0.5])),       # spin-up then down
+        (np.array([1.1, 3.9]), np.array([0.4, -0.6]))]
+
+
+def _wheels_law(mid, s):
+    """Σ h(s) a and Σ ḣ a, the slope of the piece holding `mid` (held outside)."""
+    h = sum(a * np.interp(s, t, v) for a, (t, v) in zip(AXES, SPIN))
+    hdot = sum(a * _slope(t, v[:, None], mid)[0] for a, (t, v) in zip(AXES, SPIN))
+    return h, hdot
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4", "rk4_projected"])
+def test_a_wheel_schedule_follows_an_independent_solution(method):
+    parts = [dz.Wheel(a, (t, v)) for a, (t, v) in zip(AXES, SPIN)]
+    system = dz.System(dz.Body.from_tensor(TENSOR), parts=parts)
+    assert system.kinds == ("wheel_schedule",)
+    traj = _run(system, method)
+    breaks = np.unique(np.concatenate([t for t, _ in SPIN]))
+    omega, q = reference(TENSOR, W0, Q0, traj.t, wheel=_wheels_law, breaks=breaks)
+    assert np.abs(traj.omega - omega).max() < 1e-9
+    assert _same_attitude(traj.q, q).max() < 1e-9
+
+
+def test_a_spin_up_keeps_the_momentum_in_space_and_changes_the_energy_by_the_wheels_work():
+    up = dz.Wheel((0, 1, 0), ([1.0, 5.0], [0.0, 2.0]))
+    system = dz.System(dz.Body.from_tensor(TENSOR), parts=[up])
+    assert system.conserved == ("momentum", "momentum_world", "q_norm")
+    traj = dz.simulate(system, W0, Q0, t_end=8.0, frames=801, method="dop853", rtol=1e-12,
+                       atol=1e-14)
+    assert traj.drift.kept == ("momentum", "momentum_world", "q_norm")
+    assert traj.drift.momentum_world < 1e-11
+    lw = traj.momentum_world
+    assert np.abs(lw - lw[0]).max() < 1e-10 * np.linalg.norm(lw[0])
+    # the body's energy ½ ωᵀIω changes at −ḣ (a·ω): 0.5 (a·ω) on (1, 5), nothing elsewhere
+    tensor = np.asarray(TENSOR)
+    energy = 0.5 * np.einsum("ni,ij,nj->n", traj.omega, tensor, traj.omega)
+    # (ḣ constant on each frame interval: the knots are frames)
+    mid = 0.5 * (traj.t[1:] + traj.t[:-1])
+    hdot = np.where((mid > 1.0) & (mid < 5.0), 0.5, 0.0)
+    wy = 0.5 * (traj.omega[1:, 1] + traj.omega[:-1, 1])
+    work = np.concatenate([[0.0], np.cumsum(-hdot * wy * np.diff(traj.t))])
+    assert np.abs(energy - energy[0] - work).max() < 1e-4      # the trapezoid's own error
+    assert abs(energy[-1] - energy[0]) > 1e-2                  # and the change is real
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_constant_schedule_is_the_constant_wheel(method):
+    body = dz.Body.from_tensor(TENSOR)
+    const = _run(dz.System(body, parts=[dz.Wheel(AXES[1], 0.8)]), method)
+    wide = _run(dz.System(body, parts=[dz.Wheel(AXES[1], ([-1.0, 100.0], [0.8, 0.8]))]),
+                method)
+    # knots outside the run: the same law, to the last bit of ω = I⁻¹ (H − h a)
+    assert np.abs(wide.omega - const.omega).max() < 1e-14
+    knotted = _run(dz.System(body, parts=[dz.Wheel(AXES[1], (TIMES, np.full(4, 0.8)))]),
+                   method)
+    bound = 1e-12 if method == "rk4" else 1e-10
+    assert np.abs(knotted.omega - const.omega).max() < bound
+    assert _same_attitude(knotted.q, const.q).max() < bound
+
+
+def test_a_scheduled_wheel_is_a_value_and_refuses_bad_schedules_by_name():
+    w = dz.Wheel((0, 2, 0), ([0.0, 10.0], [0.0, 1.0]))
+    assert w.is_scheduled and w.momentum_at(5.0) == 0.5 and w.momentum_at(20.0) == 1.0
+    assert pickle.loads(pickle.dumps(w)) == w and hash(pickle.loads(pickle.dumps(w))) == hash(w)
+    assert w != dz.Wheel((0, 2, 0), 1.0)
+    assert "knots=2" in repr(w)
+    with pytest.raises(ValueError, match="`momentum times` must be strictly increasing"):
+        dz.Wheel((0, 1, 0), ([1.0, 0.0], [0.0, 1.0]))
+    with pytest.raises(ValueError, match="`momentum` must be finite"):
+        dz.Wheel((0, 1, 0), ([0.0, 1.0], [0.0, math.nan]))
+    with pytest.raises(ValueError, match=r"`momentum` must have shape \(K,\)"):
+        dz.Wheel((0, 1, 0), ([0.0, 1.0], [0.0, 1.0, 2.0]))
+    with pytest.raises(ValueError, match="`momentum` must be a number or a schedule"):
+        dz.Wheel((0, 1, 0), ([0.0, 1.0],))
+    with pytest.raises(TypeError, match="`momentum`"):
+        dz.Wheel((0, 1, 0), np.ones(2))
+
+
+def test_saving_a_run_with_a_table_or_a_schedule_is_refused_rather_than_dropped(tmp_path):
+    pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    body = dz.Body((2.0, 3.0, 4.0))
+    for system, kind in [(dz.System(body, torques=[dz.TabulatedTorque(TIMES, VECTORS)]),
+                          "tabulated_torque"),
+                         (dz.System(body, parts=[dz.Wheel((0, 1, 0), ([0.0, 1.0], [0, 1]))]),
+                          "wheel_schedule")]:
+        traj = dz.simulate(system, W0, t_end=1.0, method="dop853")
+        with pytest.raises(ValueError, match=kind):
+            dz.save(traj, tmp_path / "run.nc")
+        assert not (tmp_path / "run.nc").exists()
