@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
-from .torques import TabulatedTorque, knot_times
+from .torques import CallableTorque, TabulatedTorque, knot_times
 
 __all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "pitch_libration_rate",
            "dual_spin_threshold"]
@@ -139,10 +139,10 @@ class ConstantTorque:
         return hash(("constant", self.vector, self.frame))
 
 
-Torque = GravityGradient | ConstantTorque | TabulatedTorque
+Torque = GravityGradient | ConstantTorque | TabulatedTorque | CallableTorque
 """The external torques a system takes."""
 
-TORQUE_TYPES = (GravityGradient, ConstantTorque, TabulatedTorque)
+TORQUE_TYPES = (GravityGradient, ConstantTorque, TabulatedTorque, CallableTorque)
 """The classes of :data:`Torque`, for ``isinstance``."""
 
 

@@ -24,6 +24,7 @@ from .body import Body, as_body, principal_body
 from .damper import Damper
 from .deployment import Deployment
 from .orbit import TORQUE_TYPES, Torque, Wheel
+from .torques import CallableTorque
 
 __all__ = ["System", "as_system", "Systems"]
 
@@ -43,9 +44,10 @@ class System:
         Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
         in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
         no state of their own).
-    torques : sequence of GravityGradient, ConstantTorque or TabulatedTorque, optional
+    torques : sequence of GravityGradient, ConstantTorque, TabulatedTorque or CallableTorque
         External torques: the gravity gradient of a circular orbit (at most one), constant
-        torques in body or world axes and tabulated ones; they add up.
+        torques in body or world axes, tabulated ones and your own functions (a plain
+        function ``f(t, q, omega)`` is taken as ``CallableTorque(f)``); they add up.
 
     Raises
     ------
@@ -80,12 +82,14 @@ class System:
             if not isinstance(part, (Damper, Wheel)):
                 raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
                                 f"{type(part).__name__}")
-        torques_ = _sequence("torques", torques)
+        # a plain function is a CallableTorque
+        torques_ = tuple(t if isinstance(t, TORQUE_TYPES) or not callable(t)
+                         else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
             if not isinstance(torque, TORQUE_TYPES):
                 raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
-                                f"dz.ConstantTorque or a dz.TabulatedTorque, got "
-                                f"{type(torque).__name__}")
+                                f"dz.ConstantTorque, a dz.TabulatedTorque or a function "
+                                f"(dz.CallableTorque), got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)

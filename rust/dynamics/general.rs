@@ -331,8 +331,13 @@ impl<const N: usize> GeneralModel<N> {
     /// The external torque in body axes at `(t, x)`.
     #[inline(always)]
     pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.torques
-            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v))
+        let tau = self
+            .torques
+            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v));
+        match self.torques.has_callables() {
+            false => tau,
+            true => tau + (self.torques).callables_body(t, &attitude(x), &self.omega_body(t, x)),
+        }
     }
 }
 

@@ -102,6 +102,8 @@ impl Kinds {
     pub const TABULATED_TORQUE: Self = Self(64);
     /// Momentum wheels whose momentum follows a schedule ([`super::WheelSchedule`]).
     pub const WHEEL_SCHEDULE: Self = Self(128);
+    /// A torque computed by the user's code ([`super::CallableTorque`]).
+    pub const CALLABLE_TORQUE: Self = Self(256);
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -158,7 +160,7 @@ pub struct ModelInfo {
 }
 
 /// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 8] = [
+pub const MODELS: [ModelInfo; 9] = [
     ModelInfo {
         kind: Kinds::FREE,
         name: "free",
@@ -213,5 +215,12 @@ pub const MODELS: [ModelInfo; 8] = [
         about: "momentum wheels whose momentum follows a schedule, linear between knots \
                 (I ω' = (I ω + Σ h a) × ω − Σ ḣ a; |L| and L in space kept, the energy \
                 changed by the wheels' work; every step ends on a knot)",
+    },
+    ModelInfo {
+        kind: Kinds::CALLABLE_TORQUE,
+        name: "callable_torque",
+        keeps: Conserved::Q_NORM,
+        about: "a torque computed by the user's function f(t, q, ω) in body axes, called at \
+                each evaluation (Python speed; nothing kept but |q|)",
     },
 ];

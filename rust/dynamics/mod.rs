@@ -5,6 +5,7 @@
 //! entry in [`MODELS`]; the registry of methods ([`crate::run::registry`]) says which methods
 //! run which.
 
+mod callable;
 mod damper;
 mod deployment;
 mod free;
@@ -17,6 +18,7 @@ mod torques;
 mod wheel;
 mod wheel_schedule;
 
+pub use callable::{CallableTorque, TorqueFunction};
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;

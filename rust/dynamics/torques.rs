@@ -42,6 +42,7 @@ use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
 use crate::kinematics::rotation_matrix;
 
+use super::callable::CallableTorque;
 use super::kinds::Kinds;
 use super::tabulated::TabulatedTorque;
 
@@ -73,6 +74,8 @@ pub enum Torque {
     Constant { vector: [f64; 3], frame: Frame },
     /// A torque tabulated at knots (see [`super::tabulated`]).
     Tabulated(Arc<TabulatedTorque>),
+    /// A torque computed by the user's function (see [`super::callable`]).
+    Callable(CallableTorque),
 }
 
 /// # Construction
@@ -120,6 +123,7 @@ impl Torque {
             Torque::GravityGradient { .. } => Kinds::GRAVITY_GRADIENT,
             Torque::Constant { .. } => Kinds::TORQUE,
             Torque::Tabulated(_) => Kinds::TABULATED_TORQUE,
+            Torque::Callable(_) => Kinds::CALLABLE_TORQUE,
         }
     }
 }
@@ -135,6 +139,8 @@ pub struct Torques {
     world: Option<Vector3<f64>>,
     /// The tabulated torques.
     tables: Vec<TabulatedTorque>,
+    /// The torques of the user's functions.
+    callables: Vec<CallableTorque>,
 }
 
 /// # Construction
@@ -148,6 +154,9 @@ impl Torques {
         for torque in torques {
             if let Torque::Tabulated(table) = torque {
                 out.tables.push(TabulatedTorque::clone(table));
+            }
+            if let Torque::Callable(c) = torque {
+                out.callables.push(c.clone());
             }
             match *torque {
                 Torque::GravityGradient { orbit_rate } => {
@@ -167,7 +176,7 @@ impl Torques {
                     };
                     *slot = Some(slot.unwrap_or_default() + Vector3::from(vector));
                 }
-                Torque::Tabulated(_) => {}
+                Torque::Tabulated(_) | Torque::Callable(_) => {}
             }
         }
         Ok(out)
@@ -184,6 +193,9 @@ impl Torques {
         }
         if !self.tables.is_empty() {
             kinds = kinds.union(Kinds::TABULATED_TORQUE);
+        }
+        if !self.callables.is_empty() {
+            kinds = kinds.union(Kinds::CALLABLE_TORQUE);
         }
         kinds
     }
@@ -203,6 +215,7 @@ impl Torques {
         Self {
             body: self.body.map(|v| Vector3::from(to_axes(v.into()))),
             tables: self.tables.iter().map(|t| t.in_axes(&to_axes)).collect(),
+            callables: self.callables.iter().map(|c| c.in_axes(&to_axes)).collect(),
             ..self.clone()
         }
     }
@@ -229,6 +242,11 @@ impl Torques {
         let tables = self.tables.iter().map(|t| t.with_moments_scaled(m));
         Ok(Self {
             tables: tables.collect::<Result<_>>()?,
+            callables: self
+                .callables
+                .iter()
+                .map(|c| c.with_moments_scaled(m))
+                .collect(),
             ..self.map_vectors(|v| ldexp(v, -m))?
         })
     }
@@ -244,6 +262,7 @@ impl Torques {
         Ok(Self {
             orbit_rate: self.orbit_rate.map(|n| scale.rate_to_unit(n)),
             tables: tables.collect::<Result<_>>()?,
+            callables: self.callables.iter().map(|c| c.in_units(scale)).collect(),
             ..out
         })
     }
@@ -266,6 +285,7 @@ impl Torques {
             body: map(self.body)?,
             world: map(self.world)?,
             tables: self.tables.clone(),
+            callables: self.callables.clone(),
         })
     }
 }
@@ -308,6 +328,32 @@ impl Torques {
             tau += table.torque_body(t, q);
         }
         tau
+    }
+
+    /// Whether the user's functions give a torque: it wants the body rates
+    /// ([`Torques::callables_body`]).
+    #[inline(always)]
+    pub fn has_callables(&self) -> bool {
+        !self.callables.is_empty()
+    }
+
+    /// The torque of the user's functions in body axes at `t` on a body at attitude `q`
+    /// turning at `omega`.
+    #[inline]
+    pub fn callables_body(
+        &self,
+        t: f64,
+        q: &Quaternion<f64>,
+        omega: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        self.callables
+            .iter()
+            .fold(Vector3::zeros(), |tau, c| tau + c.torque_body(t, q, omega))
+    }
+
+    /// The user's functions.
+    pub fn callables(&self) -> &[CallableTorque] {
+        &self.callables
     }
 
     /// The Jacobi integral (see the module doc) at `t` of a body of tensor `tensor` at attitude

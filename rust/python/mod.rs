@@ -6,6 +6,7 @@
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
 mod arrays;
+mod callable;
 mod numerics;
 mod runs;
 mod values;

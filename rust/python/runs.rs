@@ -290,9 +290,15 @@ fn simulate_batch(
     let (m, f, k) = (rows.len(), grid.frames(), rows.parts_width()?);
     let keep = keep(&options, keep_frames);
     let long = watchdog::is_long(&method, &grid, m);
+    // a Python torque function's failure stops the run: its own error reaches the caller
+    super::callable::reset(&systems);
     let out = detach(py, long, |cancel| {
         simulate_systems(rows, &grid, method, keep, &batch, cancel)
-    })?;
+    });
+    let out = match super::callable::failure(&systems) {
+        Some(e) => return Err(e),
+        None => out?,
+    };
     let frames = |v: Vec<f64>, width: usize| match keep_frames && width > 0 {
         true => shaped3(py, v, (m, f, width)).map(Some),
         false => Ok(None),

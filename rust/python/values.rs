@@ -274,6 +274,18 @@ impl PyTorque {
         })
     }
 
+    /// The torque `func(t, q, omega)` returns, in body axes, called at each evaluation with
+    /// the GIL taken.
+    #[staticmethod]
+    fn callable(func: Bound<'_, PyAny>) -> PyResult<Self> {
+        if !func.is_callable() {
+            return Err(super::callable::not_callable(&func));
+        }
+        Ok(Self {
+            inner: super::callable::PyTorqueFunction::torque(func.unbind()),
+        })
+    }
+
     /// The registry's model it is.
     #[getter]
     fn kind(&self) -> &'static str {

@@ -157,7 +157,7 @@ const EVERY_MODEL: Kinds = TORQUE_FREE
     .union(Kinds::TORQUE)
     .union(TABULATED_AND_CALLABLE);
 /// The torques given as tables or by the user's code (their runs step onto the tables' knots).
-const TABULATED_AND_CALLABLE: Kinds = Kinds::TABULATED_TORQUE;
+const TABULATED_AND_CALLABLE: Kinds = Kinds::TABULATED_TORQUE.union(Kinds::CALLABLE_TORQUE);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {

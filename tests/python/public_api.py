@@ -1333,6 +1333,16 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.TabulatedTorque,),
         min_success=0.9,
     ),
+    "CallableTorque": Entry(
+        call=dz.CallableTorque,
+        valid=st.fixed_dictionaries({"func": st.sampled_from([
+            lambda t, q, omega: -0.1 * omega, lambda t, q, omega: (0.0, 0.0, t), print])}),
+        hostile={"func": st.one_of(st.sampled_from([None, (1.0, 2.0, 3.0), np.ones(3)]),
+                                   st.floats(), st.integers(), st.text())},
+        check=lambda kw, c, _: _assert(c.func is kw["func"]),
+        covers=(dz.CallableTorque,),
+        min_success=0.9,
+    ),
     "lvlh_frame": Entry(
         call=dz.lvlh_frame,
         valid=st.fixed_dictionaries({"t": st.floats(0.0, 100.0),

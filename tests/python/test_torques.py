@@ -290,3 +290,97 @@ def test_saving_a_run_with_a_table_or_a_schedule_is_refused_rather_than_dropped(
         with pytest.raises(ValueError, match=kind):
             dz.save(traj, tmp_path / "run.nc")
         assert not (tmp_path / "run.nc").exists()
+
+
+# ---------------------------------------------------------------- Python-callable torques
+
+def _feedback(t, q, omega):
+    """A torque of all three arguments: a rate damper, a world-fixed push, a time ramp."""
+    return -0.05 * omega + _to_body(q, np.array([0.0, 0.1, -0.05])) + 0.01 * t
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_callable_torque_follows_an_independent_solution(method):
+    calls = []
+
+    def torque(t, q, omega):
+        calls.append((q.shape, omega.shape, abs(np.linalg.norm(q) - 1.0)))
+        return _feedback(t, q, omega)
+
+    system = dz.System(dz.Body.from_tensor(TENSOR), torques=[torque])   # a plain function
+    assert system.kinds == ("callable_torque",) and system.conserved == ("q_norm",)
+    traj = _run(system, method, t_end=2.0, frames=11)
+    assert traj.drift.kept == ("q_norm",)
+    # the function saw the user's time, a unit q (4,) and body rates (3,), at every evaluation
+    assert calls and all(c[:2] == ((4,), (3,)) and c[2] < 1e-15 for c in calls)
+    omega, q = reference(TENSOR, W0, Q0, traj.t,
+                         torque=lambda mid, s, q, w: _feedback(s, q, w))
+    assert np.abs(traj.omega - omega).max() < 1e-9
+    assert _same_attitude(traj.q, q).max() < 1e-9
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4"])
+def test_a_callable_that_is_the_constant_torque_gives_the_same_run(method):
+    v = np.array([0.1, -0.2, 0.05])
+    body = dz.Body.from_tensor(TENSOR)   # not principal: the function sees the user's axes
+    const = _run(dz.System(body, torques=[dz.ConstantTorque(v)]), method, t_end=2.0)
+    mine = _run(dz.System(body, torques=[dz.CallableTorque(lambda t, q, w: v)]), method,
+                t_end=2.0)
+    # the principal axes' turn there and back: round-off
+    assert np.abs(mine.omega - const.omega).max() < 1e-13
+    assert _same_attitude(mine.q, const.q).max() < 1e-13
+
+
+class Boom(Exception):
+    pass
+
+
+def test_a_callable_that_fails_stops_the_run_with_its_own_error():
+    body = dz.Body((2.0, 3.0, 4.0))
+
+    def raises(t, q, omega):
+        if t > 0.5:
+            raise Boom("the controller gave up")
+        return np.zeros(3)
+
+    for method in ("rk4", "dop853"):
+        with pytest.raises(Boom, match="gave up"):
+            dz.simulate(dz.System(body, torques=[raises]), W0, t_end=2.0, method=method)
+    # the same system runs again once the failure is past (nothing kept between runs)
+    ok = dz.System(body, torques=[dz.CallableTorque(lambda t, q, w: np.zeros(3))])
+    assert np.isfinite(dz.simulate(ok, W0, t_end=1.0).omega).all()
+    for bad, match in [(lambda t, q, w: np.zeros(2), "three numbers"),
+                       (lambda t, q, w: np.zeros((3, 1)), "three numbers"),
+                       (lambda t, q, w: "abc", "three numbers"),
+                       (lambda t, q, w: None, "three numbers"),
+                       (lambda t, q, w: (0.0, math.nan, 0.0), "finite")]:
+        with pytest.raises(ValueError, match=f"`torque` function must return .*{match}"):
+            dz.simulate(dz.System(body, torques=[bad]), W0, t_end=1.0, method="rk4")
+    with pytest.raises(TypeError, match="`func` must be callable"):
+        dz.CallableTorque(3.0)
+    with pytest.raises(TypeError, match=r"`torques\[0\]`"):
+        dz.System(body, torques=["not a function"])
+
+
+def test_a_batch_of_callable_systems_runs_each_row_as_alone_and_a_failure_names_its_row():
+    body = dz.Body((2.0, 3.0, 4.0))
+    systems = [dz.System(body, torques=[lambda t, q, w, k=k: -k * w]) for k in (0.1, 0.3)]
+    batch = dz.simulate(systems, [W0, W0], t_end=2.0, frames=5, method="rk4", dt=1e-2)
+    for k, s in enumerate(systems):
+        one = dz.simulate(s, W0, t_end=2.0, frames=5, method="rk4", dt=1e-2)
+        np.testing.assert_array_equal(batch.omega[k], one.omega)
+
+    def raises(t, q, w):
+        raise Boom("row 1")
+
+    with pytest.raises(Boom):
+        dz.simulate([systems[0], dz.System(body, torques=[raises])], [W0, W0], t_end=1.0,
+                    method="rk4", dt=1e-2)
+
+
+def test_a_callable_torque_is_a_value():
+    t = dz.CallableTorque(_feedback)
+    assert pickle.loads(pickle.dumps(t)) == t and hash(pickle.loads(pickle.dumps(t))) == hash(t)
+    assert dz.CallableTorque(t) == t and repr(t) == "CallableTorque(_feedback)"
+    s = dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[_feedback])
+    assert s.torques == (t,) and pickle.loads(pickle.dumps(s)) == s
