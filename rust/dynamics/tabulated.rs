@@ -15,6 +15,7 @@
 //! place, round-off), so that it integrates the piece after it, jumps included.
 
 use std::str::FromStr;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use nalgebra::{Quaternion, Vector3};
 
@@ -46,11 +47,32 @@ impl FromStr for Outside {
 }
 
 /// A vector law given at knots, linear between them (see the module doc).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug)]
 pub struct Table {
     times: Vec<f64>,
     values: Vec<Vector3<f64>>,
     outside: Outside,
+    /// The piece `k` (`t_{k−1} < t ≤ t_k`) the last evaluation found: a run's evaluations
+    /// come in order, so the next one is mostly in it (a hint only: it changes no result).
+    hint: AtomicUsize,
+}
+
+impl Clone for Table {
+    fn clone(&self) -> Self {
+        Self {
+            times: self.times.clone(),
+            values: self.values.clone(),
+            outside: self.outside,
+            hint: AtomicUsize::new(self.hint.load(Ordering::Relaxed)),
+        }
+    }
+}
+
+/// The same law (the hint aside).
+impl PartialEq for Table {
+    fn eq(&self, other: &Self) -> bool {
+        self.times == other.times && self.values == other.values && self.outside == other.outside
+    }
 }
 
 /// # Construction
@@ -120,6 +142,7 @@ impl Table {
             times,
             values: values.into_iter().map(Vector3::from).collect(),
             outside,
+            hint: AtomicUsize::new(1),
         })
     }
 
@@ -206,8 +229,16 @@ impl Table {
                 (Outside::Hold, false) => vs[last],
             };
         }
-        // ts[k − 1] < t ≤ ts[k]
-        let k = ts.partition_point(|&s| s < t).clamp(1, last);
+        // ts[k − 1] < t ≤ ts[k]: the hint's piece, else a search
+        let h = self.hint.load(Ordering::Relaxed);
+        let k = match h >= 1 && h <= last && ts[h - 1] < t && t <= ts[h] {
+            true => h,
+            false => {
+                let k = ts.partition_point(|&s| s < t).clamp(1, last);
+                self.hint.store(k, Ordering::Relaxed);
+                k
+            }
+        };
         let (t0, t1) = (ts[k - 1], ts[k]);
         let s = (t - t0) / (t1 - t0);
         vs[k - 1] + (vs[k] - vs[k - 1]) * s
