@@ -384,3 +384,32 @@ def test_a_callable_torque_is_a_value():
     assert dz.CallableTorque(t) == t and repr(t) == "CallableTorque(_feedback)"
     s = dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[_feedback])
     assert s.torques == (t,) and pickle.loads(pickle.dumps(s)) == s
+
+
+@pytest.mark.parametrize("rate, moment", [(2.0**300, 1.0), (1.0, 2.0**900),
+                                          (2.0**-400, 2.0**-500)])
+def test_the_new_models_scale_like_the_built_ins_at_the_edges_of_float64(rate, moment):
+    # a run at rates ×s, moments ×m, times /s is the unit run scaled: each new model gives the
+    # run of its built-in twin (a constant torque, a constant wheel), the function seeing the
+    # user's own time and rates
+    body = dz.Body.from_tensor(np.asarray(TENSOR) * moment)
+    v = np.array([0.1, -0.2, 0.05]) * moment * rate**2
+    run = dict(t_end=2.0 / rate, method="rk4", dt=0.01 / rate)
+    const = dz.simulate(dz.System(body, torques=[dz.ConstantTorque(v)]), W0 * rate, **run)
+    seen = []
+
+    def f(t, q, omega):
+        seen.append((t * rate, np.linalg.norm(omega) / rate))
+        return v
+
+    table = dz.TabulatedTorque([0.5 / rate, 1.5 / rate], [v, v], outside="hold")
+    for twin in (dz.System(body, torques=[f]), dz.System(body, torques=[table])):
+        traj = dz.simulate(twin, W0 * rate, **run)
+        assert np.abs(traj.omega - const.omega).max() <= 1e-14 * rate
+    assert max(t for t, _ in seen) == pytest.approx(2.0)
+    assert 1.0 < max(w for _, w in seen) < 2.0
+    h = 0.8 * moment * rate
+    wheel = dz.simulate(dz.System(body, parts=[dz.Wheel((0, 1, 0), h)]), W0 * rate, **run)
+    scheduled = dz.simulate(dz.System(body, parts=[dz.Wheel((0, 1, 0), (
+        [0.5 / rate, 1.5 / rate], [h, h]))]), W0 * rate, **run)
+    assert np.abs(scheduled.omega - wheel.omega).max() <= 1e-12 * rate
