@@ -99,6 +99,10 @@ where
 
     obs.frame(0, 0.0, &x0);
     let (mut t, mut x) = (0.0, x0);
+    if kinks.contains(&0.0) {
+        // a kink at the start: the run integrates its far side
+        t = crate::run::fixed::after(t);
+    }
     let mut f = sys.rhs(t, &x);
     if !f.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {

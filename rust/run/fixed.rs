@@ -79,14 +79,13 @@ where
     for i in 1..grid.frames() {
         let (ta, tb) = (grid.time(i - 1), grid.time(i));
         let h = (tb - ta) / n as f64;
-        // the kinks strictly inside this frame's interval
-        let inside =
-            &kinks[kinks.partition_point(|&k| k <= ta)..kinks.partition_point(|&k| k < tb)];
+        // the kinks in this frame's interval, its start included (the step from a kink starts
+        // just after it; the step onto the interval's end ends on it)
+        let inside = &kinks[kinks.partition_point(|&k| k < ta)..kinks.partition_point(|&k| k < tb)];
         if !inside.is_empty() {
-            (x, splits) = (
-                advance_across(method, sys, obs, x, ta, h, (n, tb), inside),
-                splits + inside.len() as u64,
-            );
+            let extra;
+            (x, extra) = advance_across(method, sys, obs, x, ta, h, (n, tb), inside);
+            splits += extra;
             check(&x, tb, cancel)?;
             obs.frame(i, tb, &method.to_state(sys, &x));
             continue;
@@ -145,8 +144,9 @@ where
 }
 
 /// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the `kinks` (increasing,
-/// inside `(ta, tb)`) split on it: the first piece ends on the kink, the second starts one
-/// float64 after it. Frames with kinks are rare: the cancel flag waits for the frame's end.
+/// in `[ta, tb)`) split on it: the first piece ends on the kink, the second starts one
+/// float64 after it (a substep starting on a kink starts one float64 after it). Returns the
+/// state and the steps taken beyond the `n`. Frames with kinks are rare: the cancel flag waits for the frame's end.
 #[allow(clippy::too_many_arguments)]
 fn advance_across<const N: usize, S, M, O>(
     method: &M,
@@ -157,14 +157,16 @@ fn advance_across<const N: usize, S, M, O>(
     h: f64,
     (n, tb): (u64, f64),
     kinks: &[f64],
-) -> [f64; N]
+) -> ([f64; N], u64)
 where
     S: OdeSystem<N>,
     M: Stepper<N, S>,
     O: Observer<N>,
 {
     let mut next = 0;
+    let mut pieces: u64 = 0;
     let mut piece = |x: &mut [f64; N], t: f64, t1: f64| {
+        pieces += 1;
         if O::WANTS_STEPS {
             let before = method.to_state(sys, x);
             method.step(sys, t, t1 - t, x);
@@ -180,14 +182,15 @@ where
             next += 1;
             if kink > t {
                 piece(&mut x, t, kink);
-                t = after(kink);
             }
+            // on the kink's far side (also when the substep starts on it)
+            t = after(kink).max(t);
         }
         if t1 > t {
             piece(&mut x, t, t1);
         }
     }
-    x
+    (x, pieces.saturating_sub(n))
 }
 
 /// The float64 just after `t` (the next step's start after a kink at `t`).

@@ -152,6 +152,14 @@ def test_a_pulse_gives_its_impulse_exactly_to_a_body_at_rest_about_a_principal_a
     for method, opts in [("rk4", dict(dt=0.25)), ("dop853", {}), ("dopri5", {})]:
         traj = dz.simulate(s, (0.0, 0.0, 0.0), t_end=3.0, method=method, **opts)
         assert traj.omega[-1, 2] == pytest.approx(impulse / 4.0, rel=1e-13, abs=0)
+    # jumps at the start, on a frame and on a substep: each step takes the side it integrates
+    for times in ([0.0, 0.5], [0.5, 1.5], [0.25, 0.75], [0.125, 1.0]):
+        box = dz.TabulatedTorque(times, [(0, 0, 1), (0, 0, 1)])     # zero outside: jumps
+        s = dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[box])
+        for method, opts in [("rk4", dict(dt=0.125)), ("dop853", {}), ("dopri5", {})]:
+            traj = dz.simulate(s, (0.0, 0.0, 0.0), t_end=2.0, frames=5, method=method, **opts)
+            assert traj.omega[-1, 2] == pytest.approx((times[1] - times[0]) / 4.0, rel=1e-13,
+                                                      abs=0), (times, method)
 
 
 def test_a_tabulated_torque_is_a_value_and_refuses_bad_tables_by_name():
