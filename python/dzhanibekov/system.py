@@ -44,10 +44,12 @@ class System:
         Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
         in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
         no state of their own).
-    torques : sequence of GravityGradient, ConstantTorque, TabulatedTorque or CallableTorque
-        External torques: the gravity gradient of a circular orbit (at most one), constant
-        torques in body or world axes, tabulated ones and your own functions (a plain
-        function ``f(t, q, omega)`` is taken as ``CallableTorque(f)``); they add up.
+    torques : sequence of torques, optional
+        External torques, which add up: the gravity gradient of a circular orbit (a
+        :class:`GravityGradient`, at most one), constant torques in body or world axes
+        (:class:`ConstantTorque`), tabulated ones (:class:`TabulatedTorque`) and your own
+        functions (:class:`CallableTorque`; a plain function ``f(t, q, omega)`` is taken as
+        one).
 
     Raises
     ------
