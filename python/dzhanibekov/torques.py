@@ -176,8 +176,9 @@ class CallableTorque:
 
     A function that raises stops the run, and its exception reaches the caller as raised; one
     that returns something else than three finite numbers stops it with a ValueError naming
-    `torque`. Ctrl-C stops a run as usual. A batch of such systems runs (each call takes the
-    GIL, so the rows do not run in parallel). The model keeps nothing but ``|q| = 1``.
+    `torque`. Ctrl-C stops a run as usual (within milliseconds: no call is made after it). A
+    batch of such systems runs, its rows one after another on one thread (each call takes the
+    GIL: rows on several threads would only queue for it). The model keeps nothing but ``|q| = 1``.
     ``dz.save`` refuses a run with one: a file cannot hold code.
 
     A plain function in ``torques=[...]`` is taken as ``CallableTorque(func)``.

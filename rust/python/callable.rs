@@ -115,6 +115,17 @@ fn functions(systems: &[System]) -> impl Iterator<Item = &PyTorqueFunction> {
         })
 }
 
+/// Whether a run of `systems` calls Python functions.
+pub(crate) fn calls_python(systems: &[System]) -> bool {
+    functions(systems).next().is_some()
+}
+
+/// Stops the Python functions of `systems` (Ctrl-C): no more calls, no error kept; the run
+/// stops at its next look at the state (the torque NaN) or its cancel flag.
+pub(crate) fn stop(systems: &[System]) {
+    functions(systems).for_each(|f| f.failed.store(true, Ordering::SeqCst));
+}
+
 /// Readies the Python functions of `systems` for a run.
 pub(crate) fn reset(systems: &[System]) {
     functions(systems).for_each(PyTorqueFunction::reset);
