@@ -10,6 +10,10 @@
    (tensor [[2, -.3, .1], [-.3, 3, .2], [.1, .2, 4]], ω₀ = (0.3, -0.7, 1.1)), RK4 and dop853.
 3. ns per RK4 step (dt = 0.01, 2·10⁶ steps, medians of --repeat runs, flips off) of each model
    beside the free body's, in the same session: compare the ratios.
+4. A Python-callable torque's cost per RK4 step (10⁵ steps, four calls a step) against the
+   built-in ConstantTorque giving the same torque, printed as a ratio.
+
+    python benches/python/orbit_numbers.py --only cost callable   # parts 3 and 4 alone
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ import argparse
 import math
 import statistics
 import time
+from collections.abc import Callable
 
 import numpy as np
 
@@ -67,6 +72,11 @@ def cost(repeat: int) -> None:
         "constant torque (world)": dz.System(body, torques=[
             dz.ConstantTorque((0, 0, 1e-4), "world")]),
         "damper": dz.System(body, parts=[dz.Damper(0.05, 0.02)]),
+        # 101 knots over the run: a step split in two at each
+        "tabulated torque (body)": dz.System(body, torques=[dz.TabulatedTorque(
+            np.linspace(0.0, 2e4, 101), np.tile((0.0, 0.0, 1e-4), (101, 1)))]),
+        "wheel schedule": dz.System(body, parts=[dz.Wheel((0, 1, 0), (
+            np.linspace(0.0, 2e4, 101), np.linspace(0.0, 0.5, 101)))]),
     }
     times: dict[str, list[float]] = {name: [] for name in systems}
     for _ in range(repeat):
@@ -81,13 +91,38 @@ def cost(repeat: int) -> None:
         print(f"RK4 per step, {name}: {m:.0f} ns ({m / base:.2f}× the free body)")
 
 
+def callable_cost(repeat: int) -> None:
+    body = dz.Body.from_tensor(TENSOR)
+    tau = np.array([0.0, 0.0, 1e-4])
+    systems = {
+        "ConstantTorque": dz.System(body, torques=[dz.ConstantTorque(tau)]),
+        "CallableTorque": dz.System(body, torques=[dz.CallableTorque(lambda t, q, w: tau)]),
+    }
+    times: dict[str, list[float]] = {name: [] for name in systems}
+    for _ in range(repeat):
+        for name, system in systems.items():
+            start = time.perf_counter()
+            traj = dz.simulate(system, W0, t_end=1000.0, dt=0.01, frames=11, method="rk4",
+                               flips=False)
+            times[name].append((time.perf_counter() - start) / traj.n_steps * 1e9)
+    built_in, python = (statistics.median(times[k]) for k in systems)
+    print(f"RK4 per step, Python-callable torque: {python:.0f} ns, ConstantTorque "
+          f"{built_in:.0f} ns: {python / built_in:.0f}× (about {(python - built_in) / 4:.0f} ns "
+          f"a call, four calls a step)")
+
+
+PARTS: dict[str, Callable[[int], None]] = {
+    "libration": lambda repeat: libration(), "jacobi": lambda repeat: jacobi(),
+    "cost": cost, "callable": callable_cost}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--only", nargs="+", choices=sorted(PARTS), default=list(PARTS))
     args = parser.parse_args()
-    libration()
-    jacobi()
-    cost(args.repeat)
+    for name in args.only:
+        PARTS[name](args.repeat)
 
 
 if __name__ == "__main__":

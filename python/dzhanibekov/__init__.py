@@ -24,6 +24,7 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
 from .errors import DivergedError, DzhanibekovError, TooLargeError
@@ -54,6 +55,8 @@ __all__ = [
     "Wheel",
     "GravityGradient",
     "ConstantTorque",
+    "TabulatedTorque",
+    "CallableTorque",
     "lvlh_frame",
     "lvlh_attitude",
     "lvlh_start",

@@ -20,6 +20,7 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
+from .torques import CallableTorque, TabulatedTorque, knot_times
 
 __all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "pitch_libration_rate",
            "dual_spin_threshold"]
@@ -138,31 +139,44 @@ class ConstantTorque:
         return hash(("constant", self.vector, self.frame))
 
 
-Torque = GravityGradient | ConstantTorque
+Torque = GravityGradient | ConstantTorque | TabulatedTorque | CallableTorque
 """The external torques a system takes."""
+
+TORQUE_TYPES = (GravityGradient, ConstantTorque, TabulatedTorque, CallableTorque)
+"""The classes of :data:`Torque`, for ``isinstance``."""
 
 
 class Wheel:
-    """A momentum wheel: a rotor spinning about a fixed body `axis` with constant relative
-    angular momentum `momentum` (a gyrostat; Hughes, *Spacecraft Attitude Dynamics*, ch. 6).
+    """A momentum wheel: a rotor spinning about a fixed body `axis` with relative angular
+    momentum `momentum`, constant or following a schedule (a gyrostat; Hughes, *Spacecraft
+    Attitude Dynamics*, ch. 6).
 
     The body's tensor counts the rotor as a rigid part. In body axes
-    ``I ω' = (I ω + Σ h a) × ω`` (plus the external torque): without torques the total
-    angular momentum ``H = I ω + Σ h a`` is fixed in space, and the body's energy
-    ``½ ωᵀ I ω`` is kept too (``h`` is constant). Several wheels, any axes, add up. A wheel
-    has no state of its own (nothing in ``traj.parts``); ``traj.momentum_world`` counts it.
+    ``I ω' = (I ω + Σ h a) × ω − Σ ḣ a`` (plus the external torque): without torques the total
+    angular momentum ``H = I ω + Σ h a`` is fixed in space (``|L|`` and ``L`` in space kept).
+    With constant momenta the body's energy ``½ ωᵀ I ω`` is kept too; a schedule
+    ``momentum=(times, values)`` (a spin-up or spin-down: linear between the knots, held
+    outside them) changes it by the wheels' work, ``dT/dt = −Σ ḣ (a · ω)``, and every run ends
+    a step on each of its knots (as for a :class:`~dzhanibekov.TabulatedTorque`). Several
+    wheels, any axes, add up. A wheel has no state of its own (nothing in ``traj.parts``);
+    ``traj.momentum_world`` counts it.
 
     Parameters
     ----------
     axis : array_like, shape (3,)
         The spin axis in the body's own axes, finite and not zero (normalised).
-    momentum : float
-        The rotor's angular momentum relative to the body along `axis`, finite.
+    momentum : float or (times, values)
+        The rotor's angular momentum relative to the body along `axis`, finite: a number, or
+        a schedule of at least two knot times (finite, strictly increasing) and as many
+        values.
 
     Raises
     ------
     ValueError
-        An `axis` of the wrong shape, not finite or zero; a `momentum` not finite.
+        An `axis` of the wrong shape, not finite or zero; a `momentum` not finite; a schedule
+        whose times are not increasing or whose values do not match them.
+    TypeError
+        A `momentum` that is neither a number nor a pair ``(times, values)``.
 
     Examples
     --------
@@ -170,25 +184,59 @@ class Wheel:
     >>> dual = dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Wheel((0, 1, 0), 2.0)])
     >>> dual.kinds, dual.conserved
     (('wheel',), ('momentum', 'momentum_world', 'q_norm'))
+    >>> spin_up = dz.Wheel((0, 1, 0), ([0.0, 50.0], [0.0, 2.0]))
+    >>> spin_up.momentum_at(25.0)
+    1.0
+    >>> dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[spin_up]).kinds
+    ('wheel_schedule',)
     """
 
     __slots__ = ("axis", "momentum", "_core")
 
     axis: tuple[float, float, float]
-    momentum: float
+    momentum: float | tuple[tuple[float, ...], tuple[float, ...]]
+    """The momentum: a number, or the schedule ``(times, values)`` as tuples."""
 
     def __init__(self, axis: Any, momentum: Any) -> None:
         a = as_array("axis", axis, "(3,)", last=3, ndim=(1,))
         if not np.any(a):
             raise ValueError("`axis` must not be zero, got (0, 0, 0)")
         self.axis = (float(a[0]), float(a[1]), float(a[2]))
-        self.momentum = as_float("momentum", momentum)
-        self._core = _core.Wheel(self.axis, self.momentum)
+        if isinstance(momentum, (tuple, list)):
+            if len(momentum) != 2:
+                raise ValueError(f"`momentum` must be a number or a schedule (times, values), "
+                                 f"got a sequence of {len(momentum)} items")
+            t = knot_times(momentum[0], "momentum times")
+            v = as_array("momentum", momentum[1], "(K,)", last=len(t), ndim=(1,))
+            self.momentum = (tuple(float(x) for x in t), tuple(float(x) for x in v))
+            self._core = _core.Wheel.scheduled(self.axis, t, np.array(v, dtype=np.float64))
+        else:
+            if isinstance(momentum, np.ndarray) and momentum.ndim > 0:
+                raise TypeError("`momentum` must be a number or a schedule (times, values), "
+                                f"got an array of shape {momentum.shape}")
+            self.momentum = as_float("momentum", momentum)
+            self._core = _core.Wheel(self.axis, self.momentum)
+
+    @property
+    def is_scheduled(self) -> bool:
+        """Whether the momentum follows a schedule."""
+        return isinstance(self.momentum, tuple)
+
+    def momentum_at(self, t: float) -> float:
+        """The relative momentum at time `t` (a convenience for plots: runs evaluate the law
+        in the core)."""
+        if isinstance(self.momentum, tuple):
+            return float(np.interp(t, self.momentum[0], self.momentum[1]))
+        return self.momentum
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (Wheel, (self.axis, self.momentum))
 
     def __repr__(self) -> str:
+        if isinstance(self.momentum, tuple):
+            times, values = self.momentum
+            return (f"Wheel(axis={self.axis!r}, momentum=(times=[{times[0]!r} … {times[-1]!r}]"
+                    f", values=[{values[0]!r} … {values[-1]!r}], knots={len(times)}))")
         return f"Wheel(axis={self.axis!r}, momentum={self.momentum!r})"
 
     def __eq__(self, other: object) -> bool:

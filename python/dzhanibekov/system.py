@@ -23,7 +23,8 @@ from . import _core
 from .body import Body, as_body, principal_body
 from .damper import Damper
 from .deployment import Deployment
-from .orbit import ConstantTorque, GravityGradient, Torque, Wheel
+from .orbit import TORQUE_TYPES, Torque, Wheel
+from .torques import CallableTorque
 
 __all__ = ["System", "as_system", "Systems"]
 
@@ -43,9 +44,12 @@ class System:
         Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
         in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
         no state of their own).
-    torques : sequence of GravityGradient or ConstantTorque, optional
-        External torques: the gravity gradient of a circular orbit (at most one) and
-        constant torques in body or world axes; they add up.
+    torques : sequence of torques, optional
+        External torques, which add up: the gravity gradient of a circular orbit (a
+        :class:`GravityGradient`, at most one), constant torques in body or world axes
+        (:class:`ConstantTorque`), tabulated ones (:class:`TabulatedTorque`) and your own
+        functions (:class:`CallableTorque`; a plain function ``f(t, q, omega)`` is taken as
+        one).
 
     Raises
     ------
@@ -80,11 +84,14 @@ class System:
             if not isinstance(part, (Damper, Wheel)):
                 raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
                                 f"{type(part).__name__}")
-        torques_ = _sequence("torques", torques)
+        # a plain function is a CallableTorque
+        torques_ = tuple(t if isinstance(t, TORQUE_TYPES) or not callable(t)
+                         else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, (GravityGradient, ConstantTorque)):
-                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient or a "
-                                f"dz.ConstantTorque, got {type(torque).__name__}")
+            if not isinstance(torque, TORQUE_TYPES):
+                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
+                                f"dz.ConstantTorque, a dz.TabulatedTorque or a function "
+                                f"(dz.CallableTorque), got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)

@@ -32,7 +32,7 @@ use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, Conserved, MidAxis, Model,
     MomentumProjection,
 };
-use super::{Damper, Deployment, Torques};
+use super::{Damper, Deployment, Table, Torques};
 
 /// A constant tensor, its inverse, and what the runs read of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -151,8 +151,14 @@ pub struct GeneralModel<const N: usize> {
     damper: Damper,
     /// The wheels' total momentum `Σ h a` in body axes, if there are wheels.
     wheels: Option<Vector3<f64>>,
+    /// The scheduled wheels' `h(t) a` in body axes (see [`super::WheelSchedule`]).
+    schedules: Vec<Table>,
     torques: Torques,
     kinds: Kinds,
+    /// Where the right-hand side has a kink or a jump (tabulated laws): every step ends there.
+    kinks: Vec<f64>,
+    /// Where it is not smooth: the kinks and a deployment's knots (adaptive steps end there).
+    knots: Vec<f64>,
 }
 
 /// # Construction
@@ -183,14 +189,24 @@ impl<const N: usize> GeneralModel<N> {
             inertia,
             damper: damper.unwrap_or(Damper::try_new(1.0, 0.0)?),
             wheels: None,
+            schedules: Vec::new(),
             torques: Torques::default(),
             kinds,
-        })
+            kinks: Vec::new(),
+            knots: Vec::new(),
+        }
+        .with_kinds())
     }
 
     /// The same model with wheels of total momentum `wheels` (`Σ h a`, body axes), if any.
     pub fn with_wheels(mut self, wheels: Option<Vector3<f64>>) -> Self {
         self.wheels = wheels;
+        self.with_kinds()
+    }
+
+    /// The same model with wheels of scheduled momentum, each `h(t) a` in body axes.
+    pub fn with_schedules(mut self, schedules: Vec<Table>) -> Self {
+        self.schedules = schedules;
         self.with_kinds()
     }
 
@@ -211,11 +227,33 @@ impl<const N: usize> GeneralModel<N> {
         if self.wheels.is_some() {
             kinds = kinds.union(Kinds::WHEEL);
         }
+        if !self.schedules.is_empty() {
+            kinds = kinds.union(Kinds::WHEEL_SCHEDULE);
+        }
         kinds = kinds.union(self.torques.kinds());
         self.kinds = match kinds == Kinds::NONE {
             true => Kinds::FREE,
             false => kinds,
         };
+        self.with_knots()
+    }
+
+    /// The kinks and knots of the model's laws (see the fields).
+    fn with_knots(mut self) -> Self {
+        let mut kinks = self.torques.kinks();
+        for s in &self.schedules {
+            kinks.extend_from_slice(s.times());
+        }
+        kinks.sort_by(f64::total_cmp);
+        kinks.dedup();
+        self.kinks = kinks;
+        let mut knots = self.kinks.clone();
+        if let InertiaLaw::Schedule(d) = &self.inertia {
+            knots.extend_from_slice(d.times());
+        }
+        knots.sort_by(f64::total_cmp);
+        knots.dedup();
+        self.knots = knots;
         self
     }
 
@@ -231,6 +269,9 @@ impl<const N: usize> GeneralModel<N> {
         let omega = Vector3::from(omega0);
         let sigma = Vector3::from(sigma0);
         let mut h = self.inertia.tensor_at(t0) * omega + self.wheels.unwrap_or_default();
+        for s in &self.schedules {
+            h += s.at(t0);
+        }
         if self.has_damper() {
             h += sigma * self.damper.sphere();
         }
@@ -253,9 +294,9 @@ impl<const N: usize> GeneralModel<N> {
         self.has_damper().then_some(&self.damper)
     }
 
-    /// Whether it has wheels.
+    /// Whether it has wheels (constant or scheduled).
     pub fn has_wheels(&self) -> bool {
-        self.wheels.is_some()
+        self.wheels.is_some() || !self.schedules.is_empty()
     }
 
     #[inline(always)]
@@ -271,12 +312,15 @@ impl<const N: usize> GeneralModel<N> {
         Vector3::new(x[3], x[4], x[5])
     }
 
-    /// The body's own angular momentum `H − j σ − Σ h a`.
+    /// The body's own angular momentum `H − j σ − Σ h a` at `t`.
     #[inline(always)]
-    fn body_momentum(&self, x: &[f64; N]) -> Vector3<f64> {
+    fn body_momentum(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
         let mut h = Vector3::new(x[0], x[1], x[2]);
         if let Some(w) = self.wheels {
             h -= w;
+        }
+        for s in &self.schedules {
+            h -= s.at(t);
         }
         match self.has_damper() {
             true => h - Self::sigma(x) * self.damper.sphere(),
@@ -287,8 +331,13 @@ impl<const N: usize> GeneralModel<N> {
     /// The external torque in body axes at `(t, x)`.
     #[inline(always)]
     pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.torques
-            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v))
+        let tau = self
+            .torques
+            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v));
+        match self.torques.has_callables() {
+            false => tau,
+            true => tau + (self.torques).callables_body(t, &attitude(x), &self.omega_body(t, x)),
+        }
     }
 }
 
@@ -296,7 +345,7 @@ impl<const N: usize> OdeSystem<N> for GeneralModel<N> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
         let h = Vector3::new(x[0], x[1], x[2]);
-        let omega = self.inertia.omega_from(t, &self.body_momentum(x));
+        let omega = self.inertia.omega_from(t, &self.body_momentum(t, x));
         let mut dh = h.cross(&omega);
         if !self.torques.is_empty() {
             dh += self.torque(t, x);
@@ -328,7 +377,7 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
 
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.inertia.omega_from(t, &self.body_momentum(x))
+        self.inertia.omega_from(t, &self.body_momentum(t, x))
     }
 
     #[inline(always)]
@@ -358,7 +407,7 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     }
 
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
-        let l = self.body_momentum(x);
+        let l = self.body_momentum(t, x);
         let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
         match self.has_damper() {
             true => body + 0.5 * self.damper.sphere() * Self::sigma(x).norm_squared(),
@@ -375,7 +424,11 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     /// method or a `dt` of its own.
     fn rate_bound(&self, x0: &[f64; N]) -> f64 {
         let least = self.inertia.least();
-        let wheels = self.wheels.map_or(0.0, |w| w.norm());
+        // a schedule's |h a| is largest at one of its knots (linear between them)
+        let scheduled: f64 = (self.schedules.iter())
+            .map(|s| s.values().iter().fold(0.0, |m: f64, v| m.max(v.norm())))
+            .sum();
+        let wheels = self.wheels.map_or(0.0, |w| w.norm()) + scheduled;
         let free = match self.has_damper() {
             true => (2.0 * self.energy(0.0, x0) / least).sqrt(),
             false => (self.momentum_body(0.0, x0).norm() + wheels) / least,
@@ -408,10 +461,11 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     }
 
     fn knots(&self) -> &[f64] {
-        match &self.inertia {
-            InertiaLaw::Constant(_) => &[],
-            InertiaLaw::Schedule(d) => d.times(),
-        }
+        &self.knots
+    }
+
+    fn kinks(&self) -> &[f64] {
+        &self.kinks
     }
 
     fn kept(&self, t0: f64, x0: &[f64; N]) -> MomentumProjection {
@@ -439,8 +493,14 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
             false => None,
         };
         let wheels = self.wheels.map(|w| w.map(|v| scale.rate_to_unit(v)));
+        let to_unit = |v: Vector3<f64>| v.map(|c| scale.rate_to_unit(c));
+        let schedules = (self.schedules.iter())
+            .map(|s| s.in_units(scale, to_unit, "momentum"))
+            .collect::<Result<Vec<_>>>()?;
+        // the knots follow the laws' times, rebuilt in the run's units
         Ok(Self::try_new(inertia, damper)?
             .with_wheels(wheels)
+            .with_schedules(schedules)
             .with_torques(self.torques.in_units(scale)?))
     }
 }
@@ -529,7 +589,10 @@ mod tests {
     #[test]
     fn the_jacobi_integral_is_stationary_in_the_gravity_gradient_with_wheels() {
         let gg = super::super::Torque::gravity_gradient(0.8).unwrap();
-        let m = orbiting(Some(Vector3::new(0.3, -0.5, 0.7)), &[gg]);
+        let m = orbiting(
+            Some(Vector3::new(0.3, -0.5, 0.7)),
+            std::slice::from_ref(&gg),
+        );
         assert_eq!(m.conserved().names(), ["q_norm", "jacobi"]);
         let q = [0.6, -0.2, 0.7, 0.3];
         let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();

@@ -98,6 +98,12 @@ impl Kinds {
     pub const GRAVITY_GRADIENT: Self = Self(16);
     /// A constant external torque ([`super::Torque::Constant`]).
     pub const TORQUE: Self = Self(32);
+    /// A torque tabulated at knots ([`super::TabulatedTorque`]).
+    pub const TABULATED_TORQUE: Self = Self(64);
+    /// Momentum wheels whose momentum follows a schedule ([`super::WheelSchedule`]).
+    pub const WHEEL_SCHEDULE: Self = Self(128);
+    /// A torque computed by the user's code ([`super::CallableTorque`]).
+    pub const CALLABLE_TORQUE: Self = Self(256);
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -154,7 +160,7 @@ pub struct ModelInfo {
 }
 
 /// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 6] = [
+pub const MODELS: [ModelInfo; 9] = [
     ModelInfo {
         kind: Kinds::FREE,
         name: "free",
@@ -193,5 +199,28 @@ pub const MODELS: [ModelInfo; 6] = [
         name: "torque",
         keeps: Conserved::Q_NORM,
         about: "a constant external torque in body or world axes (nothing kept but |q|)",
+    },
+    ModelInfo {
+        kind: Kinds::TABULATED_TORQUE,
+        name: "tabulated_torque",
+        keeps: Conserved::Q_NORM,
+        about: "a torque tabulated at knots in body or world axes, linear between them, zero \
+                or held outside (nothing kept but |q|; every step ends on a knot)",
+    },
+    ModelInfo {
+        kind: Kinds::WHEEL_SCHEDULE,
+        name: "wheel_schedule",
+        // the wheels' work changes the energy (and, in an orbit, the Jacobi integral)
+        keeps: Conserved::MOMENTA,
+        about: "momentum wheels whose momentum follows a schedule, linear between knots \
+                (I ω' = (I ω + Σ h a) × ω − Σ ḣ a; |L| and L in space kept, the energy \
+                changed by the wheels' work; every step ends on a knot)",
+    },
+    ModelInfo {
+        kind: Kinds::CALLABLE_TORQUE,
+        name: "callable_torque",
+        keeps: Conserved::Q_NORM,
+        about: "a torque computed by the user's function f(t, q, ω) in body axes, called at \
+                each evaluation (Python speed; nothing kept but |q|)",
     },
 ];

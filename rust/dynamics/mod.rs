@@ -5,6 +5,7 @@
 //! entry in [`MODELS`]; the registry of methods ([`crate::run::registry`]) says which methods
 //! run which.
 
+mod callable;
 mod damper;
 mod deployment;
 mod free;
@@ -12,9 +13,12 @@ mod general;
 mod kinds;
 pub mod model;
 mod system;
+mod tabulated;
 mod torques;
 mod wheel;
+mod wheel_schedule;
 
+pub use callable::{CallableTorque, TorqueFunction};
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;
@@ -22,5 +26,7 @@ pub use general::{ConstantInertia, GeneralModel, InertiaLaw};
 pub use kinds::{Kinds, ModelInfo, MODELS};
 pub use model::{Conserved, MidAxis, Model};
 pub use system::{Part, System, SystemBody};
+pub use tabulated::{Outside, Table, TabulatedTorque};
 pub use torques::{Frame, Torque, Torques};
 pub use wheel::Wheel;
+pub use wheel_schedule::WheelSchedule;

@@ -117,6 +117,15 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync + Sized {
         &[]
     }
 
+    /// The knots (increasing, among [`Model::knots`]) where the right-hand side itself has a
+    /// kink or a jump (a tabulated torque, a wheel's schedule): fixed-step methods end a step
+    /// there too (a straddling step would be of order 1 or 2 there), and every driver starts
+    /// the next step one float64 after it, so that a jump is taken from the side that step
+    /// integrates (see [`crate::dynamics::Table`]).
+    fn kinks(&self) -> &[f64] {
+        &[]
+    }
+
     /// What a projected method restores after each step, taken at the start `(t0, x0)`.
     fn kept(&self, t0: f64, x0: &[f64; N]) -> Self::Kept;
 

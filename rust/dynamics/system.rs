@@ -10,7 +10,7 @@ use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
 use super::kinds::Kinds;
-use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel};
+use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel, WheelSchedule};
 
 /// A system's body.
 #[derive(Debug, Clone, PartialEq)]
@@ -22,7 +22,7 @@ pub enum SystemBody {
 }
 
 /// An internal part, with what its state starts from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Part {
     /// A spherical viscous damper; its sphere's rates start at `sigma0` (body axes), or
     /// co-rotating with the body (`None`).
@@ -32,6 +32,8 @@ pub enum Part {
     },
     /// A momentum wheel of constant relative momentum (no state of its own).
     Wheel(Wheel),
+    /// A momentum wheel whose relative momentum follows a schedule (no state of its own).
+    ScheduledWheel(WheelSchedule),
 }
 
 impl Part {
@@ -40,6 +42,7 @@ impl Part {
         match self {
             Part::Damper { .. } => "damper",
             Part::Wheel(_) => "wheel",
+            Part::ScheduledWheel(_) => "wheel_schedule",
         }
     }
 
@@ -47,7 +50,7 @@ impl Part {
     pub fn width(&self) -> usize {
         match self {
             Part::Damper { .. } => 3,
-            Part::Wheel(_) => 0,
+            Part::Wheel(_) | Part::ScheduledWheel(_) => 0,
         }
     }
 }
@@ -133,6 +136,14 @@ impl System {
         })
     }
 
+    /// The wheels of scheduled momentum, in the user's body axes.
+    pub fn wheel_schedules(&self) -> impl Iterator<Item = &WheelSchedule> {
+        self.parts.iter().filter_map(|p| match p {
+            Part::ScheduledWheel(w) => Some(w),
+            _ => None,
+        })
+    }
+
     /// The damper and its start, if there is one.
     pub fn damper(&self) -> Option<(Damper, Option<[f64; 3]>)> {
         self.parts.iter().find_map(|p| match p {
@@ -159,6 +170,7 @@ impl System {
             kinds = kinds.union(match part {
                 Part::Damper { .. } => Kinds::DAMPER,
                 Part::Wheel(_) => Kinds::WHEEL,
+                Part::ScheduledWheel(_) => Kinds::WHEEL_SCHEDULE,
             });
         }
         for torque in &self.torques {
@@ -186,7 +198,14 @@ impl System {
                 block(std::mem::size_of_val(d.times())) + block(std::mem::size_of_val(d.tensors()))
             }
         };
-        knots + block(std::mem::size_of_val(self.parts.as_slice()))
+        let schedules: usize = self
+            .wheel_schedules()
+            .map(|w| {
+                block(std::mem::size_of_val(w.table().times()))
+                    + block(std::mem::size_of_val(w.table().values()))
+            })
+            .sum();
+        knots + block(std::mem::size_of_val(self.parts.as_slice())) + schedules
     }
 
     /// The numbers of state of every part, in order.
@@ -206,7 +225,7 @@ impl System {
     /// the body rates `omega`, the parts' state `parts` and the attitude `q` (user axes), as
     /// the run's model defines them: the energy is the body's and its dampers' kinetic energy
     /// (a wheel's spin relative to the body left out: with constant momentum, a constant), the
-    /// momentum counts the wheels' `Σ h a`.
+    /// momentum counts the wheels' `Σ h a` (a schedule's at `t`).
     pub fn observe(
         &self,
         t: f64,
@@ -226,6 +245,7 @@ impl System {
                     l += sigma * damper.sphere();
                 }
                 Part::Wheel(w) => l += w.momentum_body(),
+                Part::ScheduledWheel(w) => l += w.momentum_at(t),
             }
             at += part.width();
         }

@@ -34,13 +34,17 @@
 //! **Constant torque.** A vector `τ` fixed in body axes, or fixed in space (`τ_b = M(q)ᵀ τ`).
 //! It keeps nothing but `|q|`.
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
 use crate::kinematics::rotation_matrix;
 
+use super::callable::CallableTorque;
 use super::kinds::Kinds;
+use super::tabulated::TabulatedTorque;
 
 /// The axes a constant torque is fixed in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -62,12 +66,16 @@ impl std::str::FromStr for Frame {
 }
 
 /// An external torque, as the user gives it (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum Torque {
     /// The gravity gradient of a circular orbit of rate `orbit_rate` in the world `x–y` plane.
     GravityGradient { orbit_rate: f64 },
     /// A constant torque fixed in `frame`.
     Constant { vector: [f64; 3], frame: Frame },
+    /// A torque tabulated at knots (see [`super::tabulated`]).
+    Tabulated(Arc<TabulatedTorque>),
+    /// A torque computed by the user's function (see [`super::callable`]).
+    Callable(CallableTorque),
 }
 
 /// # Construction
@@ -114,12 +122,14 @@ impl Torque {
         match self {
             Torque::GravityGradient { .. } => Kinds::GRAVITY_GRADIENT,
             Torque::Constant { .. } => Kinds::TORQUE,
+            Torque::Tabulated(_) => Kinds::TABULATED_TORQUE,
+            Torque::Callable(_) => Kinds::CALLABLE_TORQUE,
         }
     }
 }
 
 /// The torques of a model, summed where they can be: what its right-hand side evaluates.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct Torques {
     /// The gravity gradient's orbit rate, if any.
     orbit_rate: Option<f64>,
@@ -127,6 +137,10 @@ pub struct Torques {
     body: Option<Vector3<f64>>,
     /// The constant torques fixed in space, summed; and whether there are any.
     world: Option<Vector3<f64>>,
+    /// The tabulated torques.
+    tables: Vec<TabulatedTorque>,
+    /// The torques of the user's functions.
+    callables: Vec<CallableTorque>,
 }
 
 /// # Construction
@@ -138,6 +152,12 @@ impl Torques {
     pub fn of(torques: &[Torque]) -> Result<Self> {
         let mut out = Self::default();
         for torque in torques {
+            if let Torque::Tabulated(table) = torque {
+                out.tables.push(TabulatedTorque::clone(table));
+            }
+            if let Torque::Callable(c) = torque {
+                out.callables.push(c.clone());
+            }
             match *torque {
                 Torque::GravityGradient { orbit_rate } => {
                     if out.orbit_rate.is_some() {
@@ -156,6 +176,7 @@ impl Torques {
                     };
                     *slot = Some(slot.unwrap_or_default() + Vector3::from(vector));
                 }
+                Torque::Tabulated(_) | Torque::Callable(_) => {}
             }
         }
         Ok(out)
@@ -169,6 +190,12 @@ impl Torques {
         }
         if self.body.is_some() || self.world.is_some() {
             kinds = kinds.union(Kinds::TORQUE);
+        }
+        if !self.tables.is_empty() {
+            kinds = kinds.union(Kinds::TABULATED_TORQUE);
+        }
+        if !self.callables.is_empty() {
+            kinds = kinds.union(Kinds::CALLABLE_TORQUE);
         }
         kinds
     }
@@ -187,8 +214,23 @@ impl Torques {
     pub fn in_axes(&self, to_axes: impl Fn([f64; 3]) -> [f64; 3]) -> Self {
         Self {
             body: self.body.map(|v| Vector3::from(to_axes(v.into()))),
-            ..*self
+            tables: self.tables.iter().map(|t| t.in_axes(&to_axes)).collect(),
+            callables: self.callables.iter().map(|c| c.in_axes(&to_axes)).collect(),
+            ..self.clone()
         }
+    }
+
+    /// The times where a tabulated torque has a knot, increasing, each once: where the
+    /// right-hand side has a kink or a jump (see [`super::tabulated`]).
+    pub fn kinks(&self) -> Vec<f64> {
+        let mut times: Vec<f64> = self
+            .tables
+            .iter()
+            .flat_map(|t| t.table().times().iter().copied())
+            .collect();
+        times.sort_by(f64::total_cmp);
+        times.dedup();
+        times
     }
 
     /// The same torques for moments over `2^m` (see [`crate::float`]): a torque is a moment
@@ -197,7 +239,16 @@ impl Torques {
     /// # Errors
     /// A torque that float64 no longer holds.
     pub fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        self.map_vectors(|v| ldexp(v, -m))
+        let tables = self.tables.iter().map(|t| t.with_moments_scaled(m));
+        Ok(Self {
+            tables: tables.collect::<Result<_>>()?,
+            callables: self
+                .callables
+                .iter()
+                .map(|c| c.with_moments_scaled(m))
+                .collect(),
+            ..self.map_vectors(|v| ldexp(v, -m))?
+        })
     }
 
     /// The same torques with times in the units of `scale`: the orbit rate over `2^e`, a
@@ -207,8 +258,11 @@ impl Torques {
     /// A torque that float64 no longer holds.
     pub fn in_units(&self, scale: RateScale) -> Result<Self> {
         let out = self.map_vectors(|v| scale.rate_to_unit(scale.rate_to_unit(v)))?;
+        let tables = self.tables.iter().map(|t| t.in_units(scale));
         Ok(Self {
             orbit_rate: self.orbit_rate.map(|n| scale.rate_to_unit(n)),
+            tables: tables.collect::<Result<_>>()?,
+            callables: self.callables.iter().map(|c| c.in_units(scale)).collect(),
             ..out
         })
     }
@@ -230,6 +284,8 @@ impl Torques {
             orbit_rate: self.orbit_rate,
             body: map(self.body)?,
             world: map(self.world)?,
+            tables: self.tables.clone(),
+            callables: self.callables.clone(),
         })
     }
 }
@@ -268,7 +324,36 @@ impl Torques {
         if let Some(v) = self.world {
             tau += rotation_matrix(q).tr_mul(&v);
         }
+        for table in &self.tables {
+            tau += table.torque_body(t, q);
+        }
         tau
+    }
+
+    /// Whether the user's functions give a torque: it wants the body rates
+    /// ([`Torques::callables_body`]).
+    #[inline(always)]
+    pub fn has_callables(&self) -> bool {
+        !self.callables.is_empty()
+    }
+
+    /// The torque of the user's functions in body axes at `t` on a body at attitude `q`
+    /// turning at `omega`.
+    #[inline]
+    pub fn callables_body(
+        &self,
+        t: f64,
+        q: &Quaternion<f64>,
+        omega: &Vector3<f64>,
+    ) -> Vector3<f64> {
+        self.callables
+            .iter()
+            .fold(Vector3::zeros(), |tau, c| tau + c.torque_body(t, q, omega))
+    }
+
+    /// The user's functions.
+    pub fn callables(&self) -> &[CallableTorque] {
+        &self.callables
     }
 
     /// The Jacobi integral (see the module doc) at `t` of a body of tensor `tensor` at attitude
@@ -340,7 +425,7 @@ mod tests {
     #[test]
     fn two_gravity_gradients_are_refused() {
         let g = Torque::gravity_gradient(1.0).unwrap();
-        assert!(Torques::of(&[g, g]).is_err());
+        assert!(Torques::of(&[g.clone(), g]).is_err());
         assert!(Torque::gravity_gradient(f64::NAN).is_err());
         assert!(Torque::constant([1.0, f64::INFINITY, 0.0], Frame::Body).is_err());
         assert!("space".parse::<Frame>().is_err());

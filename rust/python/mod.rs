@@ -6,6 +6,7 @@
 #![deny(clippy::unwrap_used, clippy::expect_used)]
 
 mod arrays;
+mod callable;
 mod numerics;
 mod runs;
 mod values;
@@ -98,6 +99,18 @@ fn detach<T: Send>(
     long: bool,
     work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
 ) -> PyResult<T> {
+    detach_with(py, long, work, || {})
+}
+
+/// [`detach`], calling `on_stop` on this thread as soon as a signal stops the work (before
+/// the work has seen its cancel flag): what the work calls back into Python can stop at once
+/// (see [`callable`]).
+fn detach_with<T: Send>(
+    py: Python<'_>,
+    long: bool,
+    work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
+    on_stop: impl Fn() + Send + Sync,
+) -> PyResult<T> {
     if !long {
         let cancel = AtomicBool::new(false);
         let result = py.detach(|| {
@@ -120,6 +133,7 @@ fn detach<T: Send>(
             match Python::attach(|py| py.check_signals()) {
                 Err(e) => {
                     interrupt = Some(e);
+                    on_stop();
                     true
                 }
                 Ok(()) => false,

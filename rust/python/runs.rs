@@ -23,8 +23,8 @@ use crate::run::step_size::StepPlan;
 use crate::run::{watchdog, FrameGrid, Keep};
 
 use super::arrays::owned;
-use super::detach;
 use super::values::{PyRunOptions, PySystem};
+use super::{detach, detach_with};
 
 /// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
 #[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
@@ -281,7 +281,12 @@ fn simulate_batch(
     let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
     let options = options.inner;
     let (method, grid) = options.method_and_grid()?;
-    let batch = batch_options(options.threads, isa)?;
+    let mut batch = batch_options(options.threads, isa)?;
+    if super::callable::calls_python(&systems) {
+        // each call of a Python torque takes the GIL: rows on several threads would only
+        // queue for it (and answer Ctrl-C late); one thread runs them one after another
+        batch.threads = Some(1);
+    }
     let rows = Rows {
         systems: &systems,
         omega0: &omega,
@@ -290,9 +295,18 @@ fn simulate_batch(
     let (m, f, k) = (rows.len(), grid.frames(), rows.parts_width()?);
     let keep = keep(&options, keep_frames);
     let long = watchdog::is_long(&method, &grid, m);
-    let out = detach(py, long, |cancel| {
-        simulate_systems(rows, &grid, method, keep, &batch, cancel)
-    })?;
+    // a Python torque function's failure stops the run: its own error reaches the caller
+    super::callable::reset(&systems);
+    let out = detach_with(
+        py,
+        long,
+        |cancel| simulate_systems(rows, &grid, method, keep, &batch, cancel),
+        || super::callable::stop(&systems),
+    );
+    let out = match super::callable::failure(&systems) {
+        Some(e) => return Err(e),
+        None => out?,
+    };
     let frames = |v: Vec<f64>, width: usize| match keep_frames && width > 0 {
         true => shaped3(py, v, (m, f, width)).map(Some),
         false => Ok(None),

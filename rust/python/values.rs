@@ -3,14 +3,15 @@
 
 use nalgebra::Matrix3;
 use numpy::ndarray::{Ix1, Ix3};
-use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray3};
+use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
 
 use crate::body::{Inertia, RigidBody};
 use crate::buffer::{try_collect, try_with_capacity};
 use crate::dynamics::{
-    Conserved, Damper, Deployment, Frame, Part, System, SystemBody, Torque, Wheel, MODELS,
+    Conserved, Damper, Deployment, Frame, Outside, Part, System, SystemBody, TabulatedTorque,
+    Torque, Wheel, WheelSchedule, MODELS,
 };
 use crate::error::Error;
 use crate::run::options::RunOptions;
@@ -178,10 +179,10 @@ impl PyDamper {
     }
 }
 
-/// A momentum wheel of constant relative momentum, validated.
+/// A momentum wheel of constant or scheduled relative momentum, validated.
 #[pyclass(name = "Wheel", module = "dzhanibekov._core", frozen)]
 pub(crate) struct PyWheel {
-    inner: Wheel,
+    inner: Part,
 }
 
 #[pymethods]
@@ -189,14 +190,34 @@ impl PyWheel {
     #[new]
     fn new(axis: [f64; 3], momentum: f64) -> PyResult<Self> {
         Ok(Self {
-            inner: Wheel::try_new(axis, momentum)?,
+            inner: Part::Wheel(Wheel::try_new(axis, momentum)?),
+        })
+    }
+
+    /// A wheel about `axis` whose momentum is `values` (K,) at the increasing `times` (K,),
+    /// linear between them and held outside.
+    #[staticmethod]
+    fn scheduled(
+        py: Python<'_>,
+        axis: [f64; 3],
+        times: PyReadonlyArray1<'_, f64>,
+        values: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
+        let (times, values) = (times.as_array().to_vec(), values.as_array().to_vec());
+        let wheel = py.detach(|| WheelSchedule::try_new(axis, times, values))?;
+        Ok(Self {
+            inner: Part::ScheduledWheel(wheel),
         })
     }
 
     /// The unit spin axis in body axes.
     #[getter]
     fn axis(&self) -> [f64; 3] {
-        self.inner.axis().into()
+        match &self.inner {
+            Part::ScheduledWheel(w) => w.axis().into(),
+            Part::Wheel(w) => w.axis().into(),
+            Part::Damper { .. } => [f64::NAN; 3],
+        }
     }
 }
 
@@ -223,6 +244,45 @@ impl PyTorque {
         let frame: Frame = frame.parse()?;
         Ok(Self {
             inner: Torque::constant(vector, frame)?,
+        })
+    }
+
+    /// A torque `vectors` (K, 3) at the increasing `times` (K,), linear between them, fixed
+    /// in `frame` ('body' or 'world'), `outside` the knots 'zero' or 'hold'.
+    #[staticmethod]
+    fn tabulated(
+        py: Python<'_>,
+        times: PyReadonlyArray1<'_, f64>,
+        vectors: PyReadonlyArray2<'_, f64>,
+        frame: &str,
+        outside: &str,
+    ) -> PyResult<Self> {
+        let frame: Frame = frame.parse()?;
+        let outside: Outside = outside.parse()?;
+        let times = times.as_array().to_vec();
+        let v = vectors.as_array();
+        if v.shape()[1] != 3 {
+            return Err(
+                Error::invalid("vectors", "must have shape (K, 3)", v.shape().to_vec()).into(),
+            );
+        }
+        let mut rows = try_with_capacity(v.shape()[0], "the knots", "give fewer knots")?;
+        rows.extend((0..v.shape()[0]).map(|k| [v[[k, 0]], v[[k, 1]], v[[k, 2]]]));
+        let table = py.detach(|| TabulatedTorque::try_new(times, rows, frame, outside))?;
+        Ok(Self {
+            inner: Torque::Tabulated(std::sync::Arc::new(table)),
+        })
+    }
+
+    /// The torque `func(t, q, omega)` returns, in body axes, called at each evaluation with
+    /// the GIL taken.
+    #[staticmethod]
+    fn callable(func: Bound<'_, PyAny>) -> PyResult<Self> {
+        if !func.is_callable() {
+            return Err(super::callable::not_callable(&func));
+        }
+        Ok(Self {
+            inner: super::callable::PyTorqueFunction::torque(func.unbind()),
         })
     }
 
@@ -274,9 +334,9 @@ impl PySystem {
                 damper: d.inner,
                 sigma0: *sigma0,
             })
-            .chain(wheels.iter().map(|w| Part::Wheel(w.inner)))
+            .chain(wheels.iter().map(|w| w.inner.clone()))
             .collect();
-        let torques = torques.iter().map(|t| t.inner).collect();
+        let torques = torques.iter().map(|t| t.inner.clone()).collect();
         Ok(Self {
             inner: System::try_new(body, parts)?.with_torques(torques)?,
         })

@@ -84,7 +84,7 @@ pub fn integrate_adaptive<const N: usize, S, P, O>(
     grid: &FrameGrid,
     settings: &Adaptive,
     units: &Units<N>,
-    knots: &[f64],
+    (knots, kinks): (&[f64], &[f64]),
     obs: &mut O,
     cancel: &AtomicBool,
 ) -> Result<([f64; N], Stats)>
@@ -99,6 +99,10 @@ where
 
     obs.frame(0, 0.0, &x0);
     let (mut t, mut x) = (0.0, x0);
+    if kinks.contains(&0.0) {
+        // a kink at the start: the run integrates its far side
+        t = crate::run::fixed::after(t);
+    }
     let mut f = sys.rhs(t, &x);
     if !f.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
@@ -210,6 +214,10 @@ where
             // a restart: the rhs from the new piece, no error history, the step not crippled
             // by the knot's shortening
             next_knot += 1;
+            if kinks.binary_search_by(|k| k.total_cmp(&t)).is_ok() {
+                // a kink or jump: the next step starts one float64 after it, on its far side
+                t = crate::run::fixed::after(t);
+            }
             f = sys.rhs(t, &x);
             stats.nfev += 1;
             err_prev = 1e-4;
@@ -275,7 +283,7 @@ mod tests {
             &grid,
             &settings,
             &units,
-            knots,
+            (knots, &[]),
             &mut ends,
             &cancel,
         )

@@ -9,6 +9,12 @@
 //! `rk4_projected` are the fixed-step methods that run deployments). A right-hand side with a
 //! jump at a knot would make the straddling step order 1 there (`O(h)` times the jump); the
 //! adaptive methods end a step on every knot ([`crate::run::adaptive`]).
+//!
+//! **Kinks** ([`crate::dynamics::Model::kinks`]): where the right-hand side itself has a kink
+//! or a jump (a tabulated torque, a wheel's schedule), [`integrate_across`] splits the substep
+//! that straddles one into two, the first ending on it and the second starting one float64
+//! after it (the side the table's law takes there, see [`crate::dynamics::Table`]): the run
+//! keeps the method's order. Each split adds one step to the run's count.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -44,12 +50,46 @@ where
     M: Stepper<N, S>,
     O: Observer<N>,
 {
+    integrate_across(method, sys, x0, grid, &[], obs, cancel)
+}
+
+/// [`integrate`], with every step ending on the increasing `kinks` inside the run (see the
+/// module doc).
+///
+/// # Errors
+/// Those of [`integrate`].
+pub fn integrate_across<const N: usize, S, M, O>(
+    method: &M,
+    sys: &S,
+    x0: [f64; N],
+    grid: &FrameGrid,
+    kinks: &[f64],
+    obs: &mut O,
+    cancel: &AtomicBool,
+) -> Result<([f64; N], Stats)>
+where
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
+{
     obs.frame(0, 0.0, &x0);
     let mut x = method.to_internal(sys, &x0);
     let n = grid.substeps();
+    let mut splits = 0;
     for i in 1..grid.frames() {
         let (ta, tb) = (grid.time(i - 1), grid.time(i));
         let h = (tb - ta) / n as f64;
+        // the kinks in this frame's interval, its start included (the step from a kink starts
+        // just after it; the step onto the interval's end ends on it)
+        let inside = &kinks[kinks.partition_point(|&k| k < ta)..kinks.partition_point(|&k| k < tb)];
+        if !inside.is_empty() {
+            let extra;
+            (x, extra) = advance_across(method, sys, obs, x, ta, h, (n, tb), inside);
+            splits += extra;
+            check(&x, tb, cancel)?;
+            obs.frame(i, tb, &method.to_state(sys, &x));
+            continue;
+        }
         let mut done = 0;
         while done < n {
             let chunk = (n - done).min(CHECK_EVERY);
@@ -59,7 +99,7 @@ where
         }
         obs.frame(i, tb, &method.to_state(sys, &x));
     }
-    let n_steps = grid.n_steps();
+    let n_steps = grid.n_steps() + splits;
     Ok((
         x,
         Stats {
@@ -101,6 +141,62 @@ where
         }
     }
     x
+}
+
+/// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the `kinks` (increasing,
+/// in `[ta, tb)`) split on it: the first piece ends on the kink, the second starts one
+/// float64 after it (a substep starting on a kink starts one float64 after it). Returns the
+/// state and the steps taken beyond the `n`. Frames with kinks are rare: the cancel flag waits for the frame's end.
+#[allow(clippy::too_many_arguments)]
+fn advance_across<const N: usize, S, M, O>(
+    method: &M,
+    sys: &S,
+    obs: &mut O,
+    mut x: [f64; N],
+    ta: f64,
+    h: f64,
+    (n, tb): (u64, f64),
+    kinks: &[f64],
+) -> ([f64; N], u64)
+where
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
+{
+    let mut next = 0;
+    let mut pieces: u64 = 0;
+    let mut piece = |x: &mut [f64; N], t: f64, t1: f64| {
+        pieces += 1;
+        if O::WANTS_STEPS {
+            let before = method.to_state(sys, x);
+            method.step(sys, t, t1 - t, x);
+            obs.step(t, &before, t1, &method.to_state(sys, x));
+        } else {
+            method.step(sys, t, t1 - t, x);
+        }
+    };
+    for k in 0..n {
+        let mut t = ta + k as f64 * h;
+        let t1 = if k + 1 == n { tb } else { t + h };
+        while let Some(&kink) = kinks.get(next).filter(|&&c| c < t1) {
+            next += 1;
+            if kink > t {
+                piece(&mut x, t, kink);
+            }
+            // on the kink's far side (also when the substep starts on it)
+            t = after(kink).max(t);
+        }
+        if t1 > t {
+            piece(&mut x, t, t1);
+        }
+    }
+    (x, pieces.saturating_sub(n))
+}
+
+/// The float64 just after `t` (the next step's start after a kink at `t`).
+#[inline]
+pub(crate) fn after(t: f64) -> f64 {
+    t.next_up()
 }
 
 #[inline]

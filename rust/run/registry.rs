@@ -21,7 +21,7 @@ use crate::rigid::{
     Splitting2, Splitting4, Splitting6,
 };
 use crate::run::adaptive::{integrate_adaptive, Units};
-use crate::run::fixed::integrate;
+use crate::run::fixed::{integrate, integrate_across};
 use crate::run::grid::FrameGrid;
 
 /// The method `simulate` runs unless told otherwise: the paper's.
@@ -149,11 +149,15 @@ const FREE_ONLY: Kinds = Kinds::FREE;
 const TORQUE_FREE: Kinds = Kinds::FREE
     .union(Kinds::DEPLOYMENT)
     .union(Kinds::DAMPER)
-    .union(Kinds::WHEEL);
+    .union(Kinds::WHEEL)
+    .union(Kinds::WHEEL_SCHEDULE);
 /// Every model: the torque-free ones and those under external torques.
 const EVERY_MODEL: Kinds = TORQUE_FREE
     .union(Kinds::GRAVITY_GRADIENT)
-    .union(Kinds::TORQUE);
+    .union(Kinds::TORQUE)
+    .union(TABULATED_AND_CALLABLE);
+/// The torques given as tables or by the user's code (their runs step onto the tables' knots).
+const TABULATED_AND_CALLABLE: Kinds = Kinds::TABULATED_TORQUE.union(Kinds::CALLABLE_TORQUE);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -567,8 +571,11 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
     // absolute tolerance: `atol` on q, `atol` times the size of the rates (or momenta) elsewhere
     let units = || Units::new(sys.rate_bound(&x0), sys.state_size(&x0), N - 4);
     let run = match method {
-        Method::Rk4 => integrate(&Rk4, sys, x0, grid, obs, cancel),
-        Method::Rk4Projected => integrate(&Rk4Projected::new(sys, &x0), sys, x0, grid, obs, cancel),
+        Method::Rk4 => integrate_across(&Rk4, sys, x0, grid, sys.kinks(), obs, cancel),
+        Method::Rk4Projected => {
+            let stepper = Rk4Projected::new(sys, &x0);
+            integrate_across(&stepper, sys, x0, grid, sys.kinks(), obs, cancel)
+        }
         Method::Dopri5(a) => integrate_adaptive(
             &Dopri5,
             sys,
@@ -576,7 +583,7 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
             grid,
             &a,
             &units(),
-            sys.knots(),
+            (sys.knots(), sys.kinks()),
             obs,
             cancel,
         ),
@@ -587,7 +594,7 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
             grid,
             &a,
             &units(),
-            sys.knots(),
+            (sys.knots(), sys.kinks()),
             obs,
             cancel,
         ),

@@ -144,7 +144,19 @@ fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge
     let torques = Torques::of(system.torques())?
         .in_axes(|v| edge.vector_in(v))
         .with_moments_scaled(m)?;
-    let parts = |model: GeneralModel<7>| model.with_wheels(wheels).with_torques(torques);
+    let schedules = system
+        .wheel_schedules()
+        .map(|w| {
+            let to_run = |v: Vector3<f64>| Vector3::from(edge.vector_in(v.into())).map(scaled);
+            w.table().map_values(to_run, "momentum")
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let parts = |model: GeneralModel<7>| {
+        model
+            .with_wheels(wheels)
+            .with_schedules(schedules.clone())
+            .with_torques(torques.clone())
+    };
     let built = match system.damper() {
         None => {
             let model = parts(GeneralModel::<7>::try_new(law, None)?);
@@ -155,7 +167,8 @@ fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge
             let damper = damper.with_moments_scaled(m)?;
             let model = GeneralModel::<10>::try_new(law, Some(damper))?
                 .with_wheels(wheels)
-                .with_torques(torques);
+                .with_schedules(schedules.clone())
+                .with_torques(torques.clone());
             let sigma = edge.vector_in(sigma0.unwrap_or(omega0));
             let x0 = model.state_from(0.0, omega, sigma, q);
             Built::Damped(model, x0)

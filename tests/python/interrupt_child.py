@@ -68,6 +68,14 @@ CALLS: dict[str, Callable[[], Any]] = {
     "monte-carlo-rk4": lambda: dz.monte_carlo(
         dz.InertiaDispersion(BODY, moments=0.02), OMEGA, 32, seed=1, t_end=1e6, method="rk4",
         dt=1e-3, chunk=16, progress=False),
+    # a Python-callable torque (issue 21): 10⁹ RK4 steps at Python speed, on the helper thread
+    "simulate-callable-torque": lambda: dz.simulate(
+        dz.System(BODY, torques=[lambda t, q, w: -1e-3 * w]), OMEGA, t_end=1e6, frames=201,
+        dt=1e-3),
+    # and a batch of two such runs (each call takes the GIL)
+    "batch-callable-torque": lambda: dz.simulate(
+        dz.System(BODY, torques=[lambda t, q, w: -1e-3 * w]), BATCH_OMEGA[:2], t_end=1e6,
+        frames=201, dt=1e-3),
     # 4·10⁷ point-frames into a fresh gigabyte
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),

@@ -1302,15 +1302,57 @@ ENTRIES: dict[str, Entry] = {
     ),
     "Wheel": Entry(
         call=dz.Wheel,
-        valid=st.fixed_dictionaries({"axis": real_arrays((3,), st.floats(0.5, 2.0)),
-                                     "momentum": st.floats(-10.0, 10.0)}),
+        valid=st.fixed_dictionaries({
+            "axis": real_arrays((3,), st.floats(0.5, 2.0)),
+            # a constant momentum, or a schedule (times, values)
+            "momentum": st.one_of(st.floats(-10.0, 10.0), st.integers(2, 5).flatmap(
+                lambda k: st.tuples(
+                    st.lists(st.floats(0.01, 10.0), min_size=k, max_size=k).map(
+                        lambda d: [float(x) for x in np.cumsum(d)]),
+                    st.lists(st.floats(-10.0, 10.0), min_size=k, max_size=k))))}),
         hostile={"axis": st.sampled_from([(0.0, 0.0, 0.0), (math.nan, 1.0, 0.0), (1.0, 0.0),
                                           "x", None, np.ones((2, 3))]),
-                 "momentum": st.sampled_from([math.nan, math.inf, "1", None, (1.0,)])},
+                 "momentum": st.sampled_from([math.nan, math.inf, "1", None, (1.0,),
+                                              ([1.0, 0.0], [0.0, 1.0]),
+                                              ([0.0, 1.0], [0.0, math.nan]),
+                                              ([0.0, 1.0], [0.0, 1.0, 2.0]), ([0.0], [1.0]),
+                                              np.ones(2)])},
         # the axis is kept as given, or as its unit vector: either way along the same line
-        check=lambda kw, w, _: _assert(w.momentum == kw["momentum"] and np.allclose(
-            np.cross(np.asarray(w.axis, dtype=float), kw["axis"]), 0.0, atol=1e-12)),
+        check=lambda kw, w, _: _assert(
+            (w.momentum == kw["momentum"] if not isinstance(kw["momentum"], tuple) else
+             w.momentum == (tuple(kw["momentum"][0]), tuple(kw["momentum"][1])))
+            and np.allclose(np.cross(np.asarray(w.axis, dtype=float), kw["axis"]), 0.0,
+                            atol=1e-12)),
         covers=(dz.Wheel,),
+        min_success=0.9,
+    ),
+    "TabulatedTorque": Entry(
+        call=dz.TabulatedTorque,
+        valid=st.integers(2, 6).flatmap(lambda k: st.fixed_dictionaries(
+            {"times": st.lists(st.floats(0.01, 10.0), min_size=k, max_size=k).map(
+                lambda d: np.cumsum(d) - 1.0),
+             "vectors": real_arrays((k, 3), st.floats(-10.0, 10.0))},
+            optional={"frame": st.sampled_from(["body", "world"]),
+                      "outside": st.sampled_from(["zero", "hold"])})),
+        hostile={"times": st.sampled_from([[0.0], [1.0, 0.0, 2.0], [0.0, math.nan], "x", None,
+                                           [[0.0, 1.0]], [0.0, 0.0]]),
+                 "vectors": st.sampled_from([np.full((2, 3), math.nan), np.ones((2, 2)), "x",
+                                             None, np.ones(3), np.ones((50, 3))]),
+                 "frame": st.sampled_from(["Body", "orbit", "", None, 1]),
+                 "outside": st.sampled_from(["Zero", "extrapolate", "", None, 0])},
+        check=lambda kw, c, _: _assert(np.array_equal(c.times, kw["times"])
+                                       and np.array_equal(c.vectors, kw["vectors"])),
+        covers=(dz.TabulatedTorque,),
+        min_success=0.9,
+    ),
+    "CallableTorque": Entry(
+        call=dz.CallableTorque,
+        valid=st.fixed_dictionaries({"func": st.sampled_from([
+            lambda t, q, omega: -0.1 * omega, lambda t, q, omega: (0.0, 0.0, t), print])}),
+        hostile={"func": st.one_of(st.sampled_from([None, (1.0, 2.0, 3.0), np.ones(3)]),
+                                   st.floats(), st.integers(), st.text())},
+        check=lambda kw, c, _: _assert(c.func is kw["func"]),
+        covers=(dz.CallableTorque,),
         min_success=0.9,
     ),
     "lvlh_frame": Entry(

@@ -18,6 +18,8 @@ CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4
 # a run and a batch of each of the atlas's methods (issue 22)
 ATLAS = ("splitting6", "implicit_midpoint", "dmv", "dmv_modified", "rkmk4", "crouch_grossman3")
 CALLS += [f"{kind}-{m}" for m in ATLAS for kind in ("simulate", "batch")]
+# a Python-callable torque's run and batch (issue 21)
+CALLS += ["simulate-callable-torque", "batch-callable-torque"]
 
 
 def interrupted(call: str) -> dict:

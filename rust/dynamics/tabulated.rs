@@ -1,0 +1,382 @@
+//! Tabulated laws: a vector given at knots, linear between them ([`Table`]); a torque
+//! tabulated so ([`TabulatedTorque`]), and the wheels' scheduled momenta (see
+//! [`super::WheelSchedule`]).
+//!
+//! **Interpolation.** Between knots `t_k < t_{k+1}` the value is
+//! `v_k + (t − t_k) / (t_{k+1} − t_k) · (v_{k+1} − v_k)`; outside `[t_0, t_K]` it is zero or
+//! the nearest end's value ([`Outside`]). The law is continuous with a kink at every knot
+//! (held outside), or jumps at the two ends (zero outside, with non-zero end values).
+//!
+//! **Knots and sides.** Every stepper ends a step on every knot ([`super::Model::kinks`]):
+//! a step that straddled one would lose its order there (one step of error `O(h²)` times the
+//! kink, `O(h)` times a jump). At a knot the law takes the value from the left (the piece
+//! `(t_{k−1}, t_k]`): a step that ends on the knot integrates the piece before it, and the
+//! drivers start the next step one float64 after the knot (a shift of one unit in the last
+//! place, round-off), so that it integrates the piece after it, jumps included.
+
+use std::str::FromStr;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use nalgebra::{Quaternion, Vector3};
+
+use crate::error::{Error, Result};
+use crate::float::{ldexp, RateScale};
+use crate::kinematics::rotation_matrix;
+
+use super::torques::Frame;
+
+/// What a table gives outside its knots.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Outside {
+    /// Zero before the first knot and after the last (a jump there if the ends are not zero).
+    Zero,
+    /// The first value before the first knot, the last after the last (continuous).
+    Hold,
+}
+
+impl FromStr for Outside {
+    type Err = Error;
+
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "zero" => Ok(Outside::Zero),
+            "hold" => Ok(Outside::Hold),
+            _ => Err(Error::invalid("outside", "must be 'zero' or 'hold'", s)),
+        }
+    }
+}
+
+/// A vector law given at knots, linear between them (see the module doc).
+#[derive(Debug)]
+pub struct Table {
+    times: Vec<f64>,
+    values: Vec<Vector3<f64>>,
+    outside: Outside,
+    /// The piece `k` (`t_{k−1} < t ≤ t_k`) the last evaluation found: a run's evaluations
+    /// come in order, so the next one is mostly in it (a hint only: it changes no result).
+    hint: AtomicUsize,
+}
+
+impl Clone for Table {
+    fn clone(&self) -> Self {
+        Self {
+            times: self.times.clone(),
+            values: self.values.clone(),
+            outside: self.outside,
+            hint: AtomicUsize::new(self.hint.load(Ordering::Relaxed)),
+        }
+    }
+}
+
+/// The same law (the hint aside).
+impl PartialEq for Table {
+    fn eq(&self, other: &Self) -> bool {
+        self.times == other.times && self.values == other.values && self.outside == other.outside
+    }
+}
+
+/// # Construction
+impl Table {
+    /// The law through `values[k]` at `times[k]`, `values` named `name` in errors.
+    ///
+    /// # Errors
+    /// Fewer than two knots; not as many values as times; times not finite and strictly
+    /// increasing; values not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::{Outside, Table};
+    /// let t = Table::try_new(vec![0.0, 2.0], vec![[0.0, 0.0, 0.0], [2.0, 0.0, 4.0]],
+    ///                        Outside::Hold, "vectors").unwrap();
+    /// assert_eq!(t.at(1.0).z, 2.0);
+    /// assert_eq!(t.at(5.0).x, 2.0);
+    /// assert!(Table::try_new(vec![1.0, 0.0], vec![[0.0; 3]; 2], Outside::Zero, "vectors").is_err());
+    /// ```
+    pub fn try_new(
+        times: Vec<f64>,
+        values: Vec<[f64; 3]>,
+        outside: Outside,
+        name: &'static str,
+    ) -> Result<Self> {
+        if times.len() < 2 {
+            return Err(Error::invalid(
+                "times",
+                "must hold at least two knots",
+                times.len(),
+            ));
+        }
+        if times.len() != values.len() {
+            return Err(Error::invalid(
+                name,
+                "must give one value per time (as many rows as `times`)",
+                (times.len(), values.len()),
+            ));
+        }
+        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+            return Err(Error::invalid(
+                "times",
+                "must be finite and strictly increasing",
+                format!("times[{k}] = {}", times[k]),
+            ));
+        }
+        if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
+            return Err(Error::invalid(
+                "times",
+                "must be finite and strictly increasing",
+                format!(
+                    "times[{k}] = {} then times[{}] = {}",
+                    times[k],
+                    k + 1,
+                    times[k + 1]
+                ),
+            ));
+        }
+        if let Some(k) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
+            return Err(Error::invalid(
+                name,
+                "must be finite",
+                format!("{name}[{k}] = {:?}", values[k]),
+            ));
+        }
+        Ok(Self {
+            times,
+            values: values.into_iter().map(Vector3::from).collect(),
+            outside,
+            hint: AtomicUsize::new(1),
+        })
+    }
+
+    /// The knots' times.
+    pub fn times(&self) -> &[f64] {
+        &self.times
+    }
+
+    /// The values at the knots.
+    pub fn values(&self) -> &[Vector3<f64>] {
+        &self.values
+    }
+
+    pub fn outside(&self) -> Outside {
+        self.outside
+    }
+
+    /// The same law with every value mapped by `f` (a change of axes, of units).
+    ///
+    /// # Errors
+    /// A value that leaves float64 (or a non-zero one that underflows to zero), named
+    /// `name`.
+    pub fn map_values(
+        &self,
+        f: impl Fn(Vector3<f64>) -> Vector3<f64>,
+        name: &'static str,
+    ) -> Result<Self> {
+        let mut values = Vec::with_capacity(self.values.len());
+        for v in &self.values {
+            let out = f(*v);
+            if !(out.iter().all(|c| c.is_finite()) && ((v.amax() == 0.0) == (out.amax() == 0.0))) {
+                return Err(Error::invalid(
+                    name,
+                    "must stay within float64 in the run's units (moments and rates scaled)",
+                    v.as_slice(),
+                ));
+            }
+            values.push(out);
+        }
+        Ok(Self {
+            values,
+            ..self.clone()
+        })
+    }
+
+    /// The same law with times in the units of `scale` (times times `2^e`), its values mapped
+    /// by `f`.
+    ///
+    /// # Errors
+    /// A time or value that leaves float64.
+    pub fn in_units(
+        &self,
+        scale: RateScale,
+        f: impl Fn(Vector3<f64>) -> Vector3<f64>,
+        name: &'static str,
+    ) -> Result<Self> {
+        let times: Vec<f64> = self.times.iter().map(|&t| scale.time_to_unit(t)).collect();
+        let ok = times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]);
+        if !ok {
+            return Err(Error::invalid(
+                "times",
+                "must stay within float64 in the run's units (times scaled with the rates)",
+                self.times.len(),
+            ));
+        }
+        Ok(Self {
+            times,
+            ..self.map_values(f, name)?
+        })
+    }
+}
+
+/// # Evaluation
+impl Table {
+    /// The value at `t` (from the left at a knot, see the module doc).
+    #[inline]
+    pub fn at(&self, t: f64) -> Vector3<f64> {
+        let (ts, vs) = (&self.times, &self.values);
+        let last = ts.len() - 1;
+        if t <= ts[0] || t > ts[last] {
+            return match (self.outside, t <= ts[0]) {
+                (Outside::Zero, _) => Vector3::zeros(),
+                (Outside::Hold, true) => vs[0],
+                (Outside::Hold, false) => vs[last],
+            };
+        }
+        // ts[k − 1] < t ≤ ts[k]: the hint's piece, else a search
+        let h = self.hint.load(Ordering::Relaxed);
+        let k = match h >= 1 && h <= last && ts[h - 1] < t && t <= ts[h] {
+            true => h,
+            false => {
+                let k = ts.partition_point(|&s| s < t).clamp(1, last);
+                self.hint.store(k, Ordering::Relaxed);
+                k
+            }
+        };
+        let (t0, t1) = (ts[k - 1], ts[k]);
+        let s = (t - t0) / (t1 - t0);
+        vs[k - 1] + (vs[k] - vs[k - 1]) * s
+    }
+}
+
+/// A torque tabulated at knots, linear between them, fixed in body axes or in space.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TabulatedTorque {
+    table: Table,
+    frame: Frame,
+}
+
+impl TabulatedTorque {
+    /// The torque `vectors[k]` at `times[k]` (see [`Table::try_new`]), fixed in `frame`,
+    /// `outside` the knots zero or held.
+    ///
+    /// # Errors
+    /// Those of [`Table::try_new`].
+    pub fn try_new(
+        times: Vec<f64>,
+        vectors: Vec<[f64; 3]>,
+        frame: Frame,
+        outside: Outside,
+    ) -> Result<Self> {
+        Ok(Self {
+            table: Table::try_new(times, vectors, outside, "vectors")?,
+            frame,
+        })
+    }
+
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body).
+    #[inline]
+    pub fn torque_body(&self, t: f64, q: &Quaternion<f64>) -> Vector3<f64> {
+        let v = self.table.at(t);
+        match self.frame {
+            Frame::Body => v,
+            Frame::World => rotation_matrix(q).tr_mul(&v),
+        }
+    }
+
+    pub fn table(&self) -> &Table {
+        &self.table
+    }
+
+    pub fn frame(&self) -> Frame {
+        self.frame
+    }
+
+    /// The same torque with its vectors mapped by `to_axes` if fixed in body axes.
+    pub fn in_axes(&self, to_axes: impl Fn([f64; 3]) -> [f64; 3]) -> Self {
+        match self.frame {
+            Frame::World => self.clone(),
+            Frame::Body => Self {
+                // a rotation keeps finite values finite: no error to report
+                table: Table {
+                    values: self
+                        .table
+                        .values
+                        .iter()
+                        .map(|v| Vector3::from(to_axes((*v).into())))
+                        .collect(),
+                    ..self.table.clone()
+                },
+                frame: self.frame,
+            },
+        }
+    }
+
+    /// The same torque for moments over `2^m`.
+    ///
+    /// # Errors
+    /// A torque float64 no longer holds.
+    pub fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            table: self
+                .table
+                .map_values(|v| v.map(|c| ldexp(c, -m)), "vectors")?,
+            frame: self.frame,
+        })
+    }
+
+    /// The same torque with times in the units of `scale`: the knots' times times `2^e`, the
+    /// torque (a moment times a rate squared) over `2^(2e)`.
+    ///
+    /// # Errors
+    /// A time or torque float64 no longer holds.
+    pub fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let f = |v: Vector3<f64>| v.map(|c| scale.rate_to_unit(scale.rate_to_unit(c)));
+        Ok(Self {
+            table: self.table.in_units(scale, f, "vectors")?,
+            frame: self.frame,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ramp(outside: Outside) -> Table {
+        Table::try_new(
+            vec![1.0, 2.0, 4.0],
+            vec![[1.0, 0.0, 0.0], [3.0, 0.0, 0.0], [-1.0, 0.0, 2.0]],
+            outside,
+            "vectors",
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_table_is_linear_between_its_knots_and_zero_or_held_outside() {
+        let z = ramp(Outside::Zero);
+        assert_eq!(z.at(1.5).x, 2.0);
+        assert_eq!(z.at(3.0), Vector3::new(1.0, 0.0, 1.0));
+        assert_eq!(z.at(2.0).x, 3.0);
+        // from the left at a knot: at the first knot the value before it
+        assert_eq!(z.at(1.0), Vector3::zeros());
+        assert_eq!(z.at(4.0), Vector3::new(-1.0, 0.0, 2.0));
+        assert_eq!(z.at(4.5), Vector3::zeros());
+        let h = ramp(Outside::Hold);
+        assert_eq!(h.at(0.0).x, 1.0);
+        assert_eq!(h.at(1.0).x, 1.0);
+        assert_eq!(h.at(9.0), Vector3::new(-1.0, 0.0, 2.0));
+    }
+
+    #[test]
+    fn bad_tables_are_refused_naming_the_argument() {
+        let bad = |t: Vec<f64>, v: Vec<[f64; 3]>| {
+            Table::try_new(t, v, Outside::Zero, "vectors")
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(bad(vec![0.0], vec![[0.0; 3]]).contains("times"));
+        assert!(bad(vec![0.0, 1.0], vec![[0.0; 3]]).contains("vectors"));
+        assert!(bad(vec![0.0, 0.0], vec![[0.0; 3]; 2]).contains("times"));
+        assert!(bad(vec![0.0, f64::NAN], vec![[0.0; 3]; 2]).contains("times"));
+        assert!(bad(vec![0.0, 1.0], vec![[0.0; 3], [f64::NAN, 0.0, 0.0]]).contains("vectors"));
+        assert!("both".parse::<Outside>().is_err());
+    }
+}

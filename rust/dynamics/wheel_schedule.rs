@@ -1,0 +1,140 @@
+//! A momentum wheel whose relative momentum follows a schedule (a spin-up or spin-down): a
+//! [`super::Wheel`] whose `h(t)` is given at knots, linear between them and held outside
+//! (see [`super::Table`]).
+//!
+//! **Law** (the general model's, one law for every part): with `H` the total angular momentum
+//! in body axes,
+//!
+//! ```text
+//! ω  = I⁻¹ (H − Σ h(t) a)
+//! H' = H × ω (+ τ_b)         i.e.  I ω' = (I ω + Σ h a) × ω − Σ ḣ a (+ τ_b)
+//! ```
+//!
+//! The motor's torque on the rotor is internal: without an external torque `H` stays fixed
+//! in space (`|L|` and `L` in space kept), while the body's kinetic energy `½ ωᵀ I ω` changes
+//! by the wheels' work on it, `T' = −Σ ḣ (a · ω)`. The schedule's knots are kinks of the law:
+//! every step ends on them ([`super::Model::kinks`]).
+
+use nalgebra::Vector3;
+
+use crate::error::{Error, Result};
+
+use super::tabulated::{Outside, Table};
+
+/// A wheel of scheduled momentum (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
+pub struct WheelSchedule {
+    /// The unit spin axis in body axes.
+    axis: Vector3<f64>,
+    /// `h(t) a`, body axes, held outside the knots.
+    table: Table,
+}
+
+impl WheelSchedule {
+    /// A wheel spinning about `axis` (body axes, any non-zero length: normalised here) with
+    /// relative momentum `values[k]` at `times[k]`.
+    ///
+    /// # Errors
+    /// A bad `axis` (as [`super::Wheel::try_new`]); the table's errors ([`Table::try_new`]),
+    /// the values named `momentum`.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::WheelSchedule;
+    /// let w = WheelSchedule::try_new([0.0, 0.0, 2.0], vec![0.0, 10.0], vec![0.0, 1.0]).unwrap();
+    /// assert_eq!(w.momentum_at(5.0).z, 0.5);
+    /// assert_eq!(w.momentum_at(20.0).z, 1.0);
+    /// ```
+    pub fn try_new(axis: [f64; 3], times: Vec<f64>, values: Vec<f64>) -> Result<Self> {
+        let a = Vector3::from(axis);
+        let norm = a.norm();
+        if !(a.iter().all(|v| v.is_finite()) && norm > 0.0 && norm.is_finite()) {
+            return Err(Error::invalid(
+                "axis",
+                "must be three finite numbers, not all zero",
+                axis,
+            ));
+        }
+        let axis = a / norm;
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::invalid(
+                "momentum",
+                "must be finite",
+                format!("momentum[{k}] = {}", values[k]),
+            ));
+        }
+        let vectors = values.iter().map(|&h| (axis * h).into()).collect();
+        Ok(Self {
+            axis,
+            table: Table::try_new(times, vectors, Outside::Hold, "momentum")?,
+        })
+    }
+
+    /// The unit spin axis in body axes.
+    pub fn axis(&self) -> Vector3<f64> {
+        self.axis
+    }
+
+    /// The schedule of `h(t) a` (body axes).
+    pub fn table(&self) -> &Table {
+        &self.table
+    }
+
+    /// `h(t) a` in body axes.
+    #[inline]
+    pub fn momentum_at(&self, t: f64) -> Vector3<f64> {
+        self.table.at(t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{ConstantInertia, GeneralModel, InertiaLaw, Model};
+    use crate::ode::OdeSystem;
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn the_bodys_energy_changes_by_the_wheels_work_and_the_momentum_only_turns() {
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        let w = WheelSchedule::try_new([0.0, 1.0, 1.0], vec![0.0, 2.0], vec![0.5, 1.5]).unwrap();
+        let m = GeneralModel::<7>::try_new(
+            InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
+            None,
+        )
+        .unwrap()
+        .with_schedules(vec![w.table().clone()]);
+        assert_eq!(m.kinks(), &[0.0, 2.0]);
+        let x = m.state_from(0.7, [0.3, -0.7, 1.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        assert!((m.omega_body(0.7, &x) - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
+        // T' = −ḣ (a · ω), ḣ = 0.5, by a central difference along the right-hand side
+        let h = 1e-6;
+        let dx = m.rhs(0.7, &x);
+        let e = |s: f64| m.energy(0.7 + s, &std::array::from_fn(|k| x[k] + s * dx[k]));
+        let omega = m.omega_body(0.7, &x);
+        let expected = -0.5 * w.axis().dot(&omega);
+        assert!(((e(h) - e(-h)) / (2.0 * h) - expected).abs() < 1e-8);
+        // H' = H × ω: |H| stationary
+        assert!(
+            m.momentum_rate(0.7, &x)
+                .dot(&m.momentum_body(0.7, &x))
+                .abs()
+                < 1e-14
+        );
+    }
+
+    #[test]
+    fn a_schedule_is_held_outside_and_refuses_bad_input_by_name() {
+        let w = WheelSchedule::try_new([1.0, 0.0, 0.0], vec![1.0, 3.0], vec![2.0, -2.0]).unwrap();
+        assert_eq!(w.momentum_at(0.0).x, 2.0);
+        assert_eq!(w.momentum_at(2.0).x, 0.0);
+        assert_eq!(w.momentum_at(9.0).x, -2.0);
+        let err = |a: [f64; 3], t: Vec<f64>, v: Vec<f64>| {
+            WheelSchedule::try_new(a, t, v).unwrap_err().to_string()
+        };
+        assert!(err([0.0; 3], vec![0.0, 1.0], vec![0.0; 2]).contains("axis"));
+        assert!(err([1.0, 0.0, 0.0], vec![1.0, 0.0], vec![0.0; 2]).contains("times"));
+        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0, f64::NAN]).contains("momentum"));
+        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0; 3]).contains("momentum"));
+    }
+}
