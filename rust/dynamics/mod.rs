@@ -9,6 +9,7 @@ mod damper;
 mod deployment;
 mod free;
 mod general;
+pub mod gravity;
 mod kinds;
 pub mod model;
 mod system;
