@@ -10,6 +10,8 @@
    (tensor [[2, -.3, .1], [-.3, 3, .2], [.1, .2, 4]], ω₀ = (0.3, -0.7, 1.1)), RK4 and dop853.
 3. ns per RK4 step (dt = 0.01, 2·10⁶ steps, medians of --repeat runs, flips off) of each model
    beside the free body's, in the same session: compare the ratios.
+4. ns per step of the splittings on the exact free flow (splitting_exact, splitting_exact4) on
+   the gravity gradient's system of 3, beside its RK4 step (dt = 0.01, 2·10⁵ steps).
 """
 
 from __future__ import annotations
@@ -81,6 +83,21 @@ def cost(repeat: int) -> None:
         print(f"RK4 per step, {name}: {m:.0f} ns ({m / base:.2f}× the free body)")
 
 
+def splittings(repeat: int) -> None:
+    system = dz.System(dz.Body.from_tensor(TENSOR), torques=[dz.GravityGradient(0.1)])
+    times: dict[str, list[float]] = {m: [] for m in ("rk4", "splitting_exact", "splitting_exact4")}
+    for _ in range(repeat):
+        for method in times:
+            start = time.perf_counter()
+            traj = dz.simulate(system, W0, t_end=2e3, dt=0.01, frames=11, method=method,
+                               flips=False)
+            times[method].append((time.perf_counter() - start) / traj.n_steps * 1e9)
+    base = statistics.median(times["rk4"])
+    for method, ns in times.items():
+        m = statistics.median(ns)
+        print(f"gravity gradient, {method} per step: {m:.0f} ns ({m / base:.1f}× RK4's)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=5)
@@ -88,6 +105,7 @@ def main() -> None:
     libration()
     jacobi()
     cost(args.repeat)
+    splittings(args.repeat)
 
 
 if __name__ == "__main__":
