@@ -1,5 +1,7 @@
 //! Criterion benches of the models beyond the constant free body, per RK4 step, beside the
-//! free body's: `cargo bench --bench models` (`-- --quick` for a short pass).
+//! free body's: `cargo bench --bench models` (`-- --quick` for a short pass). The orbit's
+//! models (a wheel, the gravity gradient, constant torques in body and world axes; issue 21's
+//! bar: at most 2× the free body per RK4 step) run the same body and start as the free body.
 
 use std::hint::black_box;
 use std::sync::atomic::AtomicBool;
@@ -8,7 +10,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use nalgebra::Matrix3;
 
 use dzhanibekov::body::Inertia;
-use dzhanibekov::dynamics::{Damper, Deployment, Part, System, SystemBody};
+use dzhanibekov::dynamics::{Damper, Deployment, Frame, Part, System, SystemBody, Torque, Wheel};
 use dzhanibekov::run::{simulate, simulate_system, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
 
@@ -53,7 +55,33 @@ fn models(c: &mut Criterion) {
         damper: Damper::try_new(0.05, 0.02).unwrap(),
         sigma0: None,
     };
+    let rigid = || SystemBody::Rigid(Inertia::from_principal(body));
+    let wheel = || Part::Wheel(Wheel::try_new([0.0, 1.0, 0.0], 0.5).unwrap());
+    let torqued = |parts: Vec<Part>, torque: Torque| {
+        System::try_new(rigid(), parts)
+            .unwrap()
+            .with_torques(vec![torque])
+            .unwrap()
+    };
+    let gravity = Torque::gravity_gradient(0.1).unwrap();
     let systems = [
+        ("wheel", System::try_new(rigid(), vec![wheel()]).unwrap()),
+        ("gravity_gradient", torqued(vec![], gravity.clone())),
+        ("wheel_gravity_gradient", torqued(vec![wheel()], gravity)),
+        (
+            "torque_body",
+            torqued(
+                vec![],
+                Torque::constant([0.0, 0.0, 1e-4], Frame::Body).unwrap(),
+            ),
+        ),
+        (
+            "torque_world",
+            torqued(
+                vec![],
+                Torque::constant([0.0, 0.0, 1e-4], Frame::World).unwrap(),
+            ),
+        ),
         (
             "deployment_diagonal",
             System::try_new(SystemBody::Deployment(diagonal), vec![]).unwrap(),

@@ -7,7 +7,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use nalgebra::{Matrix3, Quaternion};
+use nalgebra::{Matrix3, Quaternion, Vector3};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
@@ -41,6 +41,28 @@ pub fn rotation_matrix(q: &Quaternion<f64>) -> Matrix3<f64> {
         vw + qu,
         1.0 - uu - vv,
     )
+}
+
+/// `M(q)ᵀ v`: a vector of world axes in body axes, for a non-zero quaternion (normalised here),
+/// without building `M`: with `q = (w, u)`, `M(q)ᵀ v = v + (2 / |q|²) (u × (u × v) − w u × v)`
+/// (the rotation by the conjugate, Rodrigues's formula in quaternion form).
+///
+/// # Example
+/// ```
+/// use approx::assert_relative_eq;
+/// use nalgebra::{Quaternion, Vector3};
+/// use dzhanibekov::kinematics::{rotation_matrix, world_to_body};
+/// let q = Quaternion::new(0.9, 0.2, -0.3, 0.25) * 1.7;
+/// let v = Vector3::new(0.3, -1.0, 2.0);
+/// let plain = rotation_matrix(&q).transpose() * v;
+/// assert_relative_eq!(world_to_body(&q, &v), plain, epsilon = 1e-15);
+/// ```
+#[inline(always)]
+pub fn world_to_body(q: &Quaternion<f64>, v: &Vector3<f64>) -> Vector3<f64> {
+    let u = q.imag();
+    let uv = u.cross(v);
+    let k = 2.0 / q.norm_squared();
+    v + (u.cross(&uv) - uv * q.w) * k
 }
 
 /// The rotation matrix of a row `(Q, U, V, W)` of any finite, non-zero size: rows whose

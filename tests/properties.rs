@@ -102,7 +102,7 @@ fn promised(method: Method, n: u64) -> [f64; 4] {
         Method::Dopri5(_) | Method::Dop853(_) => [1e-8; 4],
         Method::Exact => [1e-11; 4],
         // runs bodies under torques, not the free body: not in `methods()`
-        Method::SplittingExact => [0.0; 4],
+        Method::SplittingExact | Method::SplittingExact4 => [0.0; 4],
     }
 }
 

@@ -12,6 +12,8 @@
    beside the free body's, in the same session: compare the ratios.
 4. A Python-callable torque's cost per RK4 step (10⁵ steps, four calls a step) against the
    built-in ConstantTorque giving the same torque, printed as a ratio.
+5. ns per step of the splittings on the exact free flow (splitting_exact, splitting_exact4) on
+   the gravity gradient's system of 3, beside its RK4 step (dt = 0.01, 2·10⁵ steps).
 
     python benches/python/orbit_numbers.py --only cost callable   # parts 3 and 4 alone
 """
@@ -91,6 +93,21 @@ def cost(repeat: int) -> None:
         print(f"RK4 per step, {name}: {m:.0f} ns ({m / base:.2f}× the free body)")
 
 
+def splittings(repeat: int) -> None:
+    system = dz.System(dz.Body.from_tensor(TENSOR), torques=[dz.GravityGradient(0.1)])
+    times: dict[str, list[float]] = {m: [] for m in ("rk4", "splitting_exact", "splitting_exact4")}
+    for _ in range(repeat):
+        for method in times:
+            start = time.perf_counter()
+            traj = dz.simulate(system, W0, t_end=2e3, dt=0.01, frames=11, method=method,
+                               flips=False)
+            times[method].append((time.perf_counter() - start) / traj.n_steps * 1e9)
+    base = statistics.median(times["rk4"])
+    for method, ns in times.items():
+        m = statistics.median(ns)
+        print(f"gravity gradient, {method} per step: {m:.0f} ns ({m / base:.1f}× RK4's)")
+
+
 def callable_cost(repeat: int) -> None:
     body = dz.Body.from_tensor(TENSOR)
     tau = np.array([0.0, 0.0, 1e-4])
@@ -113,7 +130,7 @@ def callable_cost(repeat: int) -> None:
 
 PARTS: dict[str, Callable[[int], None]] = {
     "libration": lambda repeat: libration(), "jacobi": lambda repeat: jacobi(),
-    "cost": cost, "callable": callable_cost}
+    "cost": cost, "callable": callable_cost, "splittings": splittings}
 
 
 def main() -> None:

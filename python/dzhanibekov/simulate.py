@@ -154,7 +154,8 @@ def simulate(
         with modified moments, order 4), ``"rkmk4"`` and ``"crouch_grossman3"`` (Lie-group
         Runge–Kutta methods on the unit quaternions); docs/guide/methods.md compares them.
         ``"splitting_exact"``: for a constant body under torques, Strang's splitting of the
-        exact free motion and the torque's kicks (order 2).
+        exact free motion and the torque's kicks (order 2); ``"splitting_exact4"``: its
+        fourth-order composition (Suzuki 1990), five free motions and six kicks a step.
         ``"dopri5"``, ``"dop853"``: Dormand–Prince 5(4) and 8(5,3) with error control
         under `rtol` and `atol` and dense output at the frames (Hairer et al.).
         ``"exact"``: the closed-form solution (Jacobi elliptic functions for ω, the angle

@@ -10,6 +10,7 @@ mod damper;
 mod deployment;
 mod free;
 mod general;
+pub mod gravity;
 mod kinds;
 pub mod model;
 mod system;

@@ -40,9 +40,10 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
-use crate::kinematics::rotation_matrix;
+use crate::kinematics::{rotation_matrix, world_to_body};
 
 use super::callable::CallableTorque;
+use super::gravity::gravity_gradient_torque;
 use super::kinds::Kinds;
 use super::tabulated::TabulatedTorque;
 
@@ -310,19 +311,10 @@ impl Torques {
     ) -> Vector3<f64> {
         let mut tau = self.body.unwrap_or_default();
         if let Some(n) = self.orbit_rate {
-            // r̂_b = Mᵀ (c, s, 0) = c M[0,:] + s M[1,:], from q without building M
-            let (s, c) = (n * t).sin_cos();
-            let (w, x, y, z) = (q.w, q.i, q.j, q.k);
-            let k = 2.0 / (w * w + x * x + y * y + z * z);
-            let r = Vector3::new(
-                c * (1.0 - k * (y * y + z * z)) + s * k * (x * y + w * z),
-                c * k * (x * y - w * z) + s * (1.0 - k * (x * x + z * z)),
-                c * k * (x * z + w * y) + s * k * (y * z - w * x),
-            );
-            tau += r.cross(&inertia(&r)) * (3.0 * n * n);
+            tau += gravity_gradient_torque(n, t, q, inertia);
         }
         if let Some(v) = self.world {
-            tau += rotation_matrix(q).tr_mul(&v);
+            tau += world_to_body(q, &v);
         }
         for table in &self.tables {
             tau += table.torque_body(t, q);

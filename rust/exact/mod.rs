@@ -182,8 +182,9 @@ struct Asymmetric {
     kappa: f64,
     /// `J1 A1`.
     rho: f64,
-    /// `G(u + 2K) − G(u)`.
-    g_period: f64,
+    /// `G(u + 2K) − G(u)`; `None` until a `u` beyond the first period asks for it (a motion
+    /// built for one step, [`ExactMotion::try_new_for_step`], seldom does).
+    g_period: Option<f64>,
     g0: f64,
     frame: UnitQuaternion<f64>,
     e_l: Unit<Vector3<f64>>,
@@ -201,6 +202,25 @@ impl ExactMotion {
     /// Non-finite `omega0`; a zero or non-finite `q0`; rates so extreme that the solution's
     /// parameters are not finite.
     pub fn try_new(body: &RigidBody, omega0: [f64; 3], q0: [f64; 4]) -> Result<Self> {
+        let motion = Self::build(body, omega0, q0, true)?;
+        motion.starts_at(&Vector3::from(omega0), body)?;
+        Ok(motion)
+    }
+
+    /// The motion of `body` from `omega0` and `q0` for one advance from it (a splitting's
+    /// step, [`crate::rigid::ExactKick`]): [`ExactMotion::try_new`] without what such an
+    /// advance never reads — the check that the closed form's state at `t = 0` is the start
+    /// (a full evaluation; made once on a run's start by the caller) and where the
+    /// intermediate axis is dominant (the flips'). The same motion at the same cost per
+    /// [`ExactMotion::state_at`]; about a third cheaper to build.
+    ///
+    /// # Errors
+    /// As [`ExactMotion::try_new`], less the check of the start.
+    pub fn try_new_for_step(body: &RigidBody, omega0: [f64; 3], q0: [f64; 4]) -> Result<Self> {
+        Self::build(body, omega0, q0, false)
+    }
+
+    fn build(body: &RigidBody, omega0: [f64; 3], q0: [f64; 4], flips: bool) -> Result<Self> {
         if !omega0.iter().all(|w| w.is_finite()) {
             return Err(Error::invalid(
                 "omega0",
@@ -217,7 +237,7 @@ impl ExactMotion {
         } else if exactly_symmetric(&inertia) {
             symmetric(inertia, omega, q0)
         } else {
-            let motion = Asymmetric::new(inertia, omega, q0);
+            let motion = Asymmetric::new(inertia, omega, q0, flips);
             if motion.is_finite() {
                 Kind::Asymmetric(Box::new(motion))
             } else if near_axis(&omega) {
@@ -232,10 +252,8 @@ impl ExactMotion {
                 ));
             }
         };
-        let flips = body.intermediate_axis().is_some();
-        let motion = Self { kind, flips };
-        motion.starts_at(&omega, body)?;
-        Ok(motion)
+        let flips = flips && body.intermediate_axis().is_some();
+        Ok(Self { kind, flips })
     }
 
     /// [`Error::InvalidArgument`] unless the solution's state at `t = 0` is the start: moments
@@ -415,7 +433,13 @@ impl Canonical {
 }
 
 impl Asymmetric {
-    fn new(inertia_body: Vector3<f64>, omega_body: Vector3<f64>, q0: UnitQuaternion<f64>) -> Self {
+    /// The motion; with `flips`, where the intermediate axis is dominant too.
+    fn new(
+        inertia_body: Vector3<f64>,
+        omega_body: Vector3<f64>,
+        q0: UnitQuaternion<f64>,
+        flips: bool,
+    ) -> Self {
         let c = Canonical::new(inertia_body, omega_body);
         let mut rotation = Matrix3::zeros();
         for k in 0..3 {
@@ -462,21 +486,6 @@ impl Asymmetric {
         } else {
             0.0
         };
-        let k = jacobi.quarter_period();
-        let g_period = if separatrix {
-            0.0
-        } else if quadrature {
-            2.0 * integral_of_reciprocal(&jacobi, momentum, kappa, k, panel)
-        } else {
-            let sn2 = 2.0 * sn2_integral_complete(characteristic, m1);
-            let circular = std::f64::consts::PI / sqrt_1mn;
-            let pi = characteristic.mul_add(sn2, 2.0 * k);
-            if about_minor {
-                a3 * (momentum * circular - kappa * (characteristic - m).mul_add(sn2, 2.0 * k))
-            } else {
-                momentum * pi - kappa * circular
-            }
-        };
         let (rate_mean, factor) = if about_minor {
             (two_energy / momentum, -d31 / (j1 * momentum * lambda))
         } else if quadrature {
@@ -510,16 +519,19 @@ impl Asymmetric {
             sqrt_1mn,
             kappa,
             rho: j1 * a1,
-            g_period,
+            g_period: None,
             g0: 0.0,
             frame: UnitQuaternion::identity(),
             e_l,
             u_dominant: None,
         };
+        if flips {
+            motion.g_period = Some(motion.period_of_g());
+        }
         motion.g0 = motion.g(u0);
         motion.frame = q_canonical0 * motion.swing(&n0).inverse();
         let threshold = momentum * std::f64::consts::FRAC_1_SQRT_2 / (j2 * a2);
-        if threshold < 1.0 {
+        if flips && threshold < 1.0 {
             motion.u_dominant = Some(motion.jacobi.inverse_sn(threshold));
         }
         motion
@@ -530,7 +542,7 @@ impl Asymmetric {
             self.lambda,
             self.u0,
             self.g0,
-            self.g_period,
+            self.g_period.unwrap_or(0.0),
             self.factor,
             self.rate_mean,
             self.momentum,
@@ -570,7 +582,7 @@ impl Asymmetric {
         let (j, r) = self.jacobi.reduce(u);
         if self.panel > 0.0 {
             let part = integral_of_reciprocal(&self.jacobi, l, kappa, r.abs(), self.panel);
-            return j.mul_add(self.g_period, part.copysign(r));
+            return self.periods(j, part.copysign(r));
         }
         let (sn, cn, dn) = self.jacobi.sn_cn_dn_reduced(r);
         let sn2 = sn2_integral(n, sn, cn, dn);
@@ -581,7 +593,39 @@ impl Asymmetric {
         } else {
             l * n.mul_add(sn2, r) - kappa * circular
         };
-        j.mul_add(self.g_period, part)
+        self.periods(j, part)
+    }
+
+    /// `G` from its part within the period, `j` periods on: `j (G(u + 2K) − G(u)) + part`.
+    #[inline]
+    fn periods(&self, j: f64, part: f64) -> f64 {
+        match (j, self.g_period) {
+            (0.0, _) => part,
+            (_, Some(period)) => j.mul_add(period, part),
+            (_, None) => j.mul_add(self.period_of_g(), part),
+        }
+    }
+
+    /// `G(u + 2K) − G(u)` (see [`Asymmetric::g`]): by quadrature for a rod, else from the
+    /// complete integrals (`Π(N | m) = K + N S`, `S` by Carlson's `R_J`).
+    fn period_of_g(&self) -> f64 {
+        if self.separatrix {
+            return 0.0;
+        }
+        let (l, kappa) = (self.momentum, self.kappa);
+        let k = self.jacobi.quarter_period();
+        if self.panel > 0.0 {
+            return 2.0 * integral_of_reciprocal(&self.jacobi, l, kappa, k, self.panel);
+        }
+        let n = self.characteristic;
+        let sn2 = 2.0 * sn2_integral_complete(n, self.jacobi.m1());
+        let circular = std::f64::consts::PI / self.sqrt_1mn;
+        if self.about_minor {
+            let a3 = self.amplitude.z.abs();
+            a3 * (l * circular - kappa * (n - self.jacobi.m()).mul_add(sn2, 2.0 * k))
+        } else {
+            l * n.mul_add(sn2, 2.0 * k) - kappa * circular
+        }
     }
 
     /// The smallest rotation taking the unit vector `n` to `a = s3 e3`: `∝ (1 + n·a, n × a)`.

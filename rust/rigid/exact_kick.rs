@@ -12,8 +12,9 @@
 //! exact solution. The free flow keeps `|q| = 1`, the kicks do not touch `q`: `|q|` is kept to
 //! round-off. It runs a constant body under torques (no wheels, dampers or schedules: their free
 //! part is not the elliptic motion). Each step builds the closed form from its start (the
-//! elliptic functions' parameter, `K`, the phase), about the cost of a few dozen RK4
-//! right-hand sides.
+//! elliptic functions' parameter, `K`, the phase: [`ExactMotion::try_new_for_step`]), about
+//! the cost of ten RK4 steps under the gravity gradient. [`super::ExactKick4`] composes it to
+//! fourth order.
 
 use nalgebra::Vector3;
 
@@ -31,16 +32,19 @@ pub struct ExactKick {
 }
 
 impl ExactKick {
-    /// The splitting of `model`.
+    /// The splitting of `model` from the start `x0`.
     ///
     /// # Errors
     /// A model whose body is not constant and diagonal, or that has wheels or a damper
-    /// (refused before, by the registry).
-    pub fn of<const N: usize>(model: &GeneralModel<N>) -> Result<Self> {
+    /// (refused before, by the registry); a start whose closed form does not start there
+    /// ([`ExactMotion::try_new`]: moments it cannot resolve), checked once here so that each
+    /// step builds the lighter [`ExactMotion::try_new_for_step`].
+    pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
         let refuse = || {
             Error::invalid(
                 "method",
-                "'splitting_exact' runs a constant body in principal axes under torques alone",
+                "'splitting_exact' and 'splitting_exact4' run a constant body in principal axes \
+                 under torques alone",
                 model.kinds().names(),
             )
         };
@@ -51,17 +55,47 @@ impl ExactKick {
             return Err(refuse());
         };
         let d = c.moments().ok_or_else(refuse)?;
-        Ok(Self {
+        let out = Self {
             body: RigidBody::try_new([d.x, d.y, d.z])?,
-        })
+        };
+        let (omega, q) = out.rates_and_attitude(x0);
+        ExactMotion::try_new(&out.body, omega, q)?;
+        Ok(out)
     }
 
+    /// The body rates and the attitude of a state `[H, q]`.
     #[inline(always)]
-    fn kick<const N: usize>(sys: &GeneralModel<N>, t: f64, half: f64, x: &mut [f64; N]) {
-        let tau = sys.torque(t, x) * half;
+    fn rates_and_attitude<const N: usize>(&self, x: &[f64; N]) -> ([f64; 3], [f64; 4]) {
+        let h_body = Vector3::new(x[0], x[1], x[2]);
+        let omega = h_body.component_div(&self.body.inertia_body());
+        let q = attitude(x);
+        (omega.into(), [q.w, q.i, q.j, q.k])
+    }
+
+    /// The momentum kick `H ← H + a τ_b(t, q)` (the attitude and the time held).
+    #[inline(always)]
+    pub(crate) fn kick<const N: usize>(sys: &GeneralModel<N>, t: f64, a: f64, x: &mut [f64; N]) {
+        let tau = sys.torque(t, x) * a;
         x[0] += tau.x;
         x[1] += tau.y;
         x[2] += tau.z;
+    }
+
+    /// The exact free motion over `h` (any sign) from `x`.
+    #[inline]
+    pub(crate) fn free_flow<const N: usize>(&self, h: f64, x: &mut [f64; N]) {
+        let moments = self.body.inertia_body();
+        let (omega, q) = self.rates_and_attitude(x);
+        // a start the closed form refuses (not finite) leaves the state to the driver's
+        // finiteness check
+        let Ok(motion) = ExactMotion::try_new_for_step(&self.body, omega, q) else {
+            x[0] = f64::NAN;
+            return;
+        };
+        let s = motion.state_at(h);
+        let h_new = Vector3::new(s[0], s[1], s[2]).component_mul(&moments);
+        x[..3].copy_from_slice(h_new.as_slice());
+        set_attitude(x, &nalgebra::Quaternion::new(s[3], s[4], s[5], s[6]));
     }
 }
 
@@ -72,21 +106,7 @@ impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick {
 
     fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
         Self::kick(sys, t, 0.5 * h, x);
-        let moments = self.body.inertia_body();
-        let h_body = Vector3::new(x[0], x[1], x[2]);
-        let omega = h_body.component_div(&moments);
-        let q = attitude(x);
-        // a start the closed form refuses (not finite) leaves the state to the driver's
-        // finiteness check
-        let Ok(motion) = ExactMotion::try_new(&self.body, omega.into(), [q.w, q.i, q.j, q.k])
-        else {
-            x[0] = f64::NAN;
-            return;
-        };
-        let s = motion.state_at(h);
-        let h_new = Vector3::new(s[0], s[1], s[2]).component_mul(&moments);
-        x[..3].copy_from_slice(h_new.as_slice());
-        set_attitude(x, &nalgebra::Quaternion::new(s[3], s[4], s[5], s[6]));
+        self.free_flow(h, x);
         Self::kick(sys, t + h, 0.5 * h, x);
     }
 }

@@ -94,7 +94,7 @@ pub type Splitting6 = Splitting<37>;
 /// Suzuki's fourth-order fractal weights `(p, p, 1 − 4p, p, p)`, `p = 1/(4 − 4^{1/3})`
 /// (M. Suzuki, "Fractal decomposition of exponential operators", Phys. Lett. A 146 (1990)
 /// 319; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, §II.4, eq. 4.5).
-fn suzuki_weights() -> [f64; 5] {
+pub(crate) fn suzuki_weights() -> [f64; 5] {
     let p = 1.0 / (4.0 - 4f64.cbrt());
     [p, p, 1.0 - 4.0 * p, p, p]
 }

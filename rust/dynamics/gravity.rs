@@ -1,0 +1,175 @@
+//! The gravity gradient's torque (see [`super::Torques`] for the law), evaluated at core speed:
+//! a right-hand side of a body in orbit is the free body's plus this, so that an RK4 step
+//! under the gravity gradient costs at most about twice the free body's (issue 21's bar).
+//!
+//! What makes it cheap, each at round-off from the plain formula:
+//! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
+//!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
+//!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
+//! - **the radial direction in body axes** from the unnormalised matrix `M̃ = |q|² M(q)`
+//!   (quadratic in `q`, no division): `r̃ = M̃ᵀ r̂ = |q|² r̂_b`, and the torque
+//!   `3n² r̂_b × (I r̂_b) = (3n² / |q|⁴) r̃ × (I r̃)`, whose one division runs beside the
+//!   products instead of before them.
+
+// the constants as fdlibm prints them (the float64 nearest each is what counts)
+#![allow(clippy::excessive_precision)]
+
+use nalgebra::{Quaternion, Vector3};
+
+/// `2/π`.
+const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
+/// `π/2` split as in fdlibm's `__ieee754_rem_pio2` (Sun Microsystems, 1993): its first 33 bits
+/// (`k · PIO2_HI` is exact for `|k| < 2^20`) and the rest rounded to float64.
+const PIO2_HI: f64 = 1.570_796_326_734_125_614_17e0;
+const PIO2_LO: f64 = 6.077_100_506_506_192_249_32e-11;
+/// `1.5 · 2^52`: adding it rounds a float64 below `2^51` in size to an integer, whose low
+/// bits are then the low bits of the sum's representation.
+const ROUND: f64 = 6_755_399_441_055_744.0;
+/// The largest argument reduced here, `2^20 · π/2`; beyond it (and for NaN) the standard
+/// library's `sin_cos`.
+const REDUCED: f64 = 1_647_099.0;
+
+/// fdlibm's `__kernel_sin` coefficients: `sin r ≈ r + r³ (S1 + r² S2 + … + r¹⁰ S6)` on
+/// `|r| ≤ π/4`, error below 2^−58 (Sun Microsystems, 1993).
+const S: [f64; 6] = [
+    -1.666_666_666_666_663_243_48e-1,
+    8.333_333_333_322_489_461_24e-3,
+    -1.984_126_982_985_794_931_34e-4,
+    2.755_731_370_707_006_767_89e-6,
+    -2.505_076_025_340_686_341_95e-8,
+    1.589_690_995_211_550_102_21e-10,
+];
+/// fdlibm's `__kernel_cos` coefficients: `cos r ≈ 1 − r²/2 + r⁴ (C1 + r² C2 + … + r¹⁰ C6)`
+/// on `|r| ≤ π/4`, error below 2^−58.
+const C: [f64; 6] = [
+    4.166_666_666_666_660_190_37e-2,
+    -1.388_888_888_887_410_957_49e-3,
+    2.480_158_728_947_672_941_78e-5,
+    -2.755_731_435_139_066_330_35e-7,
+    2.087_572_321_298_174_827_90e-9,
+    -1.135_964_755_778_819_482_65e-11,
+];
+
+/// `(sin x, cos x)`, within about one unit in the last place of the standard library's (an
+/// absolute error below `3e-16` for `|x| ≤ 2^20 π/2`; the standard library's beyond).
+///
+/// The argument is reduced by the nearest multiple `k` of `π/2` (Cody & Waite's two-part
+/// constant, exact products for `|k| < 2^20`); `sin` and `cos` of the remainder `|r| ≤ π/4` are
+/// fdlibm's polynomials, and the quadrant `k mod 4` swaps and negates them.
+///
+/// # Example
+/// ```
+/// use approx::assert_relative_eq;
+/// let (s, c) = dzhanibekov::dynamics::gravity::sin_cos(2.0);
+/// assert_relative_eq!(s, 2.0_f64.sin(), epsilon = 3e-16);
+/// assert_relative_eq!(c, 2.0_f64.cos(), epsilon = 3e-16);
+/// ```
+#[inline(always)]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    if x.is_nan() || x.abs() > REDUCED {
+        return x.sin_cos();
+    }
+    let shifted = x * FRAC_2_PI + ROUND;
+    let quadrant = shifted.to_bits() & 3;
+    let k = shifted - ROUND;
+    let r = (x - k * PIO2_HI) - k * PIO2_LO;
+    let z = r * r;
+    let z2 = z * z;
+    // Estrin's scheme: the two halves of each polynomial in parallel
+    let sin_tail = (S[0] + z * S[1]) + z2 * ((S[2] + z * S[3]) + z2 * (S[4] + z * S[5]));
+    let cos_tail = (C[0] + z * C[1]) + z2 * ((C[2] + z * C[3]) + z2 * (C[4] + z * C[5]));
+    let sin_r = r + r * z * sin_tail;
+    let cos_r = (1.0 - 0.5 * z) + z2 * cos_tail;
+    let (s, c) = match quadrant & 1 {
+        0 => (sin_r, cos_r),
+        _ => (cos_r, -sin_r),
+    };
+    match quadrant & 2 {
+        0 => (s, c),
+        _ => (-s, -c),
+    }
+}
+
+/// The gravity gradient's torque `3n² r̂_b × (I r̂_b)` in body axes at `t` on a body at attitude
+/// `q` (world-from-body, any non-zero size: normalised here), for an orbit of rate `n` in the
+/// world `x–y` plane (`r̂ = (cos nt, sin nt, 0)`), `inertia` applying the body's tensor to a
+/// vector. See the module doc for how.
+#[inline(always)]
+pub fn gravity_gradient_torque(
+    n: f64,
+    t: f64,
+    q: &Quaternion<f64>,
+    inertia: impl FnOnce(&Vector3<f64>) -> Vector3<f64>,
+) -> Vector3<f64> {
+    let (s, c) = sin_cos(n * t);
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
+    let norm2 = (ww + xx) + (yy + zz);
+    // the first two rows of M̃ = |q|² M(q) (see `crate::kinematics::rotation_matrix`), taken
+    // as columns of M̃ᵀ: r̃ = c M̃[0,:] + s M̃[1,:]
+    let (xy, wz) = (x * y, w * z);
+    let r = Vector3::new(
+        c * ((ww + xx) - (yy + zz)) + s * (2.0 * (xy + wz)),
+        c * (2.0 * (xy - wz)) + s * ((ww - xx) + (yy - zz)),
+        c * (2.0 * (x * z + w * y)) + s * (2.0 * (y * z - w * x)),
+    );
+    let scale = 3.0 * n * n / (norm2 * norm2);
+    r.cross(&inertia(&r)) * scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kinematics::rotation_matrix;
+    use nalgebra::Matrix3;
+
+    /// A reproducible spread of arguments (a linear congruential generator).
+    fn arguments(count: usize, scale: f64) -> impl Iterator<Item = f64> {
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        (0..count).map(move |_| {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            ((state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * scale
+        })
+    }
+
+    #[test]
+    fn sin_cos_agrees_with_the_standard_librarys_to_round_off() {
+        let mut worst = 0.0_f64;
+        for scale in [1e-3, 1.0, 10.0, 1e3, 1e5, REDUCED] {
+            for x in arguments(20_000, scale) {
+                let (s, c) = sin_cos(x);
+                worst = worst.max((s - x.sin()).abs()).max((c - x.cos()).abs());
+            }
+        }
+        assert!(worst < 3e-16, "{worst:e}");
+        // the quadrants' ends, zero and beyond the reduced range
+        for k in -8..=8 {
+            let x = f64::from(k) * std::f64::consts::FRAC_PI_4;
+            let (s, c) = sin_cos(x);
+            assert!(
+                (s - x.sin()).abs() < 3e-16 && (c - x.cos()).abs() < 3e-16,
+                "{x}"
+            );
+        }
+        assert_eq!(sin_cos(0.0), (0.0, 1.0));
+        assert_eq!(sin_cos(1e7), 1e7_f64.sin_cos());
+        assert!(sin_cos(f64::NAN).0.is_nan());
+    }
+
+    #[test]
+    fn the_torque_is_the_plain_formulas_at_any_size_of_q() {
+        let n = 0.3;
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        for (k, t) in arguments(50, 40.0).enumerate() {
+            let size = 0.5 + k as f64 * 0.03;
+            let q = Quaternion::new(0.9, 0.2 - t * 0.01, -0.3, 0.25) * size;
+            let r =
+                rotation_matrix(&q).transpose() * Vector3::new((n * t).cos(), (n * t).sin(), 0.0);
+            let plain = r.cross(&(i * r)) * (3.0 * n * n);
+            let fast = gravity_gradient_torque(n, t, &q, |v| i * v);
+            assert!((fast - plain).amax() < 1e-15, "{t}: {fast} vs {plain}");
+        }
+    }
+}

@@ -1,0 +1,107 @@
+//! A fourth-order splitting on the exact free flow: Suzuki's five-fold composition of
+//! [`ExactKick`] (Strang's kick–exact flow–kick), with weights `(p, p, 1 − 4p, p, p)`,
+//! `p = 1/(4 − 4^{1/3})` (M. Suzuki, "Fractal decomposition of exponential operators", Phys.
+//! Lett. A 146 (1990) 319; Hairer, Lubich & Wanner, *Geometric Numerical Integration*, 2006,
+//! §II.4, eq. 4.5 — the same weights as [`super::Splitting4`]'s):
+//!
+//! ```text
+//! S(h) = Φ(p h) Φ(p h) Φ((1 − 4p) h) Φ(p h) Φ(p h),   Φ = Strang's step on the exact flow
+//! ```
+//!
+//! A symmetric composition of a symmetric second-order method whose weights satisfy
+//! `Σ w = 1`, `Σ w³ = 0` is of order 4 (HLW §II.4, Theorem 4.1). The middle weight is negative
+//! (`1 − 4p ≈ −0.657`): that sub-step runs the free flow backwards, which the closed form does
+//! at the same cost. Two kicks that meet between sub-steps act at the same time and attitude,
+//! so they are one kick of the summed weight: six torque evaluations and five closed-form free
+//! motions a step. Every sub-flow keeps `|q| = 1` (the kicks do not touch `q`): `|q|` is kept
+//! to round-off; with no torque it is the exact solution.
+//!
+//! Why Suzuki's and not Yoshida's triple jump `(γ, 1 − 2γ, γ)`, `γ = 1/(2 − 2^{1/3})` (three
+//! free motions a step): on the free body's classical splitting Suzuki's composition had
+//! 60–80 times less error at the same step (see [`super::Splitting`]), more than the `(5/3)⁴
+//! ≈ 7.7` its two more free motions a step cost at equal work.
+
+use crate::dynamics::GeneralModel;
+use crate::error::Result;
+use crate::ode::Stepper;
+
+use super::exact_kick::ExactKick;
+use super::splitting::suzuki_weights;
+
+/// The fourth-order splitting (see the module doc).
+#[derive(Debug, Clone, Copy)]
+pub struct ExactKick4 {
+    strang: ExactKick,
+    /// The sub-steps' weights.
+    flows: [f64; 5],
+    /// The kicks' weights: half the weights of the sub-steps they join.
+    kicks: [f64; 6],
+    /// The kicks' times, as fractions of the step (the last is the step's end, exactly).
+    times: [f64; 5],
+}
+
+impl ExactKick4 {
+    /// The splitting of `model` from the start `x0`.
+    ///
+    /// # Errors
+    /// As [`ExactKick::of`].
+    pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
+        let flows = suzuki_weights();
+        let mut kicks = [0.0; 6];
+        let mut times = [0.0; 5];
+        let mut elapsed = 0.0;
+        for (k, w) in flows.iter().enumerate() {
+            kicks[k] += 0.5 * w;
+            kicks[k + 1] += 0.5 * w;
+            elapsed += w;
+            times[k] = elapsed;
+        }
+        Ok(Self {
+            strang: ExactKick::of(model, x0)?,
+            flows,
+            kicks,
+            times,
+        })
+    }
+}
+
+impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick4 {
+    const ORDER: u32 = 4;
+    /// Six torque evaluations (and five closed-form free motions).
+    const RHS_PER_STEP: u64 = 6;
+
+    fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
+        ExactKick::kick(sys, t, self.kicks[0] * h, x);
+        for k in 0..5 {
+            self.strang.free_flow(self.flows[k] * h, x);
+            let tk = match k {
+                4 => t + h,
+                _ => t + self.times[k] * h,
+            };
+            ExactKick::kick(sys, tk, self.kicks[k + 1] * h, x);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::{ConstantInertia, InertiaLaw, Torque, Torques};
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn the_weights_are_of_order_four_and_the_kicks_cover_the_step_once() {
+        let inertia = ConstantInertia::try_new(Matrix3::from_diagonal(&[1.0, 2.0, 3.0].into()));
+        let model = GeneralModel::<7>::try_new(InertiaLaw::Constant(inertia.unwrap()), None)
+            .unwrap()
+            .with_torques(Torques::of(&[Torque::gravity_gradient(0.5).unwrap()]).unwrap());
+        let x0 = model.state_from(0.0, [0.3, 0.2, 0.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let s = ExactKick4::of(&model, &x0).unwrap();
+        // Σ w = 1 and Σ w³ = 0 (HLW §II.4, eq. 4.4), symmetric weights
+        assert!((s.flows.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        assert!(s.flows.iter().map(|w| w * w * w).sum::<f64>().abs() < 1e-15);
+        assert!((0..5).all(|k| s.flows[k] == s.flows[4 - k]));
+        assert!((s.kicks.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        assert!((s.times[4] - 1.0).abs() < 1e-15 && s.times[2] < s.times[1]);
+    }
+}
