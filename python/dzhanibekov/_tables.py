@@ -95,16 +95,19 @@ def unstorable(system: Any) -> list[str]:
     """What of `system` a file cannot hold (its parameters would be lost, and the file would
     load as another system): the parts and torques of kinds the layout has no columns for
     (a wheel whose momentum is not one number, a torque that is not a gravity gradient or a
-    constant torque), by their type's name. Empty when the whole system can be saved."""
+    constant torque), by their type's name and the model they make (``system.kinds``). Empty
+    when the whole system can be saved."""
     out: list[str] = []
     for part in getattr(system, "parts", ()):
         if isinstance(part, Wheel) and not isinstance(part.momentum, float):
-            out.append("a wheel with a momentum schedule")
+            out.append("a wheel with a momentum schedule (wheel_schedule)")
         elif not isinstance(part, (Damper, Wheel)):
             out.append(type(part).__name__)
     for torque in getattr(system, "torques", ()):
         if type(torque) not in (GravityGradient, ConstantTorque):
-            out.append(type(torque).__name__)
+            kind = {"TabulatedTorque": "tabulated_torque", "CallableTorque": "callable_torque"}
+            name = type(torque).__name__
+            out.append(f"{name} ({kind[name]})" if name in kind else name)
     return out
 
 
