@@ -1073,10 +1073,11 @@ def wheel_off_figure(scene: Drawable, *, ax: Axes | None = None,
     name = "xyz"[k]
     title = f"{s.title}: the spin axis {name} in space, with the wheel and without"
     body = system.body
-    if hasattr(body, "inertia") and all(p.axis == tuple(e) for p in system.parts
-                                        if isinstance(p, Wheel)):
+    wheels = [p for p in system.parts if isinstance(p, Wheel)]
+    if hasattr(body, "inertia") and all(p.axis == tuple(e) and isinstance(p.momentum, float)
+                                        for p in wheels):
         low, high = dual_spin_threshold(body.inertia, k, float(traj.omega[0, k]))
-        h = sum(p.momentum for p in system.parts if isinstance(p, Wheel))
+        h = sum(p.momentum for p in wheels if isinstance(p.momentum, float))
         title += (f"\nh = {h:g}; the closed form: unstable for h in ({low:.4g}, {high:.4g})")
     ax.set_xlabel(units.label("t", units.time))
     ax.set_ylabel("angle from its start (degrees)")
