@@ -290,7 +290,7 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     return kwargs
 
 
-WHEEL_SCHEDULE = ("times", "values")
+_WHEEL_SCHEDULE = ("times", "values")
 """The keys of a wheel's momentum schedule, ``momentum = { times = [...], values = [...] }``
 (linear between the knots, held outside them)."""
 
@@ -302,10 +302,10 @@ def _wheel_table(source: str, table: Mapping[str, Any]) -> Mapping[str, Any]:
     if not isinstance(momentum, Mapping):
         return table
     for key in momentum:
-        if key not in WHEEL_SCHEDULE:
+        if key not in _WHEEL_SCHEDULE:
             raise SceneError(source, f"wheel.momentum.{key}", "is not a known key; allowed in "
-                             f"a schedule: {', '.join(WHEEL_SCHEDULE)}")
-    for key in WHEEL_SCHEDULE:
+                             f"a schedule: {', '.join(_WHEEL_SCHEDULE)}")
+    for key in _WHEEL_SCHEDULE:
         if key not in momentum:
             raise SceneError(source, f"wheel.momentum.{key}", "is missing; a schedule is "
                              "`momentum = { times = [t0, t1, ...], values = [h0, h1, ...] }`")
