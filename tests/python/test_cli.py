@@ -97,7 +97,7 @@ def test_run_takes_a_shipped_scene_by_name_and_replaces_files_in_place(tmp_path)
     assert_picture(out / "fig3b-omega.png")
 
 
-@pytest.mark.parametrize("name", ["gravity-gradient", "dual-spin"])
+@pytest.mark.parametrize("name", ["gravity-gradient", "dual-spin", "spin-up"])
 def test_run_renders_the_orbit_scenes(name, tmp_path):
     out = tmp_path / "out"
     assert main(["run", name, "--out", str(out), "--no-progress"]) == 0

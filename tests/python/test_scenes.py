@@ -17,7 +17,7 @@ def test_the_scene_files_ship_inside_the_package():
     assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
                      "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
-                     "dual-spin.toml"}
+                     "dual-spin.toml", "spin-up.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -402,3 +402,69 @@ def test_an_orbit_scene_with_a_deployment_is_refused_naming_the_key():
     with pytest.raises(dz.SceneError) as err:
         dz.SCENES["deployment"].replace(orbit=dz.GravityGradient(1.0))
     assert err.value.key == "orbit"
+
+
+def test_the_spin_up_scene_flips_until_its_wheel_spins_up_and_not_after():
+    scene = dz.SCENES["spin-up"]
+    inertia = scene.inertia
+    times, values = scene.wheel.momentum
+    assert scene.wheel.axis == (0.0, 0.0, 1.0) and values[0] == 0.0
+    h = values[-1]
+    traj = scene.run()
+    flips = np.asarray(traj.flip_times)
+    assert (flips < times[0]).sum() >= 3 and (flips > times[0]).sum() == 0
+    # L is kept in space: a spin about z with the wheel at h has I_z Ω + h = |L| (L along +z
+    # when the spin-up starts: an even number of flips before it), so Ω = (|L| − h) / I_z
+    assert (flips < times[0]).sum() % 2 == 0
+    length = np.linalg.norm(np.asarray(inertia) * np.asarray(scene.omega0))
+    spin = (length - h) / inertia[2]
+    after = traj.t > times[-1]
+    assert traj.omega[after, 2].mean() == pytest.approx(spin, rel=0.03)
+    # the closed form (Hughes ch. 6): h outside the unstable interval of that spin, and the
+    # same h = 20 inside the interval of the body's spin before the spin-up (Ω = 1) is not
+    # what holds it: h = 0 there is inside, the body flips
+    low, high = dz.dual_spin_threshold(inertia, 2, spin)
+    assert not low < h < high and h > 3 * high
+    assert dz.dual_spin_threshold(inertia, 2, 1.0)[0] < 0.0 < dz.dual_spin_threshold(
+        inertia, 2, 1.0)[1]
+    # the same body with the wheel left at rest keeps flipping after the knots
+    off = scene.replace(wheel=dz.Wheel((0, 0, 1), 0.0)).run()
+    assert (np.asarray(off.flip_times) > times[-1]).sum() >= 2
+    fig = dz.plotting.FIGURE_FUNCTIONS["wheel_off"](scene)
+    labels = [line.get_label() for line in fig.axes[0].get_lines()]
+    assert labels == [f"wheel spun up: {len(flips)} flips",
+                      f"wheel off (h = 0): {len(off.flip_times)} flips"]
+
+
+SPIN_UP_BASE = ORBIT_BASE.replace("momentum = 0.1",
+                                  "momentum = { times = [0.2, 0.8], values = [0.0, 0.3] }")
+
+
+def test_a_wheel_schedule_in_a_scene_builds_the_wheel_and_round_trips(tmp_path):
+    s = dz.Scene.from_toml(SPIN_UP_BASE, "spin")
+    assert s.wheel == dz.Wheel((0, 1, 0), ([0.2, 0.8], [0.0, 0.3]))
+    assert "wheel_schedule" in s.system.kinds
+    assert dz.load_scene(s.save(tmp_path / "spin.toml")) == s
+
+
+@pytest.mark.parametrize("new, key, detail", [
+    ("momentum = { times = [0.2, 0.8] }", "wheel.momentum.values", "is missing"),
+    ("momentum = { values = [0.0, 0.3] }", "wheel.momentum.times", "is missing"),
+    ("momentum = { times = [0.2, 0.8], values = [0.0, 0.3], speed = 1 }",
+     "wheel.momentum.speed", "allowed in a schedule: times, values"),
+    ("momentum = { times = [0.8, 0.2], values = [0.0, 0.3] }", "wheel.momentum.times",
+     "increasing"),
+    ("momentum = { times = [0.2, 0.8], values = [0.0, 0.3, 1.0] }", "wheel.momentum.values",
+     "as many values"),
+    ("momentum = { times = [0.2, 0.8], values = [0.0, nan] }", "wheel.momentum.values",
+     "finite"),
+    ('momentum = { times = "soon", values = [0.0, 0.3] }', "wheel.momentum.times",
+     "must be a list of numbers"),
+    ("momentum = { times = [0.2, 0.8], values = [true, 0.3] }", "wheel.momentum.values",
+     "must be a list of numbers"),
+])
+def test_a_bad_wheel_schedule_is_refused_naming_its_key(new, key, detail):
+    with pytest.raises(dz.SceneError) as err:
+        dz.Scene.from_toml(ORBIT_BASE.replace("momentum = 0.1", new, 1), "spin")
+    assert err.value.key == key and detail in err.value.detail, (err.value.key,
+                                                                 err.value.detail)

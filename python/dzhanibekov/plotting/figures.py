@@ -1029,7 +1029,9 @@ def wheel_off_figure(scene: Drawable, *, ax: Axes | None = None,
     """The angle of the spin axis in space from its start, for the scene's run with its wheel
     and for the same run with the wheel off (its momentum 0): the body that the wheel holds
     steady flips without it. The spin axis is the body axis of the largest initial rate;
-    the title gives the closed-form threshold (:func:`~dzhanibekov.dual_spin_threshold`).
+    the title gives the closed-form threshold (:func:`~dzhanibekov.dual_spin_threshold`). For
+    a wheel that follows a schedule (a spin-up) the span of its knots is shaded and the
+    threshold is that of the last frame's momentum and spin rate.
 
     Parameters
     ----------
@@ -1061,7 +1063,12 @@ def wheel_off_figure(scene: Drawable, *, ax: Axes | None = None,
     k = int(np.argmax(np.abs(traj.omega[0])))
     e = np.zeros(3)
     e[k] = 1.0
-    labels = {True: "wheel on", False: "wheel off (h = 0)"}
+    wheels = [p for p in system.parts if isinstance(p, Wheel)]
+    knots = [t for p in wheels if isinstance(p.momentum, tuple) for t in p.momentum[0]]
+    labels = {True: "wheel spun up" if knots else "wheel on", False: "wheel off (h = 0)"}
+    if knots:
+        ax.axvspan(min(knots), max(knots), color="#f4d03f", alpha=0.3, lw=0,
+                   label="the wheel spins up")
     for run, on, colour in ((traj, True, "#1f3b73"), (other, False, "#c0392b")):
         axis = _core.rotate(np.ascontiguousarray(run.q), e.reshape(1, 3)).reshape(-1, 3)
         tilt = np.degrees(np.arctan2(np.linalg.norm(np.cross(axis, axis[0]), axis=1),
@@ -1073,12 +1080,14 @@ def wheel_off_figure(scene: Drawable, *, ax: Axes | None = None,
     name = "xyz"[k]
     title = f"{s.title}: the spin axis {name} in space, with the wheel and without"
     body = system.body
-    wheels = [p for p in system.parts if isinstance(p, Wheel)]
-    if hasattr(body, "inertia") and all(p.axis == tuple(e) and isinstance(p.momentum, float)
-                                        for p in wheels):
-        low, high = dual_spin_threshold(body.inertia, k, float(traj.omega[0, k]))
-        h = sum(p.momentum for p in wheels if isinstance(p.momentum, float))
-        title += (f"\nh = {h:g}; the closed form: unstable for h in ({low:.4g}, {high:.4g})")
+    if hasattr(body, "inertia") and all(p.axis == tuple(e) for p in wheels):
+        at = -1 if knots else 0
+        rate = float(traj.omega[at, k])
+        low, high = dual_spin_threshold(body.inertia, k, rate)
+        h = sum(p.momentum_at(float(traj.t[at])) for p in wheels)
+        where = f"at t = {traj.t[at]:g} (Ω = {rate:.3g})" if knots else ""
+        title += (f"\nh = {h:g} {where}; the closed form: unstable for h in "
+                  f"({low:.4g}, {high:.4g})").replace("  ", " ")
     ax.set_xlabel(units.label("t", units.time))
     ax.set_ylabel("angle from its start (degrees)")
     ax.set_ylim(-5, 185)

@@ -277,7 +277,8 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
         kwargs["damper"] = _model(source, "damper", Damper, ("inertia", "damping"),
                                   tables["damper"])
     if "wheel" in data:
-        kwargs["wheel"] = _model(source, "wheel", Wheel, ("axis", "momentum"), tables["wheel"])
+        kwargs["wheel"] = _model(source, "wheel", Wheel, ("axis", "momentum"),
+                                 _wheel_table(source, tables["wheel"]))
     if "orbit" in data:
         kwargs["orbit"] = _model(source, "orbit", GravityGradient, ("rate",), tables["orbit"],
                                  {"orbit_rate": "rate"})
@@ -287,6 +288,43 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
         kwargs["torque"] = _model(source, "torque", ConstantTorque, ("vector", "frame"),
                                   {**torque, "frame": frame})
     return kwargs
+
+
+_WHEEL_SCHEDULE = ("times", "values")
+"""The keys of a wheel's momentum schedule, ``momentum = { times = [...], values = [...] }``
+(linear between the knots, held outside them)."""
+
+
+def _wheel_table(source: str, table: Mapping[str, Any]) -> Mapping[str, Any]:
+    """The ``[wheel]`` table with a schedule ``momentum = { times, values }`` made the pair
+    ``(times, values)`` that :class:`~dzhanibekov.Wheel` takes; a number is kept."""
+    momentum = table.get("momentum")
+    if not isinstance(momentum, Mapping):
+        return table
+    for key in momentum:
+        if key not in _WHEEL_SCHEDULE:
+            raise SceneError(source, f"wheel.momentum.{key}", "is not a known key; allowed in "
+                             f"a schedule: {', '.join(_WHEEL_SCHEDULE)}")
+    for key in _WHEEL_SCHEDULE:
+        if key not in momentum:
+            raise SceneError(source, f"wheel.momentum.{key}", "is missing; a schedule is "
+                             "`momentum = { times = [t0, t1, ...], values = [h0, h1, ...] }`")
+    times, values = momentum["times"], momentum["values"]
+    for key, value in (("times", times), ("values", values)):
+        if isinstance(value, (str, bytes)) or _ndim(value) != 1 or any(
+                isinstance(x, (bool, np.bool_)) for x in value):
+            raise SceneError(source, f"wheel.momentum.{key}", f"must be a list of numbers, "
+                             f"got {value!r}")
+    if len(values) != len(times):
+        raise SceneError(source, "wheel.momentum.values", f"must hold as many values as "
+                         f"`wheel.momentum.times` holds times ({len(times)}), got {len(values)}")
+    try:
+        Wheel((0.0, 0.0, 1.0), (times, values))
+    except (TypeError, ValueError) as exc:
+        message = str(exc)
+        key = "times" if "times" in message else "values"
+        raise SceneError(source, f"wheel.momentum.{key}", message) from None
+    return {**table, "momentum": (times, values)}
 
 
 def _model(source: str, name: str, kind: type, keys: tuple[str, ...],

@@ -179,7 +179,8 @@ class Scene(metaclass=_Parsed):
     sigma0: tuple[float, float, float] | None = None
     """The damper's initial rate (``damper.sigma``); None: co-rotating."""
     wheel: Wheel | None = None
-    """A momentum wheel (``[wheel]`` with ``axis``, body axes, and ``momentum``)."""
+    """A momentum wheel (``[wheel]`` with ``axis``, body axes, and ``momentum``: a number or
+    a schedule ``{ times = [...], values = [...] }``)."""
     orbit: GravityGradient | None = None
     """The gravity gradient of a circular orbit (``[orbit]`` with ``rate``); the start is in
     world axes (:func:`~dzhanibekov.lvlh_start` gives one relative to the orbiting frame)."""
@@ -328,7 +329,10 @@ class Scene(metaclass=_Parsed):
             if self.sigma0 is not None:
                 out["damper"]["sigma"] = list(self.sigma0)
         if self.wheel is not None:
-            out["wheel"] = {"axis": list(self.wheel.axis), "momentum": self.wheel.momentum}
+            momentum = self.wheel.momentum
+            out["wheel"] = {"axis": list(self.wheel.axis), "momentum": momentum
+                            if isinstance(momentum, float) else
+                            {"times": list(momentum[0]), "values": list(momentum[1])}}
         if self.orbit is not None:
             out["orbit"] = {"rate": self.orbit.orbit_rate}
         if self.torque is not None:
