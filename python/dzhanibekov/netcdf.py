@@ -45,6 +45,7 @@ from .montecarlo import MonteCarlo
 from .orbit import ConstantTorque, GravityGradient, Wheel
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
 from .system import System, Systems
+from .torques import TabulatedTorque
 
 __all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE", "PART_NAMES"]
 
@@ -322,7 +323,9 @@ _BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
 _KNOT_VARS = ("knot_times", "knot_tensors")
 _DAMPER_VARS = ("damper_inertia", "damper_damping", "damper_sigma0")
 _WHEEL_VARS = ("wheel_axis", "wheel_momentum", "wheel_position")
+_SCHEDULE_VARS = ("wheel_times", "wheel_values")
 _TORQUE_VARS = ("torque_kind", "torque_orbit_rate", "torque_vector", "torque_frame")
+_TABLE_VARS = ("torque_outside", "torque_times", "torque_vectors")
 _DERIVED = ("energy", "momentum_body", "momentum_world")
 _KEPT = (*_tables.DRIFTS, "jacobi")
 
@@ -338,7 +341,8 @@ def system_parts(d: Loaded) -> str | None:
     batch."""
     runs = _runs(d)
     present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *_WHEEL_VARS,
-                                 *_TORQUE_VARS, *PART_NAMES, *_DERIVED) if name in d.values]
+                                 *_SCHEDULE_VARS, *_TORQUE_VARS, *_TABLE_VARS, *PART_NAMES,
+                                 *_DERIVED) if name in d.values]
     if runs == 0:
         return None if not present else f"`{present[0]}` must not be there: the batch is empty"
     body = [name in d.values for name in _BODY_VARS]
@@ -379,20 +383,38 @@ def _wheels_padded(d: Loaded) -> str | None:
     """Each run's wheels first, then padding; their positions and the damper's (if any)
     number the parts 0, 1, …"""
     have = [name in d.values for name in _WHEEL_VARS]
+    schedule = [name in d.values for name in _SCHEDULE_VARS]
     if not any(have):
-        return None
+        return None if not any(schedule) else "`wheel_times` needs the wheels' `wheel_axis`"
     if not all(have):
         return "`wheel_axis`, `wheel_momentum` and `wheel_position` must be there together"
+    if any(schedule) != all(schedule):
+        return "`wheel_times` and `wheel_values` must be there together"
     position = d["wheel_position"].reshape(-1, d["wheel_position"].shape[-1])
     axis = d["wheel_axis"].reshape(len(position), -1, 3)
     momentum = d["wheel_momentum"].reshape(len(position), -1)
     valid = position >= 0
     if not _first_then(valid) or (position[~valid] != -1).any():
         return "`wheel_position` must hold each run's wheels first, then -1"
+    constant = np.isfinite(momentum)
+    scheduled = np.zeros_like(valid)
+    if all(schedule):
+        times = d["wheel_times"].reshape(valid.shape + (-1,))
+        values = d["wheel_values"].reshape(times.shape)
+        given = ~np.isnan(times)
+        scheduled = given.any(axis=2)
+        if not _first_then(given.reshape(-1, given.shape[-1])) or \
+                (scheduled & (given.sum(axis=2) < 2)).any() or \
+                not (np.isfinite(times) == given).all() or \
+                not (np.isfinite(values) == given).all():
+            return ("`wheel_times` and `wheel_values` must hold a scheduled wheel's knots (at "
+                    "least two, finite) first, then NaN, and NaN in any other row")
     if not (np.isfinite(axis).all(axis=2) == valid).all() or \
-            not np.isnan(axis[~valid]).all() or not (np.isfinite(momentum) == valid).all():
-        return ("`wheel_axis` and `wheel_momentum` must be finite for each run's wheels and "
-                "NaN beyond them")
+            not np.isnan(axis[~valid]).all() or (constant & scheduled).any() or \
+            not ((constant | scheduled) == valid).all():
+        return ("`wheel_axis` must be finite for each run's wheels and NaN beyond them, and "
+                "each wheel must have either a finite `wheel_momentum` or a schedule "
+                "(`wheel_times`), not both")
     damper = 1 if "damper_inertia" in d.values else 0
     for i, row in enumerate(position):
         taken = sorted(row[row >= 0].tolist())
@@ -407,10 +429,13 @@ def _torques_padded(d: Loaded) -> str | None:
     """Each run's torques first, then padding; each row has its kind's parameters and
     nothing in the columns of the other kinds."""
     have = [name in d.values for name in _TORQUE_VARS]
+    table = [name in d.values for name in _TABLE_VARS]
     if not any(have):
-        return None
+        return None if not any(table) else "`torque_times` needs the torques' `torque_kind`"
     if not all(have):
         return f"`{'`, `'.join(_TORQUE_VARS)}` must be there together"
+    if any(table) != all(table):
+        return f"`{'`, `'.join(_TABLE_VARS)}` must be there together"
     kind = d["torque_kind"].reshape(-1, d["torque_kind"].shape[-1])
     frame = d["torque_frame"].reshape(kind.shape)
     rate = d["torque_orbit_rate"].reshape(kind.shape)
@@ -418,15 +443,36 @@ def _torques_padded(d: Loaded) -> str | None:
     if not _first_then(kind != ""):
         return "`torque_kind` must hold each run's torques first, then ''"
     gradient, constant = kind == "gravity_gradient", kind == "constant"
+    tabulated = kind == "tabulated"
+    if tabulated.any() and not all(table):
+        return "a tabulated torque needs `torque_outside`, `torque_times` and `torque_vectors`"
+    if all(table):
+        outside = d["torque_outside"].reshape(kind.shape)
+        times = d["torque_times"].reshape(kind.shape + (-1,))
+        vectors = d["torque_vectors"].reshape(times.shape + (3,))
+        given = ~np.isnan(times)
+        if not _first_then(given.reshape(-1, given.shape[-1])) or \
+                not (given.any(axis=2) == tabulated).all() or \
+                (tabulated & (given.sum(axis=2) < 2)).any() or \
+                not (np.isfinite(times) == given).all() or \
+                not (np.isfinite(vectors).all(axis=3) == given).all() or \
+                not np.isnan(vectors[~given]).all():
+            return ("`torque_times` and `torque_vectors` must hold a tabulated torque's knots "
+                    "(at least two, finite) first, then NaN, and NaN in any other row")
+        if not np.isin(outside[tabulated], _tables.TORQUE_OUTSIDE).all() or \
+                (outside[~tabulated] != "").any():
+            return ("`torque_outside` must be 'zero' or 'hold' for a tabulated torque, '' for "
+                    "any other")
     finite_vector = np.isfinite(vector).all(axis=2)
     if not (np.isfinite(rate) == gradient).all() or not np.isnan(rate[~gradient]).all():
         return "`torque_orbit_rate` must be a number exactly for a gravity gradient, else NaN"
     if not (finite_vector == constant).all() or not np.isnan(vector[~constant]).all():
         return "`torque_vector` must be a vector exactly for a constant torque, else NaN"
-    if not (np.isin(frame[constant], _tables.TORQUE_FRAMES)).all() or \
-            (frame[~constant] != "").any():
-        return ("`torque_frame` must be 'body' or 'world' for a constant torque, '' for any "
-                "other")
+    framed = constant | tabulated
+    if not (np.isin(frame[framed], _tables.TORQUE_FRAMES)).all() or \
+            (frame[~framed] != "").any():
+        return ("`torque_frame` must be 'body' or 'world' for a constant or tabulated torque, "
+                "'' for any other")
     return None
 
 
@@ -468,17 +514,23 @@ def _systems(d: Loaded) -> list[System]:
     if "wheel_position" in d.values:
         position, axis = rows("wheel_position"), rows("wheel_axis")
         momentum = rows("wheel_momentum")
+        shape = position.shape + (0,)
+        times = rows("wheel_times") if "wheel_times" in d.values else np.zeros(shape)
+        values = rows("wheel_values") if "wheel_values" in d.values else np.zeros(shape)
         for i in range(n):
-            for k, a, h in zip(position[i], axis[i], momentum[i]):
+            for k, a, h, t, v in zip(position[i], axis[i], momentum[i], times[i], values[i]):
                 if k >= 0:
-                    parts[i][int(k)] = Wheel(tuple(a.tolist()), float(h))
+                    given = ~np.isnan(t)
+                    parts[i][int(k)] = Wheel(tuple(a.tolist()), float(h)) if np.isfinite(h) \
+                        else Wheel(tuple(a.tolist()), (t[given], v[given]))
     if "damper_inertia" in d.values:
         j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
         for i in range(n):
             free = next(k for k in range(len(parts[i]) + 1) if k not in parts[i])
             parts[i][free] = Damper(float(j[i]), float(c[i]),
                                     None if np.isnan(s0[i]).any() else s0[i])
-    torques: list[list[GravityGradient | ConstantTorque]] = [[] for _ in range(n)]
+    torques: list[list[GravityGradient | ConstantTorque | TabulatedTorque]] = \
+        [[] for _ in range(n)]
     if "torque_kind" in d.values:
         kind, rate = rows("torque_kind"), rows("torque_orbit_rate")
         vector, frame = rows("torque_vector"), rows("torque_frame")
@@ -489,6 +541,12 @@ def _systems(d: Loaded) -> list[System]:
                 elif kd == "constant":
                     torques[i].append(ConstantTorque(tuple(vector[i, k].tolist()),
                                                      str(frame[i, k])))
+                elif kd == "tabulated":
+                    t = rows("torque_times")[i, k]
+                    given = ~np.isnan(t)
+                    torques[i].append(TabulatedTorque(
+                        t[given], rows("torque_vectors")[i, k][given], str(frame[i, k]),
+                        str(rows("torque_outside")[i, k])))
     return [System(b, parts=[p[k] for k in sorted(p)], torques=t)
             for b, p, t in zip(bodies, parts, torques)]
 
@@ -708,6 +766,16 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
         "torque_vector": Var(lead + ("torque", "axis"), "f", (finite_or_nan,), optional=_OPT),
         "torque_frame": Var(lead + ("torque",), "U", (one_of(("", *_tables.TORQUE_FRAMES)),),
                             optional=_OPT),
+        "wheel_times": Var(lead + ("wheel", "wheel_knot"), "f", (finite_or_nan,),
+                           optional=_OPT),
+        "wheel_values": Var(lead + ("wheel", "wheel_knot"), "f", (finite_or_nan,),
+                            optional=_OPT),
+        "torque_outside": Var(lead + ("torque",), "U",
+                              (one_of(("", *_tables.TORQUE_OUTSIDE)),), optional=_OPT),
+        "torque_times": Var(lead + ("torque", "torque_knot"), "f", (finite_or_nan,),
+                            optional=_OPT),
+        "torque_vectors": Var(lead + ("torque", "torque_knot", "axis"), "f", (finite_or_nan,),
+                              optional=_OPT),
         "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
         "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
         "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
@@ -888,7 +956,9 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
     TypeError
         `result` is none of these, or `path` not a path.
     ValueError
-        `path` ends in another suffix (the message says what writes that format).
+        `path` ends in another suffix (the message says what writes that format); `result`
+        is a run of a system with a :class:`~dzhanibekov.CallableTorque` (a file cannot hold
+        code: the message names it).
     ImportError
         xarray or h5netcdf is missing: install the ``io`` extra.
     OSError
@@ -915,7 +985,8 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
     for system in systems:  # (a batch of principal moments is of free bodies)
         if unsaved := _tables.unstorable(system):
             raise ValueError(f"`result` is a run of a system with {', '.join(unsaved)}, "
-                             "which a file cannot hold yet (its parameters would be lost): "
+                             "which a file cannot hold (a file cannot hold code, and its parameters "
+                             "would be lost): "
                              "keep its arrays with result.to_xarray().to_netcdf(path) or "
                              "numpy.savez")
     p = as_path(path)

@@ -332,9 +332,10 @@ def _set(name, index, value):
 @pytest.mark.parametrize("change, message", [
     (_set("wheel_position", 1, 5), r"`wheel_position` of run 0 must number its wheels"),
     (_set("wheel_position", 0, -1), r"`wheel_position` must hold each run's wheels first"),
-    (_set("wheel_axis", (0, 1), np.nan), r"`wheel_axis` and `wheel_momentum` must be finite"),
+    (_set("wheel_axis", (0, 1), np.nan), r"`wheel_axis` must be finite for each run's wheels"),
     (_set("wheel_axis", 0, 0.0), r"whose system dz cannot build: .*axis"),
-    (_set("torque_kind", 0, "tabulated"), r"`torque_kind` must be one of"),
+    (_set("torque_kind", 0, "spinning"), r"`torque_kind` must be one of"),
+    (_set("torque_kind", 0, "tabulated"), r"a tabulated torque needs `torque_outside`"),
     (_set("torque_kind", 0, ""), r"`torque_kind` must hold each run's torques first"),
     (_set("torque_orbit_rate", 1, -1.0), r"whose system dz cannot build: .*orbit_rate"),
     (_set("torque_orbit_rate", 0, 1.0), r"`torque_orbit_rate` must be a number exactly"),
@@ -353,16 +354,62 @@ def test_load_refuses_wheels_and_torques_a_save_never_writes(tmp_path, change, m
         dz.load(_spoil(traj, tmp_path, change))
 
 
-def test_saving_what_a_file_cannot_hold_is_refused_rather_than_dropped(tmp_path):
+TABLED = dz.System(dz.Body((2.0, 3.0, 1.0)),
+                   parts=[dz.Wheel((0, 2, 0), 0.1), dz.Wheel((1, 0, 1), ([0.0, 0.5, 1.0],
+                                                                        [0.0, 0.2, 0.1]))],
+                   torques=[dz.TabulatedTorque([0.0, 0.5, 1.0], [(0, 0, 1e-3)] * 3),
+                            dz.GravityGradient(1.0),
+                            dz.TabulatedTorque([0.2, 0.4], [(1e-3, 0, 0), (0, 1e-3, 0)],
+                                               frame="world", outside="hold")])
+
+
+@pytest.mark.parametrize("change, message", [
+    (_set("torque_times", (2, 2), 5.0), r"`torque_times` and `torque_vectors` must hold"),
+    (_set("torque_times", (1, 0), 0.5), r"`torque_times` and `torque_vectors` must hold"),
+    (_set("torque_times", (2, 1), np.nan), r"`torque_times` and `torque_vectors` must hold"),
+    (_set("torque_vectors", (0, 1, 0), np.nan), r"`torque_times` and `torque_vectors` must"),
+    (_set("torque_vectors", (2, 2, 0), 0.0), r"`torque_times` and `torque_vectors` must hold"),
+    (_set("torque_times", (0, 1), 0.0), r"whose system dz cannot build: .*times"),
+    (_set("torque_outside", 0, ""), r"`torque_outside` must be 'zero' or 'hold' for a"),
+    (_set("torque_outside", 1, "hold"), r"`torque_outside` must be 'zero' or 'hold' for a"),
+    (_set("torque_outside", 0, "wrap"), r"`torque_outside` must be one of"),
+    (_set("torque_frame", 0, ""), r"`torque_frame` must be 'body' or 'world' for a"),
+    (lambda ds: ds.__delitem__("torque_outside"), r"must be there together"),
+    (_set("wheel_momentum", 1, 0.3), r"either a finite `wheel_momentum` or a schedule"),
+    (lambda ds: (_set("wheel_times", 1, np.nan)(ds), _set("wheel_values", 1, np.nan)(ds)),
+     r"either a finite `wheel_momentum` or a schedule"),                 # neither
+    (_set("wheel_times", 1, np.nan), r"`wheel_times` and `wheel_values` must hold"),
+    (_set("wheel_times", (0, 0), 0.0), r"`wheel_times` and `wheel_values` must hold"),
+    (_set("wheel_values", (1, 2), np.nan), r"`wheel_times` and `wheel_values` must hold"),
+    (lambda ds: ds.__delitem__("wheel_values"), r"must be there together"),
+    # the loaded schedule must give the momentum the file says the run had
+    (_set("wheel_values", (1, 2), 0.3), r"`momentum_body` is not what the file's own system"),
+])
+def test_load_refuses_tables_and_schedules_a_save_never_writes(tmp_path, change, message):
     pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")
-    wheel = dz.Wheel((0, 1, 0), ([0.0, 1.0], [0.0, 0.1]))  # a schedule has no columns yet
+    traj = dz.simulate(TABLED, *dz.lvlh_start(1.0), t_end=1.0, frames=3, method="rk4", dt=0.01)
+    assert dz.load(dz.save(traj, tmp_path / "good.nc")).system == TABLED
+    with pytest.raises(dz.ReadError, match=message):
+        dz.load(_spoil(traj, tmp_path, change))
+
+
+def test_saving_a_schedule_round_trips_and_what_a_file_cannot_hold_is_refused(tmp_path):
+    pytest.importorskip("xarray")
+    pytest.importorskip("h5netcdf")
+    wheel = dz.Wheel((0, 1, 0), ([0.0, 1.0], [0.0, 0.1]))
     sat = dz.System(dz.Body((2.0, 3.0, 1.0)), parts=[wheel], torques=[dz.GravityGradient(1.0)])
     traj = dz.simulate(sat, *dz.lvlh_start(1.0), t_end=1.0, method="dop853")
-    with pytest.raises(ValueError, match=r"a wheel with a momentum schedule \(wheel_schedule\), "
-                                         "which a file cannot hold yet"):
-        dz.save(traj, tmp_path / "orbit.nc")
-    assert not (tmp_path / "orbit.nc").exists()
+    back = dz.load(dz.save(traj, tmp_path / "orbit.nc"))
+    assert back.system == sat and back.system.parts[0].momentum == ((0.0, 1.0), (0.0, 0.1))
+    assert np.array_equal(back.q, traj.q)
+    code = dz.System(dz.Body((2.0, 3.0, 1.0)), parts=[wheel],
+                     torques=[dz.GravityGradient(1.0), lambda t, q, w: (0.0, 0.0, 0.0)])
+    traj = dz.simulate(code, *dz.lvlh_start(1.0), t_end=1.0, method="dop853")
+    with pytest.raises(ValueError, match=r"CallableTorque \(callable_torque\), "
+                                         "which a file cannot hold"):
+        dz.save(traj, tmp_path / "code.nc")
+    assert not (tmp_path / "code.nc").exists()
 
 
 def test_strang_on_the_exact_free_flow_is_of_order_two_and_keeps_the_quaternions_norm():

@@ -6,8 +6,9 @@ result read back equals the one written bit for bit, derived quantities included
 the angular momentum in space a result reports are those of the run's own body, recomputed here
 from its tensor (½ ω·Iω and q ⊗ Iω ⊗ q̄, the textbook formulas); a batch's rows are its single
 runs; the momentum in space is constant for every kind without an external torque, and for the
-kinds with one it changes as the torque says (a constant torque in space: by τ t; the gravity
-gradient: the Jacobi integral, recomputed here from its textbook formula, is kept).
+kinds with one it changes as the torque says (a constant torque in space: by τ t; a table in
+space: by its integral, the trapezoid rule on its knots; the gravity gradient: the Jacobi
+integral, recomputed here from its textbook formula, is kept).
 """
 
 
@@ -44,9 +45,18 @@ SYSTEMS = [
     ("world_torque", dz.System(dz.Body((1.0, 2.0, 3.0)),
                                torques=[dz.ConstantTorque((0.0, 0.02, -0.01), frame="world")]),
      (0.01, 1.0, 0.01)),
+    # a torque tabulated in space, held beyond its knots (L in space gains its integral)
+    ("tabulated_torque", dz.System(dz.Body((1.0, 2.0, 3.0)), torques=[dz.TabulatedTorque(
+        [0.5, 2.0, 4.0], [(0.0, 0.0, 0.0), (0.02, 0.0, -0.01), (0.0, 0.01, 0.0)],
+        frame="world", outside="hold")]), (0.01, 1.0, 0.01)),
+    # a wheel spun down on a schedule, after a constant one (L in space stays)
+    ("wheel_schedule", dz.System(TILTED, parts=[dz.Wheel((1, 0, 0), 0.1), dz.Wheel(
+        (0, 1, 1), ([1.0, 2.5, 4.0], [0.6, 0.2, -0.1]))]), (0.02, 0.01, 1.0)),
     # every model at once: torques in an order of their own
-    ("orbit", dz.System(TILTED, parts=[dz.Wheel((0, 0, 1), 0.4)],
-                        torques=[dz.ConstantTorque((0.01, 0.0, 0.0)), dz.GravityGradient(0.3)]),
+    ("orbit", dz.System(TILTED, parts=[dz.Wheel((0, 0, 1), 0.4),
+                                       dz.Wheel((1, 0, 0), ([0.0, 3.0], [0.0, 0.2]))],
+                        torques=[dz.ConstantTorque((0.01, 0.0, 0.0)), dz.GravityGradient(0.3),
+                                 dz.TabulatedTorque([1.0, 2.0], [(0, 0.01, 0), (0, 0, 0.02)])]),
      (0.02, 0.01, 1.0)),
 ]
 IDS = [name for name, _, _ in SYSTEMS]
@@ -75,8 +85,22 @@ def own_omega_momentum(traj: dz.Trajectory, k: int) -> np.ndarray:
         if isinstance(part, dz.Damper):
             L = L + part.inertia * traj.parts["damper"][k]
         elif isinstance(part, dz.Wheel):
-            L = L + part.momentum * np.asarray(part.axis) / np.linalg.norm(part.axis)
+            h = part.momentum
+            if isinstance(h, tuple):   # a schedule: linear between knots, held outside
+                h = np.interp(traj.t[k], *h)
+            L = L + h * np.asarray(part.axis) / np.linalg.norm(part.axis)
     return L
+
+
+def impulse(torque, t: float) -> np.ndarray:
+    """∫₀ᵗ τ ds of a torque fixed in space: τ t for a constant one, the trapezoid rule on
+    every kink for a table held beyond its knots (exact: linear between the points)."""
+    if isinstance(torque, dz.ConstantTorque):
+        return np.asarray(torque.vector) * t
+    assert torque.outside == "hold"
+    s = np.union1d([0.0, t], torque.times[(torque.times > 0.0) & (torque.times < t)])
+    tau = np.stack([np.interp(s, torque.times, torque.vectors[:, i]) for i in range(3)], 1)
+    return np.trapezoid(tau, s, axis=0)
 
 
 def torques(traj: dz.Trajectory) -> tuple:
@@ -116,10 +140,11 @@ def test_reported_energy_and_momentum_are_the_runs_own(case):
         # no external torque: L in space stays where it started (RK4 at dt = 1e-3)
         spread = np.ptp(traj.momentum_world, axis=0).max() / scale
         assert spread < 1e-6, (name, spread)
-    elif all(isinstance(t, dz.ConstantTorque) and t.frame == "world" for t in outside):
-        # dL/dt = τ in space: L(t) = L(0) + τ t
-        tau = sum(np.asarray(t.vector) for t in outside)
-        expected = traj.momentum_world[0] + traj.t[:, None] * tau
+    elif all(isinstance(t, (dz.ConstantTorque, dz.TabulatedTorque)) and t.frame == "world"
+             for t in outside):
+        # dL/dt = τ in space: L(t) = L(0) + ∫ τ dt (τ t for a constant torque)
+        expected = traj.momentum_world[0] + np.array(
+            [sum(impulse(torque, t) for torque in outside) for t in traj.t])
         assert np.abs(traj.momentum_world - expected).max() < 1e-6 * scale, name
     elif all(isinstance(t, dz.GravityGradient) for t in outside):
         j = jacobi(traj, outside[0].orbit_rate)

@@ -288,18 +288,30 @@ def test_a_scheduled_wheel_is_a_value_and_refuses_bad_schedules_by_name():
         dz.Wheel((0, 1, 0), np.ones(2))
 
 
-def test_saving_a_run_with_a_table_or_a_schedule_is_refused_rather_than_dropped(tmp_path):
+def test_saving_a_run_with_a_table_or_a_schedule_loads_the_same_system_and_a_callable_is_refused(
+        tmp_path):
     pytest.importorskip("xarray")
     pytest.importorskip("h5netcdf")
     body = dz.Body((2.0, 3.0, 4.0))
-    for system, kind in [(dz.System(body, torques=[dz.TabulatedTorque(TIMES, VECTORS)]),
-                          "tabulated_torque"),
-                         (dz.System(body, parts=[dz.Wheel((0, 1, 0), ([0.0, 1.0], [0, 1]))]),
-                          "wheel_schedule")]:
+    table = dz.TabulatedTorque(TIMES, VECTORS, frame="world", outside="hold")
+    short = dz.TabulatedTorque([0.0, 0.5], [(0, 0, 0.1), (0.2, 0, 0)])   # fewer knots: padded
+    schedule = dz.Wheel((0, 1, 0), ([0.0, 1.0], [0, 1]))
+    for system in [dz.System(body, torques=[table]),
+                   dz.System(body, parts=[schedule]),
+                   dz.System(body, parts=[dz.Wheel((1, 0, 0), 0.5), schedule],
+                             torques=[dz.ConstantTorque((0, 0, 0.1)), short, table])]:
         traj = dz.simulate(system, W0, t_end=1.0, method="dop853")
-        with pytest.raises(ValueError, match=kind):
-            dz.save(traj, tmp_path / "run.nc")
-        assert not (tmp_path / "run.nc").exists()
+        back = dz.load(dz.save(traj, tmp_path / "run.nc"))
+        assert back.system == system and back.system.kinds == system.kinds
+        assert np.array_equal(back.omega, traj.omega) and np.array_equal(back.q, traj.q)
+        assert np.array_equal(back.energy, traj.energy)
+    callable_ = dz.System(body, torques=[table, dz.CallableTorque(lambda t, q, w: np.zeros(3))])
+    traj = dz.simulate(callable_, W0, t_end=1.0, method="dop853")
+    (tmp_path / "run.nc").unlink()
+    with pytest.raises(ValueError, match=r"CallableTorque \(callable_torque\), which a file "
+                                         "cannot hold"):
+        dz.save(traj, tmp_path / "run.nc")
+    assert not (tmp_path / "run.nc").exists()
 
 
 # ---------------------------------------------------------------- Python-callable torques
