@@ -103,25 +103,7 @@ impl Deployment {
                 (times.len(), tensors.len()),
             ));
         }
-        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-            return Err(Error::invalid(
-                "times",
-                "must be finite and strictly increasing",
-                format!("times[{k}] = {}", times[k]),
-            ));
-        }
-        if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
-            return Err(Error::invalid(
-                "times",
-                "must be finite and strictly increasing",
-                format!(
-                    "times[{k}] = {} then times[{}] = {}",
-                    times[k],
-                    k + 1,
-                    times[k + 1]
-                ),
-            ));
-        }
+        check_knot_times(&times)?;
         for (k, m) in tensors.iter().enumerate() {
             let symmetric = (m - m.transpose()).amax() <= 1e-12 * m.amax();
             // Cholesky of the tensor over a power of two near its largest entry: moments of
@@ -282,6 +264,31 @@ impl Deployment {
         let tensors = try_collect(self.tensors.iter().copied(), k, "the knots", KNOTS_HINT)?;
         Self::try_new(times, tensors)
     }
+}
+
+/// Checks a schedule's knot `times` (named `times` in errors): finite and strictly increasing.
+/// A deployment's knots and a table's share it.
+pub(crate) fn check_knot_times(times: &[f64]) -> Result<()> {
+    if let Some(k) = times.iter().position(|t| !t.is_finite()) {
+        return Err(Error::invalid(
+            "times",
+            "must be finite and strictly increasing",
+            format!("times[{k}] = {}", times[k]),
+        ));
+    }
+    if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
+        return Err(Error::invalid(
+            "times",
+            "must be finite and strictly increasing",
+            format!(
+                "times[{k}] = {} then times[{}] = {}",
+                times[k],
+                k + 1,
+                times[k + 1]
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -23,6 +23,7 @@ use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
 use crate::kinematics::rotation_matrix;
 
+use super::deployment::check_knot_times;
 use super::torques::Frame;
 
 /// What a table gives outside its knots.
@@ -112,25 +113,7 @@ impl Table {
                 (times.len(), values.len()),
             ));
         }
-        if let Some(k) = times.iter().position(|t| !t.is_finite()) {
-            return Err(Error::invalid(
-                "times",
-                "must be finite and strictly increasing",
-                format!("times[{k}] = {}", times[k]),
-            ));
-        }
-        if let Some(k) = times.windows(2).position(|w| w[0] >= w[1]) {
-            return Err(Error::invalid(
-                "times",
-                "must be finite and strictly increasing",
-                format!(
-                    "times[{k}] = {} then times[{}] = {}",
-                    times[k],
-                    k + 1,
-                    times[k + 1]
-                ),
-            ));
-        }
+        check_knot_times(&times)?;
         if let Some(k) = values.iter().position(|v| !v.iter().all(|c| c.is_finite())) {
             return Err(Error::invalid(
                 name,
