@@ -153,6 +153,7 @@ ROWS = [
     ("the same, flips=False", "RK4 run, flips=False", "C RK4 loop", 0.95, "x C"),
     ("4096 runs x 1000 steps, 2 threads", "batch, 2 threads", "C SoA RK4 loop, 1 thread", 0.5,
      "x C SoA"),
+    ("  (the same in ns per run-step)", "batch, 2 threads", None, 2.0, "ns"),
     ("  (flips located)", "batch, 2 threads, flips located", "C SoA RK4 loop, 1 thread", None,
      "x C SoA"),
     ("a 10-step dz.simulate call", "10-step dz.simulate call", None, 40.0, "us"),
