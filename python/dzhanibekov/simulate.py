@@ -168,8 +168,9 @@ def simulate(
         100 ulps and below 1. Fixed-step methods with ``dt=None``: the accuracy the step
         is chosen for (default 1e-9). Not allowed with a fixed-step method and a `dt`.
     atol : float, optional
-        Adaptive methods only: absolute tolerance (default 1e-12) on ``q`` and on ``ω`` in
-        units of ``Ω``, so that runs are invariant under ``(ω, t) → (sω, t/s)``.
+        Adaptive methods only: absolute tolerance on ``q`` and on ``ω`` in units of ``Ω``,
+        so that runs are invariant under ``(ω, t) → (sω, t/s)``; default ``rtol / 1000``
+        (1e-12 at the default `rtol`), so that a tighter `rtol` is not held back by it.
     flips : bool
         Locate the flips (default). Watching every step for them costs about 8% of an RK4
         run; ``flips=False`` skips it and leaves ``flip_times`` as None.

@@ -21,7 +21,7 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     dt = 1e-3                              # or "none" (the default): the step for `rtol`
     method = "rk4"                         # one of dzhanibekov.METHODS
     # rtol = 1e-9                          # accuracy of dt = "none", or an adaptive method's
-    # atol = 1e-12                         # adaptive methods only
+    # atol = 1e-12                         # adaptive methods only (default rtol/1000)
 
     [ask]
     flips = true                           # flip times and the stability verdict
@@ -193,8 +193,8 @@ class Scene(metaclass=_Parsed):
     """The accuracy `dt` = None is picked for, or an adaptive method's relative tolerance
     (default `dzhanibekov.accuracy.DEFAULT_RTOL`)."""
     atol: float | None = None
-    """An adaptive method's absolute tolerance (default
-    `dzhanibekov.accuracy.DEFAULT_ATOL`)."""
+    """An adaptive method's absolute tolerance (default ``rtol / 1000``:
+    `dzhanibekov.accuracy.DEFAULT_ATOL` at the default `rtol`)."""
     body_spec: Mapping[str, Any] | None = None
     """The body, when it is more than principal moments: the `[body]` table's keys that
     name it (``tensor``, ``cylinder``, ``sphere``, ``ellipsoid``, ``mesh``, ``parts`` or
