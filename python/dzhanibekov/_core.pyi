@@ -15,6 +15,7 @@ __all__ = [
     "Damper",
     "Deployment",
     "ENERGY_GROWTH_TOL",
+    "FLAT_SHARE",
     "MAX_MOMENT_RATIO",
     "METHODS",
     "NEAR_SYMMETRY",
@@ -53,6 +54,7 @@ DEFAULT_RTOL: float
 DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
 ENERGY_GROWTH_TOL: float
+FLAT_SHARE: float
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 SYMMETRY_TOLERANCE: float
@@ -268,6 +270,8 @@ class BatchResult:
     def end_parts(self) -> npt.NDArray[np.float64]: ...
     @property
     def flip_offsets(self) -> npt.NDArray[np.int64]: ...
+    @property
+    def flat_time(self) -> npt.NDArray[np.float64]: ...
     @property
     def flip_times(self) -> npt.NDArray[np.float64]: ...
     @property

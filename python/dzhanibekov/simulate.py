@@ -328,6 +328,7 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
         n_rejected=out.runs.n_rejected,
         drift=batch_drift(out.runs),
         parts={} if system is None else split_parts(system, out.parts),
+        _flat_times=out.flat_time if len(out.flat_time) == m else None,
     )
 
 
@@ -373,6 +374,7 @@ class _Joined:
     parts: np.ndarray | None
     flip_offsets: np.ndarray
     flip_times: np.ndarray
+    flat_time: np.ndarray
     runs: _Columns
 
     @staticmethod
@@ -388,6 +390,7 @@ class _Joined:
             t=parts[0].t, omega=joined([p.omega for p in parts]),
             q=joined([p.q for p in parts]), parts=joined([p.parts for p in parts]),
             flip_offsets=offsets, flip_times=joined([p.flip_times for p in parts]),
+            flat_time=np.concatenate([p.flat_time for p in parts]),
             runs=_Columns(
                 drift=[np.concatenate(c) for c in zip(*(r.drift for r in runs))],
                 kept=runs[0].kept,

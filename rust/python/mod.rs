@@ -178,6 +178,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
     m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
     m.add("ENERGY_GROWTH_TOL", crate::run::ENERGY_GROWTH_TOL)?;
+    m.add("FLAT_SHARE", crate::observe::FLAT_SHARE)?;
     m.add("MAX_MOMENT_RATIO", crate::body::MAX_MOMENT_RATIO)?;
     m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
     m.add("SYMMETRY_TOLERANCE", crate::body::SYMMETRY_TOLERANCE)?;

@@ -242,7 +242,8 @@ const ROWS_HINT: &str = "run fewer starts at a time";
 
 /// A batch's output: the frame times; frames `(M, frames, ·)` and parts' state if kept; where
 /// each row ended (`(M, 3)`, `(M, 4)`, `(M, k)`; NaN where not kept); every row's flip times
-/// (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`); per-row columns.
+/// (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`); the time each row's spin
+/// went flat (NaN: not by the end; empty where not watched); per-row columns.
 #[pyclass(name = "BatchResult", module = "dzhanibekov._core", frozen, get_all)]
 struct PyBatchResult {
     t: Py<PyArray1<f64>>,
@@ -254,6 +255,7 @@ struct PyBatchResult {
     end_parts: Py<PyArray2<f64>>,
     flip_offsets: Py<PyArray1<i64>>,
     flip_times: Py<PyArray1<f64>>,
+    flat_time: Py<PyArray1<f64>>,
     runs: Py<PyRunColumns>,
 }
 
@@ -337,6 +339,7 @@ fn simulate_batch(
         end_parts,
         flip_offsets,
         flip_times: column(py, out.flip_times)?,
+        flat_time: column(py, out.flat_time)?,
         runs: Py::new(py, runs)?,
     })
 }
