@@ -1,5 +1,6 @@
 """Type stubs of the Rust core. Call it through the package's functions, which coerce input."""
 
+from collections.abc import Callable
 from typing import Any, final, overload
 
 import numpy as np
@@ -309,6 +310,7 @@ def simulate_batch(
     keep_frames: bool,
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
+    progress: Callable[[float], object] | None = None,
 ) -> BatchResult: ...
 def sweep(
     systems: list[System],

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from ._core import __version__
+from ._progress import progress_default
 from .methods import is_adaptive
 from .render import PAPER_RENDER, CommittedInterrupt
 from .scenes.plan import SceneResult
@@ -395,7 +396,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("--flip-times", action="store_true", dest="flip_times",
                      help="also write every flip time to NAME-flip-times.npy (the JSON lists "
                      "at most 1000 and summarises longer lists)")
-    run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    run.add_argument("--no-progress", action="store_true",
+                     help="no progress: neither the run's (a bar on a terminal, else a line "
+                     "every 10 s on stderr) nor the animation's")
     _movie_options(run)
     run.set_defaults(run=_run)
 
@@ -450,7 +453,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         warnings.simplefilter("always")
         args.caught = caught
         try:
-            return int(args.run(args))
+            # `--no-progress` silences the runs' progress too (a bar, or lines in a log)
+            with progress_default(False if getattr(args, "no_progress", False) else None):
+                return int(args.run(args))
         except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
             # OSError: the output folder cannot be written (render.OutputError names the path)
             _warn_all(args)

@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 
 from . import _core
 from ._args import as_array, check_size, run_options
+from ._progress import PROGRESS_DELAY, RunProgress, resolve
 from .accuracy import warn_step
 from .body import Body
 from .damper import warn_stiff
@@ -182,10 +183,13 @@ def simulate(
         A batch's threads (default: all cores), capped at the number of runs and at 256
         (``MAX_THREADS`` of the core); pools are kept and reused. A single run uses one.
     progress : bool, optional
-        A batch's progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter), advanced
-        per block of 1024 runs: None (default) shows it for batches of more than one block
-        when stderr is a terminal and the batch takes more than a second; True always;
-        False never. A single run shows none, nor a batch of deployments or dampers.
+        A progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter). A single run's
+        is advanced by the core as the run goes (at no cost a step: it reads how far the run
+        got when it looks for Ctrl-C); where no bar can show (stderr is not a terminal) a
+        line on stderr says how far it got every ``LINE_EVERY`` (10) seconds. A batch's is
+        advanced per block of 1024 runs. None (default) shows the bar for runs of more than
+        a second (a batch: of more than one block), the lines for runs of more than 10
+        seconds; True always; False never.
 
     Returns
     -------
@@ -286,10 +290,6 @@ PROGRESS_BLOCK = 1024
 """Rows per call to the core when a batch shows its progress (a multiple of the SIMD
 lanes' 16, so that the lanes are grouped as in one call; rows never depend on it)."""
 
-PROGRESS_DELAY = 1.0
-"""Seconds before a progress bar shows (``progress=None``): quick calls show none."""
-
-
 def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = None,
               keep_frames: bool = True) -> Batch:
     """The runs of `rows` (planned) over one frame grid, as a :class:`Batch` (a single run's
@@ -303,14 +303,22 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
                    "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo study) "
                    "for per-run outcomes, which keep no frames")
 
+    progress = resolve(progress)
+
     def run(block: slice) -> Any:
         part = rows.take(block)
         systems, moments = part.core()
+        # a single run reports its progress from the core
+        report = RunProgress(options.t_end, progress is True) \
+            if m == 1 and progress is not False else None
         try:
             return _core.simulate_batch(systems, part.omega, part.q, options, keep_frames,
-                                        inertia=moments)
+                                        inertia=moments, progress=report)
         except ValueError as exc:
             raise row_error(exc, rows, block.start or 0) from None
+        finally:
+            if report is not None:
+                report.close()
 
     out = _in_blocks(run, m, progress)
     system = rows.systems.first if m else None

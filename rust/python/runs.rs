@@ -1,6 +1,8 @@
 //! The runs: planning, a batch (a single run is a batch of one), a sweep, and what a system says of its frames; their
 //! results as frozen classes of NumPy arrays.
 
+use std::sync::Arc;
+
 use numpy::ndarray::{Ix1, Ix2, Ix3};
 use numpy::{
     PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -19,12 +21,13 @@ use crate::error::Error;
 use crate::observe::Drift;
 use crate::ode::Stats;
 use crate::run::options::RunOptions;
+use crate::run::progress::{metered, Meter};
 use crate::run::step_size::StepPlan;
 use crate::run::{watchdog, FrameGrid, Keep};
 
 use super::arrays::owned;
 use super::values::{PyRunOptions, PySystem};
-use super::{detach, detach_with};
+use super::{detach, detach_reporting};
 
 /// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
 #[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
@@ -266,9 +269,10 @@ fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOpt
     })
 }
 
-/// Runs every row (as `plan` takes them) over one frame grid.
+/// Runs every row (as `plan` takes them) over one frame grid; a single long run calls
+/// `progress(share)` now and then with the share of its span done (see `run::progress`).
 #[pyfunction]
-#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None))]
+#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch(
     py: Python<'_>,
@@ -279,6 +283,7 @@ fn simulate_batch(
     keep_frames: bool,
     isa: Option<&str>,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<PyBatchResult> {
     let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
     let options = options.inner;
@@ -299,11 +304,27 @@ fn simulate_batch(
     let long = watchdog::is_long(&method, &grid, m);
     // a Python torque function's failure stops the run: its own error reaches the caller
     super::callable::reset(&systems);
-    let out = detach_with(
+    // a single run reports how far it got; a batch's rows, run on other threads, do not
+    let meter = Arc::new(Meter::new());
+    let mut shown = -1.0;
+    let out = detach_reporting(
         py,
         long,
-        |cancel| simulate_systems(rows, &grid, method, keep, &batch, cancel),
+        |cancel| {
+            let run = || simulate_systems(rows, &grid, method, keep, &batch, cancel);
+            match (&progress, m) {
+                (Some(_), 1) => metered(meter.clone(), run),
+                _ => run(),
+            }
+        },
         || super::callable::stop(&systems),
+        |py| match &progress {
+            Some(report) if meter.share() != shown => {
+                shown = meter.share();
+                report.call1(py, (shown,)).map(|_| ())
+            }
+            _ => Ok(()),
+        },
     );
     let out = match super::callable::failure(&systems) {
         Some(e) => return Err(e),

@@ -6,6 +6,7 @@ pub mod adaptive;
 pub mod fixed;
 pub mod grid;
 pub mod options;
+pub mod progress;
 pub mod registry;
 pub mod step_size;
 pub(crate) mod system;
@@ -345,11 +346,16 @@ fn simulate_unit<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     // spin; without them the step loop stays bare.
     let flat = sys.flat_axes().map(|major| FlatSpin::new(sys, major));
     let (stats, flip_times, flat_time) = match (keep.flips, flat) {
-        (true, mut flat) => {
+        (true, Some(mut flat)) => {
             let mut flips = FlipDetector::new(sys, 0.0, &x0);
             let mut watch = (&mut obs, (&mut flips, &mut flat));
             let stats = sys.run_method(method, x0, grid, &mut watch, cancel)?;
-            (stats, flips.into_flip_times()?, flat.map(|f| f.time()))
+            (stats, flips.into_flip_times()?, Some(flat.time()))
+        }
+        (true, None) => {
+            let mut flips = FlipDetector::new(sys, 0.0, &x0);
+            let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
+            (stats, flips.into_flip_times()?, None)
         }
         (false, Some(mut flat)) => {
             let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flat), cancel)?;
@@ -462,10 +468,13 @@ pub(crate) fn evaluate_exact<O: Observer<7>>(
     let omega0 = [x0[0], x0[1], x0[2]];
     let motion = ExactMotion::try_new(body, omega0, [x0[3], x0[4], x0[5], x0[6]])?;
     for i in 0..grid.frames() {
-        if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
-            return Err(Error::Interrupted);
-        }
         let t = grid.time(i);
+        if (i as u64).is_multiple_of(CHECK_EVERY) {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(Error::Interrupted);
+            }
+            progress::report(t, grid.t_end());
+        }
         let x = motion.state_at(t);
         if !x.iter().all(|v| v.is_finite()) {
             return Err(Error::TooLarge {
