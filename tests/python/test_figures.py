@@ -282,3 +282,14 @@ def test_the_curves_against_time_follow_the_motion(name):
         spread = np.ptp(ref, axis=0)
         error = np.abs(between - ref).max(axis=0) / np.where(spread > 0, spread, 1.0)
         assert error.max() < 0.02, (name, error)
+
+
+def test_the_invariants_figure_names_what_a_deployment_changes(computed):
+    # Issue 33: a deployment's energy, changed by its work, was drawn as a drift
+    result = computed["deployment"]
+    ax = plotting.invariants_figure(result).axes[0]
+    styles = {ln.get_label(): ln.get_linestyle() for ln in ax.lines}
+    changed = [k for k in styles if k.startswith("energy")]
+    assert changed == ["energy  |E/E₀ − 1| (changed by the model)"] and styles[changed[0]] == "--"
+    assert all(style == "-" for k, style in styles.items() if not k.startswith("energy"))
+    assert "change (dashed)" in ax.get_ylabel()
