@@ -43,6 +43,13 @@ struct PyStepPlan {
     predicted_drift: f64,
     /// The model's fastest decay rate (a damper's slip); 0 for none.
     stiffness: f64,
+    /// A fixed step's predicted error, truncation and round-off; 0 for other methods.
+    predicted_error: f64,
+    /// Whether no step meets `rtol` over the run (its round-off alone exceeds it).
+    out_of_reach: bool,
+    /// The cheapest fixed-step method that meets `rtol` where this one cannot (see
+    /// `run::step_size::reaching`).
+    reached_by: Option<&'static str>,
 }
 
 impl From<StepPlan> for PyStepPlan {
@@ -53,6 +60,9 @@ impl From<StepPlan> for PyStepPlan {
             rate_bound: p.rate_bound,
             predicted_drift: p.predicted_drift,
             stiffness: p.stiffness,
+            predicted_error: p.predicted_error,
+            out_of_reach: p.out_of_reach,
+            reached_by: p.reached_by,
         }
     }
 }
