@@ -2,12 +2,13 @@
 
 - ``dzhanibekov paper --out DIR``: every figure of the paper and its animation, and the
   stable counter-examples; prints each run's flip times and drift.
-- ``dzhanibekov run SCENE.toml --out DIR``: what one scene draws (a file or a shipped name).
+- ``dzhanibekov run SCENE.toml [--out DIR]``: what one scene draws (a file or a shipped name),
+  into DIR (default: a folder named after the scene).
 - ``dzhanibekov scenes``: the shipped scenes; ``--show NAME`` prints one, to start your own.
 - ``dzhanibekov map --out DIR``: stability maps (flip period and tilt over a grid of starts,
   with the separatrix) and their sweeps' numbers.
-- ``dzhanibekov view SCENE --out FILE.html``: the interactive viewer, one self-contained
-  HTML file (the ``viewer`` extra).
+- ``dzhanibekov view SCENE [--out FILE.html]``: the interactive viewer, one self-contained
+  HTML file (the ``viewer`` extra; default: SCENE-NAME.html).
 - ``dzhanibekov --version``.
 
 Output is all or nothing: files are drawn in a temporary folder inside DIR and moved in
@@ -241,6 +242,8 @@ def _run(args: argparse.Namespace) -> int:
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
+    if args.out is None:  # a folder named after the scene, here
+        args.out = Path(scene.name)
     overrides = {key: getattr(args, key) for key in _OPTIONS if getattr(args, key) is not None}
     if overrides:
         scene = _override(scene, overrides)
@@ -290,6 +293,8 @@ def _view(args: argparse.Namespace) -> int:
     from .viewer import write_html
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
+    if args.out is None:  # a page named after the scene, here
+        args.out = Path(f"{scene.name}.html")
     out = Path(args.out)
     if out.is_dir():
         raise ValueError(f"`--out` must be an HTML file, but {out} is a folder")
@@ -406,14 +411,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     run = commands.add_parser(
         "run",
         help="render one scene (a TOML file, or a shipped scene's name)",
-        description="Simulate one scene and render what it draws into DIR: NAME-FIGURE.png "
+        description="Simulate one scene and render what it draws into DIR (--out; default: "
+        "a folder named NAME after the scene, in the current one): NAME-FIGURE.png "
         "for each figure, NAME.gif (and .mp4) if it asks for an animation, NAME.json with "
         "its flip times and drift. See `dzhanibekov scenes --show fig3a` for a file to "
         "start from.",
     )
     run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
-    run.add_argument("--out", required=True, type=Path, metavar="DIR",
-                     help="folder to write into (created; files of the same name replaced)")
+    run.add_argument("--out", type=Path, metavar="DIR",
+                     help="folder to write into (created; files of the same name replaced; "
+                     "default: a folder named after the scene, in the current one)")
     run.add_argument("--method", default=None,
                      help="override the scene's method: one of " + ", ".join(METHODS))
     run.add_argument("--t-end", type=float, default=None, dest="t_end", metavar="T",
@@ -456,14 +463,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     view = commands.add_parser(
         "view",
         help="write the interactive viewer of a scene (one HTML file)",
-        description="Simulate one scene and write FILE.html: the body, its inertia "
+        description="Simulate one scene and write FILE.html (--out; default: NAME.html after "
+        "the scene, in the current folder): the body, its inertia "
         "ellipsoid and the signal point's path, to rotate in a browser, with play/pause and "
         "a time slider. One self-contained file (plotly embedded): it opens offline. Needs "
         'the viewer extra: pip install ".[viewer]".',
     )
     view.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
-    view.add_argument("--out", required=True, type=Path, metavar="FILE.html",
-                      help="the HTML file to write")
+    view.add_argument("--out", type=Path, metavar="FILE.html",
+                      help="the HTML file to write (default: the scene's name .html, in the "
+                      "current folder)")
     view.add_argument("--frames", type=int, default=None,
                       help="frames shown (default: every frame, at most 201)")
     view.set_defaults(run=_view)

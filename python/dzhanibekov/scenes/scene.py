@@ -70,7 +70,7 @@ from typing import Any, TypeVar
 import numpy as np
 import tomli_w
 
-from .._files import ReadError, open_regular, write_text
+from .._files import ReadError, describe, open_regular, write_text
 from ..body import Body
 from ..damper import Damper
 from ..deployment import Deployment
@@ -447,13 +447,17 @@ def load_scene(path: str | Path) -> Scene:
                          f"or one of the shipped scenes: {shipped}")
     p = Path(path)
     try:
-        if not p.exists() and isinstance(path, str) and path in SCENES:
+        # a folder is never a scene file: `run NAME` writes into a folder NAME by default
+        if (not p.exists() or p.is_dir()) and isinstance(path, str) and path in SCENES:
             return SCENES[path]
         text = _read_scene_file(p)
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path, or not UTF-8
         why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         if isinstance(exc, UnicodeDecodeError):
-            why = f"not UTF-8 text: {exc.reason} at byte {exc.start}"
+            kind = describe(exc.object[:64])  # a format it names, or just "binary data"
+            why = (f"it is {kind}, not a scene's TOML text"
+                   if kind not in ("text", "binary data") else
+                   f"not UTF-8 text: {exc.reason} at byte {exc.start}")
         raise SceneError(str(p), None, f"cannot be read ({why}); give a scene file or one of "
                          f"the shipped scenes: {shipped}") from None
     return Scene.from_toml(text, p.stem, str(p), base=p.parent)
