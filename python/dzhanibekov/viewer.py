@@ -26,6 +26,7 @@ from ._args import as_float, as_int
 from ._files import as_path, replacing
 from ._tables import require
 from .results import Batch, Trajectory
+from .scenes.parse import drawn_label
 from .scenes.plan import SceneResult, execute, make_plan
 from .scenes.scene import Scene, SceneError
 from .scenes.staging import result_for
@@ -163,7 +164,7 @@ def figure(scene: Drawable, *, frames: int | None = None, fps: float = 20.0,
     points = [w.points for r in results for w in r.world.values() if w.points.size]
     paths = [r.path for r in results if r.scene.draw.path]
     size = 1.1 * float(max([np.abs(p).max() for p in points + paths] or [1.0]))
-    body_name = "body" if result.scene.body.shape is not None else "box"
+    body_name = drawn_label(result.scene.body, result.scene.body_spec)
     colors = ["#c0392b", "#2e86c1", "#27ae60", "#8e44ad", "#d35400", "#16a085"]
 
     def traces(frame: int) -> list[Any]:

@@ -41,6 +41,7 @@ from ..body import InertiaWarning, as_body
 from ..damper import axis_shares, flat_spin_time
 from ..geometry import box_edges
 from .. import _core
+from ..scenes.parse import drawn_label
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
@@ -212,7 +213,7 @@ def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True
         edges = shape.edges if shape is not None else box_edges()
         artists["box"] = ax.add_collection3d(Line3DCollection(
             corners[edges], colors=COLORS["box"], linewidths=1.4 if len(edges) < 60 else 0.8,
-            label="body" if shape is not None and shape.faces is not None else "box"))
+            label=drawn_label(scene.body, scene.body_spec)))
     if "body_axes" in result.world:
         tips = result.at("body_axes", frame)
         segments = np.stack([np.zeros_like(tips), tips], axis=1)
@@ -330,7 +331,7 @@ class BodyView:
             self.artists["box"] = ax.add_collection3d(Line3DCollection(
                 pts["box"][0][self._edges], colors=COLORS["box"],
                 linewidths=1.4 if len(self._edges) < 60 else 0.8,
-                label="body" if self._faces is not None else "box"))
+                label=drawn_label(scene.body, scene.body_spec)))
         if "body_axes" in pts:
             self.artists["body_axes"] = ax.add_collection3d(Line3DCollection(
                 self._axis_segments(0), colors=COLORS["axes"], linewidths=1.0,
