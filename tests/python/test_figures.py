@@ -322,3 +322,13 @@ figures = ["phases"]
     text = path.read_text(encoding="utf-8").replace("path = true", "path = true\nbox = false")
     path.write_text(text, encoding="utf-8")
     assert not dz.load_scene(path).draw.box
+
+
+def test_titles_never_break_inside_a_tuple(computed):
+    # Issue 33: the deployment's figure titles broke "(1, 3, 2)" over two lines
+    result = computed["deployment"]
+    for figure in result.scene.draw.figures:
+        fig = plotting.FIGURE_FUNCTIONS[figure](result)
+        for ax in fig.axes:
+            for line in ax.get_title().splitlines():
+                assert line.count("(") == line.count(")"), (figure, ax.get_title())

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+import re
 import textwrap
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -507,8 +508,20 @@ def _title(result: SceneResult, width: int = 0) -> str:
     if not width or len(title) <= width:
         return title
     # a line for the scene, a line for the verdict: no phrase broken in the middle
-    head = textwrap.fill(result.scene.title, width)
+    head = _wrap(result.scene.title, width)
     return f"{head} —\n{verdict}" if verdict else head
+
+
+_GROUPED = re.compile(r"\([^()]*\)|\[[^\[\]]*\]")
+"""A parenthesised or bracketed group, such as a tuple of moments: never broken."""
+
+
+def _wrap(text: str, width: int) -> str:
+    """`text` filled to `width`, breaking between words but never inside a group
+    ``(1, 2, 3)`` or ``[…]`` (a tuple broken over two lines reads as two numbers)."""
+    glue = "\u00a0"  # textwrap breaks at ASCII whitespace only
+    kept = _GROUPED.sub(lambda m: m.group(0).replace(" ", glue), text)
+    return textwrap.fill(kept, width, break_long_words=False).replace(glue, " ")
 
 
 def path_figure(scene: Drawable, *, ax: Axes3D | None = None, legend: bool = True,
