@@ -467,7 +467,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "the scene, in the current folder): the body, its inertia "
         "ellipsoid and the signal point's path, to rotate in a browser, with play/pause and "
         "a time slider. One self-contained file (plotly embedded): it opens offline. Needs "
-        'the viewer extra: pip install ".[viewer]".',
+        'the viewer extra: pip install "dzhanibekov[viewer]".',
     )
     view.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
     view.add_argument("--out", type=Path, metavar="FILE.html",

@@ -5,7 +5,7 @@ a wing nut, a composite, a mesh, shaded), its inertia ellipsoid, the signal poin
 path, the angular momentum — with plotly, each labelled, and writes a single HTML file with
 plotly's JavaScript embedded, so it opens anywhere without a network: drag to rotate, scroll
 to zoom, play/pause and a time slider. A run (a `Trajectory`, or rows of a `Batch`) is drawn
-as it is. plotly is the ``viewer`` extra: ``pip install ".[viewer]"`` from a checkout.
+as it is. plotly is the ``viewer`` extra: ``pip install "dzhanibekov[viewer]"``.
 """
 
 from __future__ import annotations
@@ -33,7 +33,8 @@ from .scenes.staging import result_for
 
 __all__ = ["write_html", "figure"]
 
-EXTRA = 'the `viewer` extra: pip install ".[viewer]" from a checkout (plotly)'
+EXTRA = ('the `viewer` extra: pip install "dzhanibekov[viewer]" (plotly; by the package\'s '
+         'name it installs only that, without rebuilding the core)')
 DEFAULT_FRAMES = 201
 """Frames shown at most by default: each is a copy of every drawn point in the page."""
 MAX_FRAMES = 1000

@@ -102,7 +102,7 @@ def test_the_figure_has_a_frame_per_frame_and_play_pause_and_a_slider(tmp_path):
 
 def test_a_missing_plotly_is_named(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)
-    with pytest.raises(ImportError, match=r"pip install \"\.\[viewer\]\""):
+    with pytest.raises(ImportError, match=r"pip install \"dzhanibekov\[viewer\]\""):
         dz.viewer.write_html(dz.SCENES["fig3a"], tmp_path / "x.html")
 
 
