@@ -84,7 +84,7 @@ def _table(results: Sequence[SceneResult], seconds: float) -> str:
         more = times is not None and len(times) > 4
         flips = ", ".join(f"{t:.3f}" for t in first) + (", …" if more else "")
         kept, changed = _invariants(r.drift)
-        rows.append((r.scene.name, str(run.n_steps), count, flips, kept, changed or "-"))
+        rows.append((r.scene.name, str(run.n_steps), count, flips, kept, changed or "none"))
     least = (16, 9, 5, 28, 0, 0)
     widths = [max(least[k], *(len(row[k]) for row in rows)) for k in range(len(head))]
     gaps = ("", " ", " ", "  ", "  ", "  ")  # before each column
