@@ -87,7 +87,7 @@ where
             let extra;
             (x, extra) = advance_across(method, sys, obs, x, ta, h, (n, tb), inside);
             splits += extra;
-            check(&x, tb, cancel)?;
+            check(&x, tb, grid.t_end(), cancel)?;
             obs.frame(i, tb, &method.to_state(sys, &x));
             continue;
         }
@@ -96,7 +96,7 @@ where
             let chunk = (n - done).min(CHECK_EVERY);
             x = advance_widest(method, sys, obs, x, ta, h, done..done + chunk, (n, tb));
             done += chunk;
-            check(&x, ta + done as f64 * h, cancel)?;
+            check(&x, ta + done as f64 * h, grid.t_end(), cancel)?;
         }
         obs.frame(i, tb, &method.to_state(sys, &x));
     }
@@ -250,11 +250,14 @@ pub(crate) fn after(t: f64) -> f64 {
     t.next_up()
 }
 
+/// Stops on the cancel flag or a state that is not finite; reports the progress (see
+/// [`crate::run::progress`]).
 #[inline]
-fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
+fn check<const N: usize>(x: &[f64; N], t: f64, t_end: f64, cancel: &AtomicBool) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);
     }
+    crate::run::progress::report(t, t_end);
     if !x.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,

@@ -273,11 +273,31 @@ def test_the_tables_columns_line_up_past_long_flip_times():
                            flip_times=long, drift=real.drift)
     head, short, wide = _table([real, fake], 1.0).splitlines()[:3]
     assert "1142.401, …" in wide
-    for name, value in (("dE/E", real.drift.energy), ("d|q|", real.drift.q_norm)):
-        end = head.index(name) + len(name)  # numbers are right-aligned under their name
-        cell = f"{value:.1e}"
-        for row in (short, wide):
-            assert row[end - len(cell):end] == cell, (name, row)
+    # the drift starts under its header in every row, whatever the flips' width
+    start = head.index("drift of what the model keeps")
+    for row in (short, wide):
+        assert row[start:].startswith(f"dE/E {real.drift.energy:.1e} "), row
+        assert f"d|q| {real.drift.q_norm:.1e}" in row[start:], row
+
+
+def test_the_table_names_what_each_model_keeps_and_what_it_changes():
+    """Issue 33: the table showed every invariant as a drift (the gravity gradient's energy
+    1.4e-1, a deployment's 5.0e-1, as if errors), not the Jacobi integral the model keeps,
+    and '?' for flips a scene did not ask for."""
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    orbit = compute(dz.SCENES["gravity-gradient"])
+    assert orbit.flip_times is None and orbit.drift.jacobi is not None
+    head, row, *legend = _table([orbit], 1.0).splitlines()
+    kept = row[head.index("drift of what the model keeps"):head.index("changed by the model")]
+    changed = row[head.index("changed by the model"):]
+    assert f"dJ/J {orbit.drift.jacobi:.1e}" in kept and f"d|q| {orbit.drift.q_norm:.1e}" in kept
+    assert "E/E" not in kept and "|L|/|L|" not in kept
+    assert f"ΔE/E {orbit.drift.energy:.1e}" in changed
+    assert f"Δ|L|/|L| {orbit.drift.momentum:.1e}" in changed
+    assert "?" not in row and row.split()[2] == "-"
+    assert any("flips -: not located" in line for line in legend)
 
 
 def test_a_failure_after_the_run_leaves_nothing_written(tmp_path, monkeypatch, capsys):
