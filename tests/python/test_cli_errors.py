@@ -454,3 +454,45 @@ def test_ctrl_c_during_paper_ends_its_drawing_processes_and_writes_nothing(tmp_p
         assert processes_marked(f"DZ_TEST_MARK={mark}") == []
     finally:
         child.kill()
+
+
+def drawing_processes(parent: int) -> list[int]:
+    """The worker processes `parent` spawned (not multiprocessing's resource tracker)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                status = (entry / "status").read_text()
+                cmdline = (entry / "cmdline").read_bytes()
+            except OSError:
+                continue
+            if f"\nPPid:\t{parent}\n" in status and b"spawn_main" in cmdline:
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs /proc")
+def test_a_drawing_process_killed_by_the_system_is_one_line_and_nothing_is_written(tmp_path):
+    """A worker killed from outside (the OOM killer, a user's kill -9) ends `paper` with one
+    line naming the signal, exit code 2, no output and no process left; it does not wait for
+    the lost drawing for ever."""
+    out = tmp_path / "out"
+    mark = f"{os.getpid()}-{time.monotonic_ns()}"
+    child = Child(["paper", "--out", str(out), "--no-progress", "--no-animation", "--jobs",
+                   "2"], dict(os.environ, DZ_TEST_MARK=mark))
+    try:
+        first = child.line(300, "no drawing done in 300 s")
+        assert first is not None and first.startswith("[ 1/"), first
+        workers = drawing_processes(child.proc.pid)
+        assert len(workers) == 2, workers
+        os.kill(workers[0], signal.SIGKILL)
+        code, rest = child.end(60, "still running 60 s after a worker was killed")
+        assert code == 2, rest
+        one_line_error(rest, "was killed by SIGKILL before it was done")
+        assert not out.exists()
+        deadline = time.monotonic() + 10
+        while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+    finally:
+        child.kill()
