@@ -65,10 +65,15 @@ impl PyFunction {
                 .getattr("shape")
                 .map(|s| format!("shape {s}"))
                 .unwrap_or_else(|_| {
-                    result
+                    let kind = result
                         .get_type()
                         .name()
-                        .map_or("?".into(), |n| n.to_string())
+                        .map_or("?".into(), |n| n.to_string());
+                    // a sequence says how many numbers it held
+                    match result.len() {
+                        Ok(n) => format!("a {kind} of {n}"),
+                        Err(_) => kind,
+                    }
                 });
             PyValueError::new_err(format!(
                 "the `{label}` function must return {count} (shape ({n},)), got {shape}{at}"
