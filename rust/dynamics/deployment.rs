@@ -251,7 +251,7 @@ impl Deployment {
         let times: Vec<f64> = try_collect(unit, k, "the knots", KNOTS_HINT)?;
         if !times.iter().all(|t| t.is_finite()) {
             return Err(Error::TooLarge {
-                what: "the deployment",
+                what: "the deployment".into(),
                 needed: format!(
                     "its knot times ({:.3e}) times the rates' scale ({:.3e})",
                     self.times.last().copied().unwrap_or(0.0),

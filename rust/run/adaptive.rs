@@ -143,7 +143,7 @@ where
         }
         if stats.n_steps + stats.n_rejected >= settings.max_steps {
             return Err(Error::TooLarge {
-                what: "the adaptive run",
+                what: "the adaptive run".into(),
                 needed: format!("more than {} step attempts (at t = {t:.6e})", stats.n_steps),
                 limit: crate::run::max_steps_limit(settings.max_steps),
                 hint: "raise max_steps, or loosen rtol and atol",

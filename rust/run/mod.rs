@@ -369,7 +369,7 @@ pub(crate) fn to_unit(
     let t_end = scale.time_to_unit(grid.t_end());
     if !t_end.is_finite() {
         return Err(Error::TooLarge {
-            what: "the run",
+            what: "the run".into(),
             needed: format!(
                 "t_end · max|omega0| = {:.3e} · {:.3e} radians",
                 grid.t_end(),
@@ -453,7 +453,7 @@ pub(crate) fn evaluate_exact<O: Observer<7>>(
         let x = motion.state_at(t);
         if !x.iter().all(|v| v.is_finite()) {
             return Err(Error::TooLarge {
-                what: "the exact solution",
+                what: "the exact solution".into(),
                 needed: format!("its phase at t = {t:.3e} (t_end · max|omega0| radians)"),
                 limit: "what float64 holds".into(),
                 hint: "take a shorter t_end",
