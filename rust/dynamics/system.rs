@@ -205,7 +205,9 @@ impl System {
                     + block(std::mem::size_of_val(w.table().values()))
             })
             .sum();
-        knots + block(std::mem::size_of_val(self.parts.as_slice())) + schedules
+        // the torques' list (a table or a function is shared by its clones, not copied)
+        let torques = block(std::mem::size_of_val(self.torques.as_slice()));
+        knots + block(std::mem::size_of_val(self.parts.as_slice())) + schedules + torques
     }
 
     /// The numbers of state of every part, in order.
