@@ -110,6 +110,15 @@ fn moment_exponent(system: &System) -> i32 {
 fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    // the copies of its knots the model makes: room for them, or an error (not an abort)
+    let bytes = system.model_bytes();
+    if bytes >= 1 << 20 {
+        crate::buffer::ensure_room(
+            bytes as f64,
+            "a run's copies of its knots",
+            "give fewer knots",
+        )?;
+    }
     // the moments over a power of two near the largest, before any is inverted
     let m = moment_exponent(system);
     let scaled = |x: f64| crate::float::ldexp(x, -m);

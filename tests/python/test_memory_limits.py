@@ -277,3 +277,31 @@ def test_rotate_allocates_nothing_beside_its_output():
         headroom, outcome = line.split(" ", 1)
         assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
     assert lines[-1].endswith("RETURNED"), lines
+
+
+def test_a_wheel_schedule_of_many_knots_under_limits_near_its_need():
+    """A wheel's schedule of 10⁶ knots built and run under limits from 60 MB to 300 MB
+    above what the process holds (its arrays made before): each returns or raises a
+    MemoryError. The run's model copied the schedule infallibly (10⁷ knots aborted under 2.2
+    and 2.6 GB, on a 240 MB allocation: the table cloned whole, then its values mapped); the
+    knots are now shared by the copies, the copies a run makes counted
+    (`System::model_bytes`, checked against measured peaks in tests/heap_bytes.rs) and
+    allocated fallibly."""
+    lines = in_child(f"""
+        n = 10**6
+        t, h = np.arange(n) * 1e-6, np.linspace(0.0, 1.0, n)
+        dz.simulate(dz.Body((1.0, 2.0, 3.0)), (0.01, 0.01, 1.0), t_end=0.5, frames=2, dt=0.05)
+
+        def run():
+            wheel = dz.Wheel((0, 1, 0), (t, h))
+            system = dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[wheel])
+            dz.simulate(system, (0.01, 0.01, 1.0), t_end=0.5, frames=2, dt=0.05)
+
+        for headroom in range(60, 301, 20):
+            print(headroom, limited(headroom * {MB}, run))
+    """)
+    assert len(lines) == 13, lines
+    for line in lines:
+        headroom, outcome = line.split(" ", 1)
+        assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
+    assert lines[-1].endswith("RETURNED"), lines
