@@ -177,8 +177,9 @@ class CallableTorque:
     the methods call it at trial states and times that are not on the trajectory.
 
     A function that raises stops the run, and its exception reaches the caller as raised; one
-    that returns something else than three finite numbers stops it with a ValueError naming
-    `torque`. Ctrl-C stops a run as usual (within milliseconds: no call is made after it). A
+    that returns something else than three finite real numbers (an array of shape (3,), any
+    strides, or a sequence; not bytes, a string, a masked array, complex numbers or bools)
+    stops it with a ValueError naming `torque`. Either stops only the run it happened in. Ctrl-C stops a run as usual (within milliseconds: no call is made after it). A
     batch of such systems runs, its rows one after another on one thread (each call takes the
     GIL: rows on several threads would only queue for it). The model keeps nothing but ``|q| = 1``.
     ``dz.save`` refuses a run with one: a file cannot hold code.

@@ -3,6 +3,8 @@
 //! ([`super::FreeRigidBody`] or [`super::GeneralModel`]), in principal axes where the body is
 //! constant ([`crate::run::simulate_system`]).
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::body::Inertia;
@@ -10,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
 use super::kinds::Kinds;
-use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel, WheelSchedule};
+use super::{Conserved, Damper, Deployment, Torque, TorqueFunction, Torques, Wheel, WheelSchedule};
 
 /// A system's body.
 #[derive(Debug, Clone, PartialEq)]
@@ -185,6 +187,19 @@ impl System {
     /// What its exact motion keeps: what each of its models keeps.
     pub fn conserved(&self) -> Conserved {
         self.kinds().conserved()
+    }
+
+    /// Replaces each user function among its torques by `f` of it (a run's own view of the
+    /// function: see the Python binding's `callable`).
+    pub fn map_functions(
+        &mut self,
+        mut f: impl FnMut(&Arc<dyn TorqueFunction>) -> Arc<dyn TorqueFunction>,
+    ) {
+        for torque in &mut self.torques {
+            if let Torque::Callable(c) = torque {
+                *c = c.with_function(f(c.function()));
+            }
+        }
     }
 
     /// About how many bytes a copy of the system holds on the heap (its parts, a
