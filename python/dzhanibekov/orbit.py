@@ -20,7 +20,7 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
-from .torques import CallableTorque, TabulatedTorque, knot_times
+from .torques import CallableTorque, TabulatedTorque, interpolate, knot_times
 
 __all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "pitch_libration_rate",
            "dual_spin_threshold"]
@@ -231,7 +231,7 @@ class Wheel:
         """The relative momentum at time `t` (a convenience for plots: runs evaluate the law
         in the core)."""
         if isinstance(self.momentum, tuple):
-            return float(np.interp(t, self.momentum[0], self.momentum[1]))
+            return float(interpolate(t, self.momentum[0], self.momentum[1]))
         return self.momentum
 
     def __reduce__(self) -> tuple[Any, ...]:

@@ -235,8 +235,7 @@ impl Table {
                 k
             }
         };
-        let (t0, t1) = (ts[k - 1], ts[k]);
-        let s = (t - t0) / (t1 - t0);
+        let s = crate::float::fraction(t, ts[k - 1], ts[k]);
         vs[k - 1] + (vs[k] - vs[k - 1]) * s
     }
 }
