@@ -225,10 +225,40 @@ where
         }
         if stats.n_steps.is_multiple_of(CHECK_EVERY) {
             check(&x, t, cancel)?;
+            check_pace(&stats, t, wanted.max(h), t_end, settings.max_steps)?;
         }
     }
     check(&x, t, cancel)?;
     Ok((x, stats))
+}
+
+/// How many times the steps `max_steps` leaves a run may fall short of what it needs at its
+/// present step before it is refused: a run is refused only when its step has shrunk far
+/// below what the rest of the run could take (a torque spinning the body up without bound),
+/// never for a short stretch of small steps.
+pub const PACE_MARGIN: f64 = 16.0;
+
+/// Refuses a run whose present step `h` (at `t`) would take more than [`PACE_MARGIN`] times
+/// the attempts `max_steps` leaves to reach `t_end`: a torque of 1e15 spun the body up until
+/// its steps ran toward `max_steps = 1e10` for hours; now it is refused within milliseconds
+/// of its steps shrinking so.
+fn check_pace(stats: &Stats, t: f64, h: f64, t_end: f64, max_steps: u64) -> Result<()> {
+    let left = max_steps.saturating_sub(stats.n_steps + stats.n_rejected) as f64;
+    let needed = (t_end - t) / h;
+    if needed.is_nan() || needed <= PACE_MARGIN * left {
+        return Ok(());
+    }
+    Err(Error::TooLarge {
+        what: "the adaptive run".into(),
+        needed: format!(
+            "about {needed:.3e} more steps at its present step ({h:.3e} at t = {t:.6e}, after \
+             {} steps)",
+            stats.n_steps
+        ),
+        limit: crate::run::max_steps_limit(max_steps),
+        hint: "raise max_steps, or loosen rtol and atol (a torque that spins the body up \
+               without bound needs ever smaller steps)",
+    })
 }
 
 fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
