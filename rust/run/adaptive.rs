@@ -38,6 +38,12 @@ pub use crate::ode::controller::{Adaptive, MIN_RTOL};
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
 const CHECK_EVERY: u64 = 1 << 10;
 
+/// The most frames a step's interpolant is read at in a run that keeps none (see
+/// [`crate::observe::Observer::keeps_frames`]): a step that spans more is read at its last
+/// frame only. Below it, a run that keeps no frames (a summary, a sweep's row) measures its
+/// drift at the frames as the run that keeps them does, bit for bit.
+pub const FRAMES_READ_IN_A_STEP: usize = 64;
+
 /// Frames (interpolated within one step) between two looks at the cancel flag.
 const FRAMES_BETWEEN_CHECKS: u64 = 1 << 16;
 
@@ -98,6 +104,7 @@ where
     let ctl = P::CONTROLLER;
 
     obs.frame(0, 0.0, &x0);
+    let keeps_frames = obs.keeps_frames();
     let (mut t, mut x) = (0.0, x0);
     if kinks.contains(&0.0) {
         // a kink at the start: the run integrates its far side
@@ -189,7 +196,16 @@ where
         if O::WANTS_STEPS {
             obs.step_dense(t, &x, t1, &x1, &mut at);
         }
-        // One step can span millions of frames: the cancel flag is read between them too.
+        // One step can span millions of frames: a run that keeps none is shown, of more than
+        // FRAMES_READ_IN_A_STEP, the last only (a sweep with frames = 2**31 read them all off
+        // the interpolant, for hours; its drift is then measured at fewer of them)...
+        if !keeps_frames && next_frame < grid.frames() && grid.time(next_frame) <= t1 {
+            let last = grid.frame_at_or_before(t1);
+            if last - next_frame >= FRAMES_READ_IN_A_STEP {
+                next_frame = last;
+            }
+        }
+        // ...and a run that keeps them reads the cancel flag between them too.
         while next_frame < grid.frames() && grid.time(next_frame) <= t1 {
             let tf = grid.time(next_frame);
             let xf = if tf == t1 { x1 } else { at((tf - t) / h) };

@@ -139,6 +139,24 @@ impl FrameGrid {
         self.t_end * (i as f64 / (self.frames - 1) as f64)
     }
 
+    /// The last frame at or before `t` (`0 ≤ t`), at most the last frame.
+    pub fn frame_at_or_before(&self, t: f64) -> usize {
+        let last = self.frames - 1;
+        let guess = (t / self.t_end * last as f64).floor();
+        let mut i = if guess >= 0.0 {
+            (guess as usize).min(last)
+        } else {
+            0
+        };
+        while i < last && self.time(i + 1) <= t {
+            i += 1;
+        }
+        while i > 0 && self.time(i) > t {
+            i -= 1;
+        }
+        i
+    }
+
     /// The step actually taken, at most the `dt` asked for; 0 for a grid without steps.
     pub fn step_size(&self) -> f64 {
         if self.substeps == 0 {

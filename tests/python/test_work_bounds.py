@@ -142,3 +142,42 @@ def test_an_adaptive_run_that_cannot_finish_is_refused_at_once():
             assert "at its present step" in outcome, line
         else:
             assert re.search(r"needs at least [\d.]+e\d+ steps \(its attitude turns", outcome), line
+
+
+FRAMES_NOT_KEPT = """
+import time
+import numpy as np
+import dzhanibekov as dz
+deployment = dz.Deployment([1.0, 2.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
+for method in ("dop853", "dopri5"):
+    system = [deployment]
+    out = {}
+    for frames in (11, 2**31):
+        start = time.process_time()
+        s = dz.sweep(system, [(0.01, 0.01, 1.0)], t_end=10.0, frames=frames, method=method,
+                     progress=False)
+        out[frames] = (time.process_time() - start, s)
+    (_, few), (cpu, many) = out[11], out[2**31]
+    # what the frames do not change: where the runs end, so the verdict
+    ends = ("omega_deployed", "flip_period")
+    same = all(np.array_equal(getattr(few, e), getattr(many, e), equal_nan=True) for e in ends)
+    small = all(np.all(np.asarray(d) < 1e-6) for d in many.drift[1:4])  # (|L|, L, |q|)
+    print(method, f"{cpu:.3f}", str(many.status.tolist()), same and small, flush=True)
+"""
+
+
+def test_frames_a_sweep_never_keeps_are_not_evaluated():
+    """A deployment sweep with frames=2**31 ran past 600 s interpolating frames it never
+    keeps. A run that keeps no frames now reads, of a step that spans more than 64 frames,
+    the last only, whatever `frames` is: the runs end where they did (the frames never moved
+    a step) and their drift is measured all the same, at fewer points. In a child with a
+    timeout: before, it ran past it."""
+    done = subprocess.run([sys.executable, "-c", FRAMES_NOT_KEPT], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.strip().splitlines()
+    assert len(lines) == 2, lines
+    for line in lines:
+        method, cpu, status, same = line.split(" ", 3)
+        assert float(cpu) < 0.5 and status == "['ok']", line
+        assert same == "True", line
