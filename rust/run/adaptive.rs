@@ -272,8 +272,8 @@ fn check_pace(stats: &Stats, t: f64, h: f64, t_end: f64, max_steps: u64) -> Resu
             stats.n_steps
         ),
         limit: crate::run::max_steps_limit(max_steps),
-        hint: "raise max_steps, or loosen rtol and atol (a torque that spins the body up \
-               without bound needs ever smaller steps)",
+        hint: "take a shorter t_end, raise max_steps, or loosen rtol and atol (a torque \
+               that spins the body up without bound needs ever smaller steps)",
     })
 }
 
