@@ -80,6 +80,15 @@ impl CallableTorque {
         &self.function
     }
 
+    /// The same torque computed by `function` instead (a run's own view of the user's
+    /// function, say), seen the same way.
+    pub fn with_function(&self, function: Arc<dyn TorqueFunction>) -> Self {
+        Self {
+            function,
+            ..self.clone()
+        }
+    }
+
     /// The same torque in the run's body axes, `to_axes` taking a vector of the user's axes
     /// into them (`Rᵀ v`).
     pub fn in_axes(&self, to_axes: impl Fn([f64; 3]) -> [f64; 3]) -> Self {

@@ -3,6 +3,8 @@
 //! ([`super::FreeRigidBody`] or [`super::GeneralModel`]), in principal axes where the body is
 //! constant ([`crate::run::simulate_system`]).
 
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::body::Inertia;
@@ -10,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
 use super::kinds::Kinds;
-use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel, WheelSchedule};
+use super::{Conserved, Damper, Deployment, Torque, TorqueFunction, Torques, Wheel, WheelSchedule};
 
 /// A system's body.
 #[derive(Debug, Clone, PartialEq)]
@@ -187,6 +189,19 @@ impl System {
         self.kinds().conserved()
     }
 
+    /// Replaces each user function among its torques by `f` of it (a run's own view of the
+    /// function: see the Python binding's `callable`).
+    pub fn map_functions(
+        &mut self,
+        mut f: impl FnMut(&Arc<dyn TorqueFunction>) -> Arc<dyn TorqueFunction>,
+    ) {
+        for torque in &mut self.torques {
+            if let Torque::Callable(c) = torque {
+                *c = c.with_function(f(c.function()));
+            }
+        }
+    }
+
     /// About how many bytes a copy of the system holds on the heap (its parts, a
     /// deployment's knots), with the allocator's headers: what a batch of one system per row
     /// adds for each row.
@@ -198,14 +213,34 @@ impl System {
                 block(std::mem::size_of_val(d.times())) + block(std::mem::size_of_val(d.tensors()))
             }
         };
-        let schedules: usize = self
-            .wheel_schedules()
-            .map(|w| {
-                block(std::mem::size_of_val(w.table().times()))
-                    + block(std::mem::size_of_val(w.table().values()))
-            })
-            .sum();
-        knots + block(std::mem::size_of_val(self.parts.as_slice())) + schedules
+        // the torques' list; a table (a wheel's schedule, a torque's) or a function is shared
+        // by the clones, not copied
+        let torques = block(std::mem::size_of_val(self.torques.as_slice()));
+        knots + block(std::mem::size_of_val(self.parts.as_slice())) + torques
+    }
+
+    /// About the most bytes a run of it holds while it builds its model (each table's values
+    /// and times copied into the run's axes and units, the kinks and knots its steps end on,
+    /// a deployment's tensors scaled), with the allocator's headers: what a run checks it can
+    /// have before it starts (a wheel's schedule of 10⁷ knots aborted the process in these
+    /// copies). Measured by tests/heap_bytes.rs: 104 bytes a table's knot and 240 a
+    /// deployment's in a run in its own units (rates of 1e30), about half that in the user's.
+    pub fn model_bytes(&self) -> usize {
+        const TABLE_KNOT: usize = 112;
+        const DEPLOYMENT_KNOT: usize = 248;
+        let schedules = self.wheel_schedules().map(|w| w.table().times().len());
+        let tables = self.torques.iter().map(|t| match t {
+            Torque::Tabulated(t) => t.table().times().len(),
+            _ => 0,
+        });
+        let knots = match &self.body {
+            SystemBody::Rigid(_) => 0,
+            SystemBody::Deployment(d) => d.times().len(),
+        };
+        let table_knots: usize = schedules.chain(tables).sum();
+        table_knots
+            .saturating_mul(TABLE_KNOT)
+            .saturating_add(knots.saturating_mul(DEPLOYMENT_KNOT))
     }
 
     /// The numbers of state of every part, in order.

@@ -63,7 +63,12 @@ impl WheelSchedule {
                 format!("momentum[{k}] = {}", values[k]),
             ));
         }
-        let vectors = values.iter().map(|&h| (axis * h).into()).collect();
+        let vectors = crate::buffer::try_collect(
+            values.iter().map(|&h| (axis * h).into()),
+            values.len(),
+            "the schedule's momenta",
+            "give fewer knots",
+        )?;
         Ok(Self {
             axis,
             table: Table::try_new(times, vectors, Outside::Hold, "momentum")?,

@@ -112,6 +112,15 @@ fn moment_exponent(system: &System) -> i32 {
 fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    // the copies of its knots the model makes: room for them, or an error (not an abort)
+    let bytes = system.model_bytes();
+    if bytes >= 1 << 20 {
+        crate::buffer::ensure_room(
+            bytes as f64,
+            "a run's copies of its knots",
+            "give fewer knots",
+        )?;
+    }
     // the moments over a power of two near the largest, before any is inverted
     let m = moment_exponent(system);
     let scaled = |x: f64| crate::float::ldexp(x, -m);
@@ -248,23 +257,76 @@ pub fn plan_system(
     rtol: f64,
 ) -> Result<StepPlan> {
     method.for_kinds(system.kinds())?;
-    let (built, _) = build(system, omega0, q0)?;
+    let (built, _) = build(system, omega0, q0).map_err(|e| blame_sizes(system, omega0, e))?;
     let (rate, stiffness) = match &built {
         Built::Free(body, omega, q) => {
             let model = FreeRigidBody::new(*body);
-            (rate_in_units(&model, &state_from(*omega, *q))?, 0.0)
+            (rate_in_units(&model, &state_from(*omega, *q)), 0.0)
         }
-        Built::Plain(model, x0) => (rate_in_units(model, x0)?, 0.0),
-        Built::Damped(model, x0) => {
-            let rate = rate_in_units(model, x0)?;
-            (rate, model.stiffness())
-        }
+        Built::Plain(model, x0) => (rate_in_units(model, x0), 0.0),
+        Built::Damped(model, x0) => (rate_in_units(model, x0), model.stiffness()),
     };
+    let rate = rate.map_err(|e| blame_sizes(system, omega0, e))?;
     let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
     if plan.out_of_reach {
         plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
     }
     Ok(plan)
+}
+
+/// `error`, if it blames `omega0` for a size float64 cannot hold, blaming instead what of
+/// `system` and the start is largest as a rate — the start's rates (times √(I_max / I_min)),
+/// the wheels' momenta over the least moment, the orbit's rate — with the value the user gave
+/// (a wheel's momentum of 1e308 and an orbit rate of 1e200 were reported as `omega0`, with the
+/// momenta the run computes from them).
+fn blame_sizes(system: &System, omega0: [f64; 3], error: Error) -> Error {
+    if !matches!(&error, Error::InvalidArgument { name: "omega0", .. }) {
+        return error;
+    }
+    let moments = system.tensor_at(0.0).symmetric_eigenvalues();
+    let (least, largest) = (moments.min(), moments.max());
+    let spin = omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs())) * (largest / least).sqrt();
+    let scheduled = system
+        .wheel_schedules()
+        .map(|w| {
+            w.table()
+                .values()
+                .iter()
+                .fold(0.0_f64, |m, v| m.max(v.norm()))
+        })
+        .fold(0.0_f64, f64::max);
+    let momentum = system
+        .wheels_momentum()
+        .map_or(0.0, |h| h.amax())
+        .max(scheduled);
+    let wheels = momentum / least;
+    let orbit = (system.torques().iter())
+        .find_map(|t| match t {
+            crate::dynamics::Torque::GravityGradient { orbit_rate } => Some(*orbit_rate),
+            _ => None,
+        })
+        .unwrap_or(0.0);
+    if orbit > 0.0 && orbit >= spin.max(wheels) {
+        Error::invalid(
+            "orbit_rate",
+            "must give, with the body's moments, a rate bound that float64 holds (the gravity \
+             gradient's potential is 3 n² I)",
+            orbit,
+        )
+    } else if momentum > 0.0 && wheels >= spin {
+        Error::invalid(
+            "momentum",
+            "must give, over the body's least moment of inertia, a rate that float64 holds \
+             (a wheel's momentum, a schedule's largest)",
+            momentum,
+        )
+    } else {
+        Error::invalid(
+            "omega0",
+            "must give a rate bound √(2E / I_min) (and an angular momentum) that float64 holds",
+            omega0,
+        )
+    }
 }
 
 /// The model's rate bound from `x0`, taken in the motion's own units (where its squares stay
