@@ -62,3 +62,19 @@ def test_vectors_broadcast_to_billions_of_rows_are_refused_before_any_copy():
                                                r"\(2147483648, 4\)"):
         dz.rotate(np.broadcast_to(np.float32([1.0, 0.0, 0.0, 0.0]), (2**31, 4)),
                   (1.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("method", ["dop853", "dopri5", "rk4"])
+@pytest.mark.parametrize(("a", "b"), [(1e-300, 1e-200), (1e300, 1e-200), (1e-300, 1e200)])
+def test_a_deployment_at_the_edges_of_float64_moves_as_at_unit_scale(method, a, b):
+    """Euler's equations are unchanged by I → aI, and ω → bω with t → t/b: a deployment at
+    moments 1e-300 spinning at 1e-200 moves as the unit one, scaled (it was refused under
+    dop853 with a false "step below round-off")."""
+    moments = np.array([[1.0, 2.0, 3.0], [1.5, 2.5, 3.0]])
+    w = np.array([0.01, 1.0, 0.01])
+    unit = dz.simulate(dz.Deployment([0.0, 5.0], moments), w, t_end=10.0, frames=5,
+                       method=method, dt=0.01)
+    scaled = dz.simulate(dz.Deployment([0.0, 5.0 / b], a * moments), b * w, t_end=10.0 / b,
+                         frames=5, method=method, dt=0.01 / b)
+    np.testing.assert_allclose(scaled.omega / b, unit.omega, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(scaled.q, unit.q, rtol=0, atol=1e-12)
