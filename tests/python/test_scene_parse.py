@@ -89,3 +89,45 @@ def test_the_signature_is_the_fields():
     assert params[:6] == ["name", "title", "inertia", "omega0", "t_end", "frames"]
     with pytest.raises(TypeError, match="Scene\\(\\): .*unexpected keyword argument 'colour'"):
         dz.Scene("x", "x", (1, 2, 3), (0, 0, 1), 1.0, 2, colour="red")
+
+
+SCENE = """
+    title = "t"
+    [body]
+    {body}
+    [start]
+    omega = [0.01, 1.0, 0.01]
+    [run]
+    t_end = 1
+    frames = 3
+"""
+
+
+@pytest.mark.parametrize(("body", "key", "says"), [
+    # 0.5 + 2 < 3: no mass distribution has these moments
+    ("inertia = [0.5, 2, 3]", "body.inertia", "triangle inequality"),
+    # two moments within 1e-7 of each other, above the tolerance that makes them equal
+    ("inertia = [1, 2, 2.0000002]", "body.inertia", "nearly symmetric top"),
+    ("tensor = [[0.5, 0, 0], [0, 2, 0], [0, 0, 3]]", "body", "triangle inequality"),
+])
+def test_a_scene_warns_of_an_unphysical_body_as_python_does(body, key, says, tmp_path):
+    """Issue 33: moments no body has, and a nearly symmetric top, warned in Python
+    (`InertiaWarning`) but passed silently through a TOML scene; now the scene warns, once,
+    naming its file and key, and `run` prints it."""
+    path = tmp_path / "odd.toml"
+    path.write_text(SCENE.format(body=body))
+    with pytest.warns(dz.InertiaWarning) as caught:
+        dz.load_scene(path)
+    odd = [w for w in caught if issubclass(w.category, dz.InertiaWarning)]
+    assert len(odd) == 1, [str(w.message) for w in odd]
+    assert str(odd[0].message).startswith(f"{path}: `{key}`: ") and says in str(odd[0].message)
+
+
+def test_a_scene_of_a_real_body_does_not_warn(tmp_path):
+    import warnings
+
+    path = tmp_path / "box.toml"
+    path.write_text(SCENE.format(body="inertia = [1, 2, 3]"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        dz.load_scene(path)

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from .._args import as_array, as_float, as_int, run_options
-from ..body import Body
+from ..body import Body, InertiaWarning
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
@@ -380,12 +380,13 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     about = _text(src, "about", v["about"], required=False)
 
     spec, built, inertia_given = v["body_spec"], None, v["inertia"]
+    caught: list[warnings.WarningMessage] = []
     if spec is not None:
         if not isinstance(spec, Mapping):
             raise SceneError(src, "body", f"must be a table, got {spec!r}")
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
                 built = build_body(spec)
         except (TypeError, ValueError, ImportError) as exc:
             key = next((k for k in BODY_KEYS if k in spec), "body")
@@ -393,11 +394,13 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
         spec, inertia_given = dict(spec), built.inertia
     inertia = _triple(src, "body.inertia", inertia_given, positive=True)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
             plain = Body(inertia)
     except (TypeError, ValueError) as exc:
         raise SceneError(src, "body.inertia", str(exc).replace("`inertia` ", "")) from None
+    if spec is None:
+        caught = seen
     given = v["given"]
     body = (scene_body(given, None, inertia) if given is not None
             else built if built is not None else plain)
@@ -452,6 +455,8 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     fields = v | run | models | dict(
         title=title, about=about, body_spec=spec, inertia=inertia, omega0=omega0, q0=q0,
         box=box, signal_point=signal_point, flips=flips, draw=draw, ellipsoid=ellipsoid)
+    # a scene that is refused does not also warn
+    _warn_inertia(src, "body" if spec is not None else "body.inertia", caught)
     return fields, body
 
 
@@ -562,6 +567,18 @@ def _table(source: str, key: str, value: Any, kind: type) -> Mapping[str, Any]:
 
 
 # -- the body and what is drawn of it -----------------------------------------------------
+
+
+def _warn_inertia(source: str, key: str, caught: list[warnings.WarningMessage]) -> None:
+    """Each `InertiaWarning` the scene's body raised when built, raised again naming the scene
+    and its key: moments no mass distribution has, or a nearly symmetric top, warn in a scene
+    as they do in Python (the body is built with warnings caught, so that nothing else it says
+    reaches the user twice)."""
+    said = set()
+    for w in caught:
+        if issubclass(w.category, InertiaWarning) and str(w.message) not in said:
+            said.add(str(w.message))
+            warnings.warn(f"{source}: `{key}`: {w.message}", InertiaWarning, stacklevel=4)
 
 
 def scene_body(given: System | None, body_spec: Mapping[str, Any] | None,
