@@ -34,6 +34,7 @@ from ..body import Body, InertiaWarning
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
+from ..lvlh import lvlh_start
 from ..methods import DEFAULT_MAX_STEPS, METHODS
 from ..orbit import ConstantTorque, GravityGradient, Wheel
 from ..shapes import Shape, box_shape
@@ -159,7 +160,7 @@ class Draw:
 TABLES: dict[str, tuple[str, ...]] = {
     "body": ("inertia", "box", "mass", "signal_point") + ("tensor", "cylinder", "sphere",
              "ellipsoid", "mesh", "density", "parts", "preset"),
-    "start": ("omega", "q"),
+    "start": ("omega", "q", "frame"),
     "run": ("t_end", "frames", "dt", "method", "rtol", "atol"),
     "ask": ("flips",),
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
@@ -283,12 +284,38 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     if "orbit" in data:
         kwargs["orbit"] = _model(source, "orbit", GravityGradient, ("rate",), tables["orbit"],
                                  {"orbit_rate": "rate"})
+    frame = tables["start"].get("frame", "world")
+    if frame not in START_FRAMES:
+        raise fail("start.frame", f"must be one of {list(START_FRAMES)}, got {frame!r}")
+    if frame == "lvlh":
+        kwargs["omega0"], kwargs["q0"] = _lvlh_start(source, kwargs, tables["start"])
     if "torque" in data:
         torque = tables["torque"]
         frame = torque.get("frame", "body")
         kwargs["torque"] = _model(source, "torque", ConstantTorque, ("vector", "frame"),
                                   {**torque, "frame": frame})
     return kwargs
+
+
+START_FRAMES = ("world", "lvlh")
+"""What a file's ``[start]`` is relative to: the world (inertial) frame, or the orbiting
+frame (LVLH) of its ``[orbit]`` at ``t = 0``."""
+
+
+def _lvlh_start(source: str, kwargs: Mapping[str, Any],
+                start: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    """The world start of a ``[start]`` given relative to LVLH (``frame = "lvlh"``):
+    :func:`~dzhanibekov.lvlh_start` of the orbit's rate, ``q`` (LVLH-from-body) and ``omega``
+    (rates relative to the orbiting frame, body axes)."""
+    orbit = kwargs.get("orbit")
+    if orbit is None:
+        raise SceneError(source, "start.frame", "is \"lvlh\", relative to the orbiting frame, "
+                         "but the scene has no [orbit] to give its rate")
+    omega = _vector(source, "start.omega", start["omega"], 3)
+    q = _vector(source, "start.q", start.get("q", (1.0, 0.0, 0.0, 0.0)), 4)
+    if not any(q):
+        raise SceneError(source, "start.q", "must be a non-zero quaternion (Q, U, V, W)")
+    return lvlh_start(orbit.orbit_rate, q, omega)
 
 
 _WHEEL_SCHEDULE = ("times", "values")
