@@ -162,7 +162,7 @@ pub fn step_for_accuracy(model: ErrorModel, rate: f64, t_end: f64, rtol: f64) ->
     let turns = (rate * t_end).max(1.0);
     if !turns.is_finite() {
         return Err(Error::TooLarge {
-            what: "the run",
+            what: "the run".into(),
             needed: format!("t_end · Ω = {t_end:.3e} · {rate:.3e} radians"),
             limit: "what float64 holds".into(),
             hint: "take a shorter t_end",
@@ -171,10 +171,18 @@ pub fn step_for_accuracy(model: ErrorModel, rate: f64, t_end: f64, rtol: f64) ->
     let h_rate = model.step_rate(turns, rtol);
     let h = (h_rate / rate).min(t_end);
     if h.is_nan() || h <= 0.0 {
+        // a step below float64's smallest: more steps than a run can count
+        let steps = turns / h_rate;
+        let needed = match steps.is_finite() {
+            true => format!("{steps:.3e} steps (t_end · Ω / {h_rate:.3e}, at Ω = {rate:.3e})"),
+            false => format!(
+                "more steps than float64 counts (steps of {h_rate:.3e} / Ω, at Ω = {rate:.3e})"
+            ),
+        };
         return Err(Error::TooLarge {
-            what: "the run",
-            needed: format!("steps of {h_rate:.3e} / Ω = {h_rate:.3e} / {rate:.3e}"),
-            limit: "the smallest step float64 holds".into(),
+            what: "the run".into(),
+            needed,
+            limit: super::grid::max_steps_limit(u64::MAX),
             hint: "take a larger rtol or a shorter t_end",
         });
     }
