@@ -6,6 +6,7 @@
 //! run which.
 
 mod callable;
+pub mod control;
 mod damper;
 mod deployment;
 mod free;
