@@ -61,6 +61,27 @@ pub fn bdot(gain: f64, field: &Vector3<f64>, previous: &Vector3<f64>, period: f6
     rate * (-gain / size)
 }
 
+/// Avanzini & Giulietti's rate law, the dipole `m = (k / |B|) ω × b` from measured body rates
+/// `omega` and field `field` (body axes): the torque is `m × B = −k (ω − (ω·b) b)` exactly,
+/// the B-dot dipole's limit for fast rates (see the module doc); zero in no field.
+///
+/// # Example
+/// ```
+/// use nalgebra::Vector3;
+/// use dzhanibekov::dynamics::control::rate_detumble;
+/// let (w, b) = (Vector3::new(0.1, 0.2, 0.0), Vector3::new(0.0, 0.0, 3e-5));
+/// let tau = rate_detumble(2.0, &w, &b).cross(&b);
+/// assert!((tau + w * 2.0).amax() < 1e-15);      // all of ω is across the field
+/// ```
+#[inline]
+pub fn rate_detumble(gain: f64, omega: &Vector3<f64>, field: &Vector3<f64>) -> Vector3<f64> {
+    let size = field.norm();
+    match size > 0.0 {
+        true => omega.cross(field) * (gain / (size * size)),
+        false => Vector3::zeros(),
+    }
+}
+
 /// Avanzini & Giulietti's gain `k* = 2 n (1 + sin ξ_m) J_min` for an orbit of rate
 /// `orbit_rate` inclined by `inclination` to the magnetic equator and a body of least principal
 /// moment `least_moment`.
@@ -219,6 +240,16 @@ mod tests {
         let tau = limit.cross(&b_now);
         assert_relative_eq!(tau, -(omega - unit * omega.dot(&unit)) * k, epsilon = 1e-15);
         assert_eq!(bdot(k, &Vector3::zeros(), &b_now, 1.0), Vector3::zeros());
+        // the gyro's form of the law is that limit itself, and nothing in no field
+        assert_relative_eq!(
+            rate_detumble(k, &omega, &b_now),
+            limit,
+            max_relative = 1e-14
+        );
+        assert_eq!(
+            rate_detumble(k, &omega, &Vector3::zeros()),
+            Vector3::zeros()
+        );
     }
 
     #[test]

@@ -20,7 +20,7 @@ pub use actuators::{clip, limit_wheel, wheel_torques, WheelAllocation, WheelComm
 pub use field::DipoleField;
 pub use laws::{
     attitude_error, bdot, detumble_gain, lvlh_attitude, momentum_dump, pointing_angle,
-    quaternion_feedback, Target,
+    quaternion_feedback, rate_detumble, Target,
 };
 pub use noise::{philox4x64, Noise};
 pub use sensors::{Gyro, Magnetometer, StarTracker};

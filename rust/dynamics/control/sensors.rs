@@ -4,21 +4,20 @@
 //! **Gyro** (Farrenkopf, "Analytic steady-state accuracy solutions for two common spacecraft
 //! attitude estimators", *J. Guidance and Control* 1(4), 1978; in the discrete form of
 //! Crassidis & Markley, "Unscented filtering for spacecraft attitude estimation", *J. Guidance,
-//! Control, and Dynamics* 26(4), 2003): the rate plus a bias `β` that walks with the rate
-//! random walk `σ_u`, plus the angle random walk `σ_v`, each sample the average over its period
-//! `T`:
+//! Control, and Dynamics* 26(4), 2003, without the bias's own random walk): the rate plus a
+//! constant bias `β`, plus the angle random walk `σ_v` (rad/√time) averaged over the sample's
+//! period `T`,
 //!
 //! ```text
-//! β_{k+1} = β_k + σ_u √T N_u
-//! ω̃_k    = ω_k + ½ (β_{k+1} + β_k) + √(σ_v² / T + σ_u² T / 12) N_v
+//! ω̃_k = ω_k + β + (σ_v / √T) N_k
 //! ```
 //!
-//! (`σ_v` in rad/√s, `σ_u` in rad/s^{3/2}, `N` standard normal vectors.) **Magnetometer**: the
+//! (`N_k` a standard normal vector.) **Magnetometer**: the
 //! field in body axes plus a constant bias and white noise `σ` per axis. **Star tracker**: the
 //! attitude turned by a small rotation `θ = σ N` in body axes, `q̃ = q ⊗ exp(θ / 2)`.
 //!
-//! Each sensor draws from its own stream; sample `k` uses counter `k` (blocks 0 and 1 for the
-//! gyro's two noises), so its noise does not depend on when or how often it is asked.
+//! Each sensor draws from its own stream; sample `k` uses counter `k`, so its noise does not
+//! depend on when or how often it is asked.
 
 use nalgebra::{Quaternion, UnitQuaternion, Vector3};
 
@@ -45,35 +44,25 @@ fn bias(name: &'static str, v: [f64; 3]) -> Result<Vector3<f64>> {
 /// A rate gyro (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Gyro {
-    /// The bias at the first sample, `β₀` (body axes).
+    /// The bias `β` (body axes).
     bias: Vector3<f64>,
     /// `σ_v`, the angle random walk.
     angle_random_walk: f64,
-    /// `σ_u`, the rate random walk.
-    rate_random_walk: f64,
 }
 
 impl Gyro {
-    /// A gyro of initial bias `bias`, angle random walk `angle_random_walk` and rate random
-    /// walk `rate_random_walk`.
+    /// A gyro of bias `bias` and angle random walk `angle_random_walk`.
     ///
     /// # Errors
     /// A bias that is not finite, or a random walk that is negative or not finite.
-    pub fn try_new(bias_: [f64; 3], angle_random_walk: f64, rate_random_walk: f64) -> Result<Self> {
+    pub fn try_new(bias_: [f64; 3], angle_random_walk: f64) -> Result<Self> {
         Ok(Self {
             bias: bias("bias", bias_)?,
             angle_random_walk: deviation("angle_random_walk", angle_random_walk)?,
-            rate_random_walk: deviation("rate_random_walk", rate_random_walk)?,
         })
     }
 
-    /// The bias at the first sample.
-    pub fn initial_bias(&self) -> Vector3<f64> {
-        self.bias
-    }
-
-    /// The rate measured at sample `sample` of period `period` for the true rate `omega`,
-    /// with the bias `bias` at that sample; and the bias at the next.
+    /// The rate measured at sample `sample` of period `period` for the true rate `omega`.
     #[inline]
     pub fn measure(
         &self,
@@ -81,19 +70,12 @@ impl Gyro {
         sample: u64,
         period: f64,
         omega: &Vector3<f64>,
-        bias: &Vector3<f64>,
-    ) -> (Vector3<f64>, Vector3<f64>) {
-        let (sv, su) = (self.angle_random_walk, self.rate_random_walk);
-        let next = match su > 0.0 {
-            true => bias + noise.vector(sample, 1) * (su * period.sqrt()),
-            false => *bias,
-        };
-        let white = (sv * sv / period + su * su * period / 12.0).sqrt();
-        let mut measured = omega + (bias + next) * 0.5;
-        if white > 0.0 {
-            measured += noise.vector(sample, 0) * white;
+    ) -> Vector3<f64> {
+        let measured = omega + self.bias;
+        match self.angle_random_walk > 0.0 {
+            true => measured + noise.vector(sample, 0) * (self.angle_random_walk / period.sqrt()),
+            false => measured,
         }
-        (measured, next)
     }
 }
 
@@ -191,11 +173,8 @@ mod tests {
     fn noise_free_sensors_measure_the_truth() {
         let noise = Noise::new(1, 2);
         let omega = Vector3::new(0.1, -0.2, 0.3);
-        let gyro = Gyro::try_new([0.0; 3], 0.0, 0.0).unwrap();
-        assert_eq!(
-            gyro.measure(&noise, 5, 0.1, &omega, &Vector3::zeros()),
-            (omega, Vector3::zeros())
-        );
+        let gyro = Gyro::try_new([0.0; 3], 0.0).unwrap();
+        assert_eq!(gyro.measure(&noise, 5, 0.1, &omega), omega);
         let b = Vector3::new(1e-5, 2e-5, -3e-5);
         assert_eq!(
             Magnetometer::try_new([0.0; 3], 0.0)
@@ -211,39 +190,17 @@ mod tests {
     fn the_angle_random_walk_averaged_over_a_sample_has_variance_sigma_squared_over_t() {
         let (sv, period) = (1e-3, 0.25);
         let bias = Vector3::new(1e-4, -2e-4, 0.0);
-        let gyro = Gyro::try_new(bias.into(), sv, 0.0).unwrap();
+        let gyro = Gyro::try_new(bias.into(), sv).unwrap();
         let noise = Noise::new(42, 3);
         let errors: Vec<f64> = (0..20_000)
             .flat_map(|k| {
-                let (m, next) = gyro.measure(&noise, k, period, &Vector3::zeros(), &bias);
-                assert_eq!(next, bias, "no rate random walk: the bias stays");
+                let m = gyro.measure(&noise, k, period, &Vector3::zeros());
                 (m - bias).iter().copied().collect::<Vec<_>>()
             })
             .collect();
         let (mean, var) = moments(&errors);
         assert!(mean.abs() < 5.0 * (sv * sv / period / errors.len() as f64).sqrt());
         assert!(variance_is(var, sv * sv / period, errors.len()), "{var}");
-    }
-
-    #[test]
-    fn the_bias_walks_with_variance_sigma_squared_times_time() {
-        // after k samples of period T, Var(β_k − β₀) = σ_u² k T, over independent streams
-        let (su, period, k) = (2e-5, 0.5, 40u64);
-        let gyro = Gyro::try_new([0.0; 3], 0.0, su).unwrap();
-        let walked: Vec<f64> = (0..3000)
-            .flat_map(|stream| {
-                let noise = Noise::new(7, stream);
-                let bias = (0..k).fold(Vector3::zeros(), |b, j| {
-                    gyro.measure(&noise, j, period, &Vector3::zeros(), &b).1
-                });
-                bias.iter().copied().collect::<Vec<_>>()
-            })
-            .collect();
-        let (_, var) = moments(&walked);
-        assert!(
-            variance_is(var, su * su * k as f64 * period, walked.len()),
-            "{var}"
-        );
     }
 
     #[test]
@@ -299,15 +256,15 @@ mod tests {
             other => panic!("{other:?}"),
         };
         assert_eq!(
-            name(Gyro::try_new([0.0; 3], -1.0, 0.0).unwrap_err()),
+            name(Gyro::try_new([0.0; 3], -1.0).unwrap_err()),
             "angle_random_walk"
         );
         assert_eq!(
-            name(Gyro::try_new([0.0; 3], 0.0, f64::NAN).unwrap_err()),
-            "rate_random_walk"
+            name(Gyro::try_new([0.0; 3], f64::NAN).unwrap_err()),
+            "angle_random_walk"
         );
         assert_eq!(
-            name(Gyro::try_new([f64::INFINITY, 0.0, 0.0], 0.0, 0.0).unwrap_err()),
+            name(Gyro::try_new([f64::INFINITY, 0.0, 0.0], 0.0).unwrap_err()),
             "bias"
         );
         assert_eq!(
