@@ -10,8 +10,9 @@
 //! Each sub-flow is exact and the composition symmetric, so the method is of order 2 (Hairer,
 //! Lubich & Wanner, *Geometric Numerical Integration*, 2006, §II.5); with no torque it is the
 //! exact solution. The free flow keeps `|q| = 1`, the kicks do not touch `q`: `|q|` is kept to
-//! round-off. It runs a constant body under torques (no wheels, dampers or schedules: their free
-//! part is not the elliptic motion). Each step builds the closed form from its start (the
+//! round-off. It runs a constant body under torques of time and attitude (no wheels, dampers or
+//! other parts: their free part is not the elliptic motion; steps end on a tabulated torque's
+//! knots). Each step builds the closed form from its start (the
 //! elliptic functions' parameter, `K`, the phase: [`ExactMotion::try_new_for_step`]), about
 //! the cost of ten RK4 steps under the gravity gradient. [`super::ExactKick4`] composes it to
 //! fourth order.
@@ -39,7 +40,10 @@ impl ExactKick {
     /// (refused before, by the registry); a start whose closed form does not start there
     /// ([`ExactMotion::try_new`]: moments it cannot resolve), checked once here so that each
     /// step builds the lighter [`ExactMotion::try_new_for_step`].
-    pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
+    pub fn of<const N: usize, const H: bool>(
+        model: &GeneralModel<N, H>,
+        x0: &[f64; N],
+    ) -> Result<Self> {
         let refuse = || {
             Error::invalid(
                 "method",
@@ -48,7 +52,7 @@ impl ExactKick {
                 model.kinds().names(),
             )
         };
-        if N != 7 || model.has_wheels() {
+        if N != 7 || model.has_parts_inside() {
             return Err(refuse());
         }
         let InertiaLaw::Constant(c) = model.inertia() else {
@@ -74,7 +78,12 @@ impl ExactKick {
 
     /// The momentum kick `H ← H + a τ_b(t, q)` (the attitude and the time held).
     #[inline(always)]
-    pub(crate) fn kick<const N: usize>(sys: &GeneralModel<N>, t: f64, a: f64, x: &mut [f64; N]) {
+    pub(crate) fn kick<const N: usize, const H: bool>(
+        sys: &GeneralModel<N, H>,
+        t: f64,
+        a: f64,
+        x: &mut [f64; N],
+    ) {
         let tau = sys.torque(t, x) * a;
         x[0] += tau.x;
         x[1] += tau.y;
@@ -99,12 +108,12 @@ impl ExactKick {
     }
 }
 
-impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick {
+impl<const N: usize, const H: bool> Stepper<N, GeneralModel<N, H>> for ExactKick {
     const ORDER: u32 = 2;
     /// Two torque evaluations (and one closed-form free motion).
     const RHS_PER_STEP: u64 = 2;
 
-    fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
+    fn step(&self, sys: &GeneralModel<N, H>, t: f64, h: f64, x: &mut [f64; N]) {
         Self::kick(sys, t, 0.5 * h, x);
         self.free_flow(h, x);
         Self::kick(sys, t + h, 0.5 * h, x);
