@@ -220,8 +220,8 @@ macro_rules! parts {
                 match self { $(AnyPart::$ty(p) => Part::sampling(p),)* }
             }
 
-            pub fn sample(&self, t: f64, at: usize, x: &mut [f64]) {
-                match self { $(AnyPart::$ty(p) => Part::sample(p, t, at, x),)* }
+            pub fn sample(&self, c: &Ctx<'_>, at: usize, x: &mut [f64]) {
+                match self { $(AnyPart::$ty(p) => Part::sample(p, c, at, x),)* }
             }
         }
 
