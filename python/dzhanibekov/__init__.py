@@ -24,6 +24,8 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .control import (Controller, Gyro, MagneticField, Magnetometer, QuaternionFeedback,
+                      StarTracker, circular_orbit_rate)
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
@@ -57,6 +59,13 @@ __all__ = [
     "ConstantTorque",
     "TabulatedTorque",
     "CallableTorque",
+    "MagneticField",
+    "Magnetometer",
+    "Gyro",
+    "StarTracker",
+    "QuaternionFeedback",
+    "Controller",
+    "circular_orbit_rate",
     "lvlh_frame",
     "lvlh_attitude",
     "lvlh_start",

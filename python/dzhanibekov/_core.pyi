@@ -13,6 +13,8 @@ __all__ = [
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
     "Deployment",
+    "EARTH_MOMENT",
+    "EARTH_MU",
     "ENERGY_GROWTH_TOL",
     "MAX_MOMENT_RATIO",
     "METHODS",
@@ -58,6 +60,8 @@ MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 SYMMETRY_TOLERANCE: float
 NEAR_SYMMETRY: float
+EARTH_MOMENT: float
+EARTH_MU: float
 RUN_STATUSES: tuple[str, ...]
 
 _Rows3 = list[list[float]]

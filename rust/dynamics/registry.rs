@@ -12,6 +12,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 
+use super::control::{Controller, QuaternionFeedback};
 use super::kinds::{Conserved, Kinds, Traits};
 use super::part::{
     Ctx, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part, Sampling,
@@ -440,7 +441,9 @@ parts! {
     GravityGradient,
     ConstantTorque,
     TabulatedTorque,
-    CallableTorque;
+    CallableTorque,
+    QuaternionFeedback,
+    Controller;
     // parts that exist only to test the seam
     test: Counter,
 }

@@ -11,16 +11,23 @@
 //! vectors of the body are in body axes, attitudes world-from-body, scalar first.
 
 pub mod actuators;
+mod common;
+mod controller;
 pub mod field;
 pub mod laws;
 pub mod noise;
+mod pointing;
+mod reaction;
 pub mod sensors;
 
 pub use actuators::{clip, limit_wheel, wheel_torques, WheelAllocation, WheelCommand};
+pub use common::{EARTH_MOMENT, EARTH_MU};
+pub use controller::Controller;
 pub use field::DipoleField;
 pub use laws::{
     attitude_error, bdot, detumble_gain, lvlh_attitude, momentum_dump, pointing_angle,
     quaternion_feedback, rate_detumble, Target,
 };
 pub use noise::{philox4x64, Noise};
+pub use pointing::QuaternionFeedback;
 pub use sensors::{Gyro, Magnetometer, StarTracker};
