@@ -25,7 +25,7 @@ from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
 from .control import (Controller, Gyro, MagneticField, Magnetometer, QuaternionFeedback,
-                      StarTracker, circular_orbit_rate)
+                      ResidualDipole, StarTracker, circular_orbit_rate)
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
@@ -63,6 +63,7 @@ __all__ = [
     "Magnetometer",
     "Gyro",
     "StarTracker",
+    "ResidualDipole",
     "QuaternionFeedback",
     "Controller",
     "circular_orbit_rate",

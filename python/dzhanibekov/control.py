@@ -27,7 +27,7 @@ import numpy as np
 from . import _core
 from ._args import as_array, as_float
 
-__all__ = ["MagneticField", "Magnetometer", "Gyro", "StarTracker",
+__all__ = ["MagneticField", "Magnetometer", "Gyro", "StarTracker", "ResidualDipole",
            "QuaternionFeedback", "Controller", "circular_orbit_rate",
            "EARTH_MU", "EARTH_RADIUS"]
 
@@ -299,6 +299,32 @@ def _gains(name: str, value: Any) -> tuple[float, float, float]:
         v = as_float(name, value)
         return (v, v, v)
     return _vector(name, value)
+
+
+class ResidualDipole(_Loop):
+    """A constant magnetic dipole of the body (its wiring, its magnets) in the Earth's field:
+    the external torque ``τ = m × B`` (body axes). It keeps nothing but ``|q|``.
+
+    Parameters
+    ----------
+    field : MagneticField
+    dipole : array_like, shape (3,)
+        The dipole in body axes (A·m² with the field in tesla).
+
+    Examples
+    --------
+    >>> import dzhanibekov as dz
+    >>> field = dz.MagneticField(dz.circular_orbit_rate(500e3), inclination=0.9)
+    >>> dz.System(dz.Body((1.0, 2.0, 3.0)), torques=[dz.ResidualDipole(field, (0, 0, 1e-3))]
+    ...           ).conserved
+    ('q_norm',)
+    """
+
+    kind = "residual_dipole"
+
+    def __init__(self, field: MagneticField, dipole: Any) -> None:
+        _need("field", field, MagneticField)
+        self._build({"dipole": dipole}, field)
 
 
 def _need(name: str, value: Any, kind: type) -> None:

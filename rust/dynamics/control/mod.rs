@@ -18,6 +18,7 @@ pub mod laws;
 pub mod noise;
 mod pointing;
 mod reaction;
+mod residual;
 pub mod sensors;
 
 pub use actuators::{clip, limit_wheel, wheel_torques, WheelAllocation, WheelCommand};
@@ -30,4 +31,5 @@ pub use laws::{
 };
 pub use noise::{philox4x64, Noise};
 pub use pointing::QuaternionFeedback;
+pub use residual::ResidualDipole;
 pub use sensors::{Gyro, Magnetometer, StarTracker};
