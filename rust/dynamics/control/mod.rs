@@ -11,6 +11,7 @@
 //! vectors of the body are in body axes, attitudes world-from-body, scalar first.
 
 pub mod actuators;
+mod bdot;
 mod common;
 mod controller;
 pub mod field;
@@ -22,6 +23,7 @@ mod residual;
 pub mod sensors;
 
 pub use actuators::{clip, limit_wheel, wheel_torques, WheelAllocation, WheelCommand};
+pub use bdot::BDot;
 pub use common::{EARTH_MOMENT, EARTH_MU};
 pub use controller::Controller;
 pub use field::DipoleField;
