@@ -24,8 +24,9 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
-from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, QuaternionFeedback,
-                      ResidualDipole, StarTracker, circular_orbit_rate, detumble_gain)
+from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
+                      QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
+                      detumble_gain)
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
@@ -65,6 +66,7 @@ __all__ = [
     "StarTracker",
     "ResidualDipole",
     "BDot",
+    "MomentumDumping",
     "QuaternionFeedback",
     "Controller",
     "circular_orbit_rate",

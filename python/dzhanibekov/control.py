@@ -35,7 +35,7 @@ from . import _core
 from ._args import as_array, as_float
 
 __all__ = ["MagneticField", "Magnetometer", "Gyro", "StarTracker", "ResidualDipole", "BDot",
-           "QuaternionFeedback", "Controller", "circular_orbit_rate",
+           "MomentumDumping", "QuaternionFeedback", "Controller", "circular_orbit_rate",
            "detumble_gain", "EARTH_MU", "EARTH_RADIUS"]
 
 EARTH_MU: float = _core.EARTH_MU
@@ -413,6 +413,35 @@ class BDot(_Loop):
                      "max_dipole": _limits("max_dipole", max_dipole), "rates": rates},
                     field, _optional("magnetometer", magnetometer, Magnetometer),
                     _optional("gyro", gyro, Gyro))
+
+
+class MomentumDumping(_Loop):
+    """Momentum dumping: three magnetorquers commanded at each sample ``m = k (h × B̃) / |B̃|²``
+    from the momentum ``h`` the system's parts store (its wheels', from their tachometers) and
+    the measured field, clipped per coil and held. The body feels ``m × B = −k h⊥``: the
+    wheels' momentum across the field drains while a pointing law holds the body (Markley &
+    Crassidis 2014, §7.6).
+
+    Parameters
+    ----------
+    field : MagneticField
+    gain : float
+        ``k``, a rate, not negative.
+    period : float
+    phase : float
+    max_dipole : float or array_like, shape (3,), optional
+    magnetometer : Magnetometer, optional
+    """
+
+    kind = "momentum_dumping"
+
+    def __init__(self, field: MagneticField, gain: float, period: float, *,
+                 phase: float = 0.0, max_dipole: Any = None,
+                 magnetometer: Magnetometer | None = None) -> None:
+        _need("field", field, MagneticField)
+        self._build({"gain": gain, "period": period, "phase": phase,
+                     "max_dipole": _limits("max_dipole", max_dipole)},
+                    field, _optional("magnetometer", magnetometer, Magnetometer))
 
 
 class QuaternionFeedback(_Loop):

@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 
-use super::control::{BDot, Controller, QuaternionFeedback, ResidualDipole};
+use super::control::{BDot, Controller, MomentumDumping, QuaternionFeedback, ResidualDipole};
 use super::kinds::{Conserved, Kinds, Traits};
 use super::part::{
     Ctx, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part, Sampling,
@@ -445,6 +445,7 @@ parts! {
     ResidualDipole,
     BDot,
     QuaternionFeedback,
+    MomentumDumping,
     Controller;
     // parts that exist only to test the seam
     test: Counter,

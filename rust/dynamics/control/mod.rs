@@ -14,6 +14,7 @@ pub mod actuators;
 mod bdot;
 mod common;
 mod controller;
+mod dumping;
 pub mod field;
 pub mod laws;
 pub mod noise;
@@ -26,6 +27,7 @@ pub use actuators::{clip, limit_wheel, wheel_torques, WheelAllocation, WheelComm
 pub use bdot::BDot;
 pub use common::{EARTH_MOMENT, EARTH_MU};
 pub use controller::Controller;
+pub use dumping::MomentumDumping;
 pub use field::DipoleField;
 pub use laws::{
     attitude_error, bdot, detumble_gain, lvlh_attitude, momentum_dump, pointing_angle,
