@@ -27,6 +27,7 @@ from .system import System
 from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
                       QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
                       detumble_gain)
+from .pointing import detumbled_at, part_state, pointing_angle, saturation
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
@@ -71,6 +72,10 @@ __all__ = [
     "Controller",
     "circular_orbit_rate",
     "detumble_gain",
+    "pointing_angle",
+    "detumbled_at",
+    "part_state",
+    "saturation",
     "lvlh_frame",
     "lvlh_attitude",
     "lvlh_start",
