@@ -4,6 +4,7 @@ actuators' limits, momentum dumping, LVLH targets, bad input."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -231,6 +232,26 @@ def test_wheels_catch_the_papers_box_flipping_about_its_intermediate_axis() -> N
     assert np.abs(s["wheel_torque"]).max() <= 5.0
     assert np.linalg.norm(s["wheel_momentum"][-1]) == pytest.approx(
         np.linalg.norm(inertia * omega0), rel=1e-9)
+
+
+def test_the_parts_state_reaches_xarray_by_field_and_a_file_refuses_them_by_name(
+        tmp_path: Path) -> None:
+    n = dz.circular_orbit_rate(500e3)
+    bdot = dz.BDot(dz.MagneticField(n, 1.7), gain=3e-5, period=1.0, max_dipole=(0.2, 0.2, 1e-4))
+    sat = dz.System(dz.Body((0.042, 0.042, 0.0067)), torques=[bdot],
+                    parts=[dz.QuaternionFeedback(1e-3, 1e-2, 1.0, torque_limit=1e-5)])
+    traj = dz.simulate(sat, np.radians([6.0, -5.0, 6.0]), t_end=20.0, frames=21,
+                       method="dop853")
+    x = traj.to_xarray()
+    assert list(x["torque_kind"].values) == ["bdot"]
+    for kind in ("bdot", "quaternion_feedback"):
+        for name, values in state(traj, kind).items():
+            var = x[f"{kind}_{name}"]
+            assert var.dims == (("time", "axis") if values.shape[1] == 3 else ("time",))
+            assert np.array_equal(var.values.reshape(values.shape), values)
+    assert x["bdot_saturated"].values.any() and x["quaternion_feedback_saturated"].values.any()
+    with pytest.raises(ValueError, match="BDot"):
+        dz.save(traj, tmp_path / "run.nc")
 
 
 @pytest.mark.parametrize("make, name", [
