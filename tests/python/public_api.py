@@ -1406,6 +1406,32 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.pitch_libration_rate,),
         min_success=0.9,
     ),
+    "circular_orbit_rate": Entry(
+        call=dz.circular_orbit_rate,
+        valid=st.fixed_dictionaries({"altitude": st.floats(0.0, 1e8)}),
+        hostile={"altitude": st.sampled_from([-7e6, math.nan, math.inf, "500 km", None]),
+                 "mu": st.sampled_from([0.0, -1.0, math.nan, "mu"]),
+                 "radius": st.sampled_from([0.0, -1.0, math.inf, "R"])},
+        # Kepler: n² R³ = μ (WGS 84: μ = 3.986004418e14 m³/s², R_E = 6378137 m)
+        check=lambda kw, n, _: _assert(abs(n * n * (6378137.0 + kw["altitude"]) ** 3
+                                           / 3.986004418e14 - 1) < 1e-12),
+        covers=(dz.circular_orbit_rate,),
+        min_success=0.9,
+    ),
+    "detumble_gain": Entry(
+        call=dz.detumble_gain,
+        valid=st.fixed_dictionaries({"orbit_rate": st.floats(1e-5, 1e-2),
+                                     "inclination": st.floats(0.0, math.pi),
+                                     "least_moment": st.floats(1e-4, 1e4)}),
+        hostile={"orbit_rate": st.sampled_from([0.0, -1e-3, math.nan, "n", None]),
+                 "inclination": st.sampled_from([math.nan, math.inf, "polar", None]),
+                 "least_moment": st.sampled_from([0.0, -1.0, math.inf, "J", None])},
+        # Avanzini & Giulietti (JGCD 35(4), 2012): k* = 2 n (1 + sin ξ_m) J_min
+        check=lambda kw, k, _: _assert(abs(k - 2 * kw["orbit_rate"] * (
+            1 + math.sin(kw["inclination"])) * kw["least_moment"]) <= 1e-14 * abs(k)),
+        covers=(dz.detumble_gain,),
+        min_success=0.9,
+    ),
     "dual_spin_threshold": Entry(
         call=dz.dual_spin_threshold,
         valid=st.fixed_dictionaries({"inertia": st.just((1.0, 2.0, 3.0)),
@@ -1727,4 +1753,17 @@ NOT_CALLED = {
     "load": "reads a file: every file of the corpus (test_hostile.py::"
             "test_every_reader_on_every_file) and test_io.py",
     "ReadError": "an exception class, raised by the readers (the file corpus)",
+    "MagneticField": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "Magnetometer": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "Gyro": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "StarTracker": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "ResidualDipole": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "BDot": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "MomentumDumping": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "QuaternionFeedback": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "Controller": "issue 32: no hostile-input entry yet (its bad input is tested by name in test_control_parts.py::test_bad_parameters_are_refused_by_name and test_objects_of_the_wrong_kind_are_refused)",
+    "pointing_angle": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
+    "detumbled_at": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
+    "part_state": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
+    "saturation": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
 }
