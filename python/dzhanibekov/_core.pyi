@@ -1,5 +1,6 @@
 """Type stubs of the Rust core. Call it through the package's functions, which coerce input."""
 
+from collections.abc import Callable
 from typing import Any, final, overload
 
 import numpy as np
@@ -16,6 +17,7 @@ __all__ = [
     "EARTH_MOMENT",
     "EARTH_MU",
     "ENERGY_GROWTH_TOL",
+    "FLAT_SHARE",
     "MAX_MOMENT_RATIO",
     "METHODS",
     "MODELS",
@@ -56,6 +58,7 @@ DEFAULT_RTOL: float
 DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
 ENERGY_GROWTH_TOL: float
+FLAT_SHARE: float
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 SYMMETRY_TOLERANCE: float
@@ -223,6 +226,12 @@ class StepPlan:
     def predicted_drift(self) -> float: ...
     @property
     def stiffness(self) -> float: ...
+    @property
+    def predicted_error(self) -> float: ...
+    @property
+    def out_of_reach(self) -> bool: ...
+    @property
+    def reached_by(self) -> str | None: ...
 
 @final
 class BatchPlan:
@@ -273,6 +282,8 @@ class BatchResult:
     @property
     def flip_offsets(self) -> npt.NDArray[np.int64]: ...
     @property
+    def flat_time(self) -> npt.NDArray[np.float64]: ...
+    @property
     def flip_times(self) -> npt.NDArray[np.float64]: ...
     @property
     def runs(self) -> RunColumns: ...
@@ -309,6 +320,7 @@ def simulate_batch(
     keep_frames: bool,
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
+    progress: Callable[[float], object] | None = None,
 ) -> BatchResult: ...
 def sweep(
     systems: list[System],

@@ -35,8 +35,8 @@ pub use gravity::GravityGradient;
 pub use kinds::{Conserved, Kinds, Traits};
 pub use model::{MidAxis, Model};
 pub use part::{
-    Arg, Ctx, Dim, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part,
-    Sampling, Value,
+    Arg, Ctx, Dim, EnergyRole, Field, Fields, Frame, Function, MapFunction, ModelInfo, Param,
+    ParamKind, Part, Sampling, Value,
 };
 pub use registry::{AnyPart, MODELS};
 pub use system::{System, SystemBody};

@@ -485,6 +485,9 @@ pub struct BatchOutput {
     /// Where each row ended (kept by batches of systems with parts or a schedule; empty for
     /// free bodies, whose last frame says it when frames are kept).
     pub end: Vec<crate::observe::End>,
+    /// The time each row's spin went flat (NaN: not by the end); empty for batches whose rows
+    /// are not watched (see [`crate::run::RunOutput::flat_time`]).
+    pub flat_time: Vec<f64>,
 }
 
 impl BatchOutput {
@@ -502,7 +505,7 @@ impl BatchOutput {
         self.flip_times
             .try_reserve(flip_times.len())
             .map_err(|_| Error::TooLarge {
-                what: "the batch's flip times",
+                what: "keeping the batch's flip times".into(),
                 needed: format!("{} values", self.flip_times.len() + flip_times.len()),
                 limit: "the memory this process can allocate".into(),
                 hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",
@@ -570,7 +573,7 @@ pub fn simulate_batch(
         true => {
             let values = |width: usize| m.checked_mul(grid.frames())?.checked_mul(width);
             let too_large = || Error::TooLarge {
-                what: "the batch's frames",
+                what: "keeping the batch's frames".into(),
                 needed: format!("{m} runs × {} frames × 7 float64 values", grid.frames()),
                 limit: "the memory this process can address".into(),
                 hint: FRAMES_HINT,
@@ -618,6 +621,7 @@ pub fn simulate_batch(
         stats: try_with_capacity(m, "the batch's statistics", ROWS_HINT)?,
         dt: try_with_capacity(m, "the batch's steps", ROWS_HINT)?,
         end: Vec::new(),
+        flat_time: Vec::new(),
     };
     out.flip_offsets.push(0);
     for row in rows {

@@ -6,6 +6,7 @@ pub mod adaptive;
 pub mod fixed;
 pub mod grid;
 pub mod options;
+pub mod progress;
 pub mod registry;
 pub mod step_size;
 pub(crate) mod system;
@@ -22,7 +23,9 @@ use crate::exact::ExactMotion;
 use crate::float::RateScale;
 use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
-use crate::observe::{Drift, DriftMonitor, End, FlipDetector, LastFrame, Observer, Recorder};
+use crate::observe::{
+    Drift, DriftMonitor, End, FlatAxes, FlatSpin, FlipDetector, LastFrame, Observer, Recorder,
+};
 use crate::ode::controller::Adaptive;
 use crate::ode::Stats;
 
@@ -104,6 +107,9 @@ pub struct RunOutput {
     pub flip_times: Vec<f64>,
     /// The largest tilt of the spin axis from where it started, in radians; NaN unless kept.
     pub tilt: f64,
+    /// The time the spin went flat ([`crate::observe::flat`]; NaN: not by the end), for a
+    /// damped body of constant inertia; `None` for other runs.
+    pub flat_time: Option<f64>,
     /// Where the run ended (kept whether or not the frames are).
     pub end: End,
     pub drift: Drift,
@@ -186,7 +192,7 @@ pub(crate) fn check_rates(omega0: [f64; 3]) -> Result<()> {
 /// A non-finite `x0`; a method that cannot run the model ([`Error::Unsupported`]);
 /// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
 /// being finite; [`Error::TooLarge`] beyond a step cap or memory.
-pub fn simulate_model<const N: usize, S: Runs<N>>(
+pub fn simulate_model<const N: usize, S: Runs<N> + FlatAxes<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -198,7 +204,7 @@ pub fn simulate_model<const N: usize, S: Runs<N>>(
 }
 
 /// [`simulate_model`], with the tilt watched by `tilt` (given in the run's own units).
-fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+fn simulate_model_with<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -245,7 +251,7 @@ fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
         first.copy_from_slice(&omega0);
     }
     let mut out = finite_frames(out, grid)?;
-    for t in &mut out.flip_times {
+    for t in out.flip_times.iter_mut().chain(out.flat_time.as_mut()) {
         *t = time_from_unit(scale, *t, grid.t_end());
     }
     out.dt = scale.time_from_unit(out.dt);
@@ -318,7 +324,7 @@ impl TiltWatch<7> for TiltMonitor {
 }
 
 /// [`simulate_model`] of a start in the motion's own units (rates near 1).
-fn simulate_unit<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+fn simulate_unit<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -337,28 +343,117 @@ fn simulate_unit<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
         true => DriftMonitor::new(sys),
         false => DriftMonitor::new(sys).watching_growth(ENERGY_GROWTH_TOL),
     };
+    if let Some(settings) = method.adaptive_settings() {
+        check_least_steps(sys, &x0, grid, &settings)?;
+    }
     let mut obs = (drift, ((recorder, LastFrame::new(sys)), tilt));
     if !method.info().takes_steps() {
         let flip_times = sys.run_exact(x0, grid, &mut obs, keep.flips, cancel)?;
         return finished(obs, flip_times, Stats::default(), 0.0, grid);
     }
-    // Flip detection looks at every step; without it the step loop stays bare.
-    let (stats, flip_times) = if keep.flips {
-        let mut flips = FlipDetector::new(sys, 0.0, &x0);
-        let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
-        (stats, flips.into_flip_times()?)
-    } else {
-        (
+    // Flip detection looks at every step, and so does the watch for a damped body's flat
+    // spin; without them the step loop stays bare.
+    let flat = sys.flat_axes().map(|major| FlatSpin::new(sys, major));
+    let (stats, flip_times, flat_time) = match (keep.flips, flat) {
+        (true, Some(mut flat)) => {
+            let mut flips = FlipDetector::new(sys, 0.0, &x0);
+            let mut watch = (&mut obs, (&mut flips, &mut flat));
+            let stats = sys.run_method(method, x0, grid, &mut watch, cancel)?;
+            (stats, flips.into_flip_times()?, Some(flat.time()))
+        }
+        (true, None) => {
+            let mut flips = FlipDetector::new(sys, 0.0, &x0);
+            let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
+            (stats, flips.into_flip_times()?, None)
+        }
+        (false, Some(mut flat)) => {
+            let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flat), cancel)?;
+            (stats, Vec::new(), Some(flat.time()))
+        }
+        (false, None) => (
             sys.run_method(method, x0, grid, &mut obs, cancel)?,
             Vec::new(),
-        )
+            None,
+        ),
     };
     let dt = if method.is_adaptive() {
         grid.t_end() / stats.n_steps.max(1) as f64
     } else {
         grid.step_size()
     };
-    finished(obs, flip_times, stats, dt, grid)
+    let mut out = finished(obs, flip_times, stats, dt, grid)?;
+    out.flat_time = flat_time;
+    Ok(out)
+}
+
+/// The most an accepted step of an adaptive pair turns the attitude, `h |ω|` in radians, with
+/// `rtol` at most [`MEASURED_RTOL`] and `atol` below [`MEASURED_ATOL`]: far beyond what the
+/// pairs' error estimates accept there (the largest measured by tests/adaptive_bounds.rs is
+/// 12.4 radians, dop853 about a principal axis at `atol` 0.099).
+pub const MAX_TURN_PER_STEP: f64 = 100.0;
+
+/// Up to this `rtol` and below [`MEASURED_ATOL`] the steps are bounded by
+/// [`MAX_TURN_PER_STEP`] (at `rtol` 0.5 and 0.9 steps of 30 and 50 radians were accepted).
+pub const MEASURED_RTOL: f64 = 0.1;
+
+/// Below this `atol` a step's error is measured at all (the quaternion is of size 1: an
+/// `atol` near 1 accepts any attitude, and any step).
+pub const MEASURED_ATOL: f64 = 0.1;
+
+/// The fewest steps an adaptive run of the free body needs, from what its motion keeps: the
+/// rates never fall below `2E / |L|` (`ω·L = 2E` and Cauchy–Schwarz), so the attitude turns
+/// at least `t_end · 2E / |L|` radians, and no step turns it more than
+/// [`MAX_TURN_PER_STEP`]. `None` for other models (their pace is watched as they run) and
+/// for tolerances that accept anything.
+pub fn least_adaptive_steps<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    t_end: f64,
+    settings: &Adaptive,
+) -> Option<(f64, f64)> {
+    use crate::dynamics::Kinds;
+    if sys.kinds() != Kinds::FREE || settings.atol >= MEASURED_ATOL || settings.rtol > MEASURED_RTOL
+    {
+        return None;
+    }
+    let (energy, momentum) = (sys.energy(0.0, x0), sys.momentum_body(0.0, x0).norm());
+    if !(energy > 0.0 && momentum > 0.0) {
+        return None;
+    }
+    let turns = t_end * (2.0 * energy / momentum);
+    Some((turns / MAX_TURN_PER_STEP, turns))
+}
+
+/// Refuses up front an adaptive run that needs more steps than `max_steps` allows (see
+/// [`least_adaptive_steps`]): rates of 1e20 or 1e300, or `t_end = 1e300`, ran toward
+/// `max_steps` for hours, where RK4 is refused by its planned step.
+fn check_least_steps<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    grid: &FrameGrid,
+    settings: &Adaptive,
+) -> Result<()> {
+    let Some((least, turns)) = least_adaptive_steps(sys, x0, grid.t_end(), settings) else {
+        return Ok(());
+    };
+    if least <= settings.max_steps as f64 {
+        return Ok(());
+    }
+    let needed = match least.is_finite() {
+        true => format!(
+            "at least {least:.3e} steps (its attitude turns {turns:.3e} radians, at most \
+             {MAX_TURN_PER_STEP} in a step)"
+        ),
+        false => "more steps than float64 counts (its attitude turns more radians than \
+                  float64 holds)"
+            .into(),
+    };
+    Err(Error::TooLarge {
+        what: "the adaptive run".into(),
+        needed,
+        limit: max_steps_limit(settings.max_steps),
+        hint: "take a shorter t_end, or raise max_steps",
+    })
 }
 
 /// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::float`]):
@@ -375,7 +470,7 @@ pub(crate) fn to_unit(
     let t_end = scale.time_to_unit(grid.t_end());
     if !t_end.is_finite() {
         return Err(Error::TooLarge {
-            what: "the run",
+            what: "the run".into(),
             needed: format!(
                 "t_end · max|omega0| = {:.3e} · {:.3e} radians",
                 grid.t_end(),
@@ -452,14 +547,17 @@ pub(crate) fn evaluate_exact<O: Observer<7>>(
     let omega0 = [x0[0], x0[1], x0[2]];
     let motion = ExactMotion::try_new(body, omega0, [x0[3], x0[4], x0[5], x0[6]])?;
     for i in 0..grid.frames() {
-        if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
-            return Err(Error::Interrupted);
-        }
         let t = grid.time(i);
+        if (i as u64).is_multiple_of(CHECK_EVERY) {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(Error::Interrupted);
+            }
+            progress::report(t, grid.t_end());
+        }
         let x = motion.state_at(t);
         if !x.iter().all(|v| v.is_finite()) {
             return Err(Error::TooLarge {
-                what: "the exact solution",
+                what: "the exact solution".into(),
                 needed: format!("its phase at t = {t:.3e} (t_end · max|omega0| radians)"),
                 limit: "what float64 holds".into(),
                 hint: "take a shorter t_end",
@@ -502,6 +600,7 @@ fn finished<const N: usize, S: Model<N>, T: TiltWatch<N>>(
             parts,
             flip_times,
             tilt: tilt.tilt(),
+            flat_time: None,
             end: last.end(),
             drift,
             stats,

@@ -17,7 +17,9 @@ use crate::kinematics::normalized;
 use crate::ode::controller::check_rtol;
 
 use super::registry::StepRule;
-use super::step_size::{rk4_predicted_drift, step_for_accuracy, StepPlan};
+use super::step_size::{
+    error_model, predicted_error, reaching, rk4_predicted_drift, step_for_accuracy, StepPlan,
+};
 use super::{check_rates, simulate, simulate_model, FrameGrid, Keep, Method, RunOutput};
 
 /// The change between the user's axes and the principal axes of a constant body: `R`, user
@@ -165,6 +167,15 @@ fn build(
 ) -> Result<(Built, Edge, i32)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    // the copies of its knots the model makes: room for them, or an error (not an abort)
+    let bytes = system.model_bytes();
+    if bytes >= 1 << 20 {
+        crate::buffer::ensure_room(
+            bytes as f64,
+            "a run's copies of its knots",
+            "give fewer knots",
+        )?;
+    }
     // the moments over a power of two near the largest, before any is inverted
     let m = moment_exponent(system);
     let scaled = |x: f64| ldexp(x, -m);
@@ -294,15 +305,64 @@ pub fn plan_system(
     rtol: f64,
 ) -> Result<StepPlan> {
     method.for_kinds(system.kinds())?;
-    let (built, _, _) = build(system, omega0, q0, t_end)?;
+    let (built, _, _) =
+        build(system, omega0, q0, t_end).map_err(|e| blame_sizes(system, omega0, e))?;
     let (rate, stiffness) = each_size!(&built,
-        model, x0 => (rate_in_units(model, x0)?, model.stiffness()),
+        model, x0 => (rate_in_units(model, x0), model.stiffness()),
         Built::Free(body, omega, q) => {
             let model = FreeRigidBody::new(*body);
-            (rate_in_units(&model, &state_from(*omega, *q))?, 0.0)
+            (rate_in_units(&model, &state_from(*omega, *q)), 0.0)
         }
     );
-    plan_step(rate, stiffness, t_end, frames, method, dt, rtol)
+    let rate = rate.map_err(|e| blame_sizes(system, omega0, e))?;
+    let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
+    if plan.out_of_reach {
+        plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
+    }
+    Ok(plan)
+}
+
+/// `error`, if it blames `omega0` for a size float64 cannot hold, blaming instead what of
+/// `system` and the start is largest as a rate — the start's rates (times √(I_max / I_min)), or
+/// the largest rate a part brings ([`crate::dynamics::Part::largest_rate`]: a wheel's momentum
+/// over the least moment, an orbit's rate) — with the value the user gave (a wheel's momentum
+/// of 1e308 and an orbit rate of 1e200 were reported as `omega0`, with the momenta the run
+/// computes from them).
+fn blame_sizes(system: &System, omega0: [f64; 3], error: Error) -> Error {
+    if !matches!(&error, Error::InvalidArgument { name: "omega0", .. }) {
+        return error;
+    }
+    let moments = system.tensor_at(0.0).symmetric_eigenvalues();
+    let (least, largest) = (moments.min(), moments.max());
+    let spin = omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs())) * (largest / least).sqrt();
+    let part = (system.parts().iter())
+        .filter_map(|p| p.largest_rate(least))
+        .fold(None, |m: Option<(&str, f64, f64)>, r| match m {
+            Some(m) if m.2 >= r.2 => Some(m),
+            _ => Some(r),
+        });
+    match part {
+        Some((name, value, rate)) if rate > 0.0 && rate >= spin => Error::invalid(
+            name,
+            match name {
+                "orbit_rate" => {
+                    "must give, with the body's moments, a rate bound that float64 holds (the \
+                     gravity gradient's potential is 3 n² I)"
+                }
+                "momentum" => {
+                    "must give, over the body's least moment of inertia, a rate that float64 \
+                     holds (a wheel's momentum, a schedule's largest)"
+                }
+                _ => "must give a rate that float64 holds",
+            },
+            value,
+        ),
+        _ => Error::invalid(
+            "omega0",
+            "must give a rate bound √(2E / I_min) (and an angular momentum) that float64 holds",
+            omega0,
+        ),
+    }
 }
 
 /// The model's rate bound from `x0`, taken in the motion's own units (where its squares stay
@@ -343,7 +403,7 @@ pub(crate) fn plan_step(
     rtol: f64,
 ) -> Result<StepPlan> {
     let info = method.info();
-    let constant = match info.step_rule {
+    let model = match info.step_rule {
         StepRule::NoSteps => {
             FrameGrid::try_frames(t_end, frames)?;
             return Ok(StepPlan {
@@ -352,6 +412,7 @@ pub(crate) fn plan_step(
                 rate_bound: rate,
                 predicted_drift: 0.0,
                 stiffness,
+                ..StepPlan::default()
             });
         }
         StepRule::Adaptive { error_order } => {
@@ -369,13 +430,16 @@ pub(crate) fn plan_step(
                 rate_bound: rate,
                 predicted_drift: 0.0,
                 stiffness,
+                ..StepPlan::default()
             });
         }
-        StepRule::Accuracy { constant } => constant,
+        StepRule::Accuracy { .. } => error_model(info),
     };
+    let model = model.ok_or_else(|| Error::invalid("method", "has no order", info.name))?;
+    let planned = dt.is_none() && rate > 0.0;
     let dt = match dt {
         Some(dt) => dt,
-        None => step_for_accuracy(method.order(), constant, rate, t_end, rtol)?,
+        None => step_for_accuracy(model, rate, t_end, rtol)?,
     };
     let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX)?;
     let predicted_drift = match info.rk4_dissipation {
@@ -388,6 +452,9 @@ pub(crate) fn plan_step(
         rate_bound: rate,
         predicted_drift,
         stiffness,
+        predicted_error: predicted_error(model, rate, t_end, grid.step_size()),
+        out_of_reach: planned && model.out_of_reach(rate * t_end, rtol),
+        reached_by: None,
     })
 }
 

@@ -20,7 +20,8 @@ use crate::float::RateScale;
 
 use super::super::kinds::{Conserved, Traits};
 use super::super::part::{
-    Arg, Ctx, Dim, EnergyRole, Field, Fields, Function, ModelInfo, Param, ParamKind, Part, Sampling,
+    Arg, Ctx, Dim, EnergyRole, Field, Fields, Function, MapFunction, ModelInfo, Param, ParamKind,
+    Part, Sampling,
 };
 use super::common::{
     clip_dipole, field_from, gyro_from, limits, magnetometer_from, saturated, set_slot, slot,
@@ -281,5 +282,12 @@ impl Part for Controller {
 
     fn functions(&self) -> Vec<&Arc<dyn Function>> {
         vec![&self.function]
+    }
+
+    fn map_functions(&self, f: &mut MapFunction<'_>) -> Self {
+        Self {
+            function: f(&self.function),
+            ..self.clone()
+        }
     }
 }
