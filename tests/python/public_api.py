@@ -1766,4 +1766,6 @@ NOT_CALLED = {
     "detumbled_at": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
     "part_state": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
     "saturation": "issue 32: no hostile-input entry yet (reads a run; a run of the wrong kind is refused by name: test_control_parts.py)",
+    "MODELS": "a read-only mapping of the core's declarations (test_model_registry.py)",
+    "ModelInfo": "the class of MODELS' values, made by the core only",
 }

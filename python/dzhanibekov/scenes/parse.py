@@ -312,9 +312,7 @@ def _lvlh_start(source: str, kwargs: Mapping[str, Any],
         raise SceneError(source, "start.frame", "is \"lvlh\", relative to the orbiting frame, "
                          "but the scene has no [orbit] to give its rate")
     omega = _vector(source, "start.omega", start["omega"], 3)
-    q = _vector(source, "start.q", start.get("q", (1.0, 0.0, 0.0, 0.0)), 4)
-    if not any(q):
-        raise SceneError(source, "start.q", "must be a non-zero quaternion (Q, U, V, W)")
+    q = _quaternion(source, "start.q", start.get("q", (1.0, 0.0, 0.0, 0.0)))
     return lvlh_start(orbit.orbit_rate, q, omega)
 
 
@@ -433,9 +431,7 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
             else built if built is not None else plain)
 
     omega0 = _vector(src, "start.omega", v["omega0"], 3)
-    q0 = _vector(src, "start.q", v["q0"], 4)
-    if not any(q0):
-        raise SceneError(src, "start.q", "must be a non-zero quaternion (Q, U, V, W)")
+    q0 = _quaternion(src, "start.q", v["q0"])
     run = _run(src, v)
 
     box = None if v["box"] is None else _triple(src, "body.box", v["box"], positive=True)
@@ -684,6 +680,14 @@ def _flag(source: str, key: str, value: Any) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise SceneError(source, key, f"must be true or false, got {value!r}")
     return bool(value)
+
+
+def _quaternion(source: str, key: str, value: Any) -> tuple[float, ...]:
+    """An attitude: four finite numbers, not all zero (scalar first, normalised later)."""
+    q = _vector(source, key, value, 4)
+    if not any(q):
+        raise SceneError(source, key, "must be a non-zero quaternion (Q, U, V, W)")
+    return q
 
 
 def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:
