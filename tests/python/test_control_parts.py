@@ -283,3 +283,15 @@ def test_objects_of_the_wrong_kind_are_refused() -> None:
         dz.QuaternionFeedback(1.0, 1.0, 1.0, gyro=dz.Magnetometer())  # type: ignore[arg-type]
     with pytest.raises(TypeError, match="`law` must be callable"):
         dz.Controller(3.0, 1.0)
+
+
+@pytest.mark.parametrize("period, t_end", [(1e-3, 1e6), (1e-9, 1e3), (5e-324, 1.0)])
+def test_a_law_sampled_more_often_than_a_run_can_list_is_refused_naming_t_end(
+        period: float, t_end: float) -> None:
+    # a 1 kHz law over 10^6 s asked the model for 10^9 sample times (64 GB) before the run:
+    # refused before any is listed (else this test would take minutes and the memory)
+    fast = dz.BDot(dz.MagneticField(dz.circular_orbit_rate(500e3), 1.2), gain=1e-5,
+                   period=period)
+    with pytest.raises(ValueError, match="`t_end`.*sample times"):
+        dz.simulate(dz.System(dz.Body((0.042, 0.042, 0.0067)), torques=[fast]),
+                    (0.05, -0.03, 0.07), t_end=t_end, frames=2, method="dop853")
