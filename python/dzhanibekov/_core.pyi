@@ -321,6 +321,7 @@ def simulate_batch(
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
     progress: Callable[[float], object] | None = None,
+    first_row: int = 0,
 ) -> BatchResult: ...
 def sweep(
     systems: list[System],

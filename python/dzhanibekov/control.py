@@ -5,9 +5,11 @@ magnetorquers, quaternion feedback on reaction wheels, a law of your own.
 A controller runs at its own rate: at each sample time ``phase + k · period`` it reads what
 its sensors measure, computes its command, and the actuators hold it until the next sample
 (a zero-order hold). Every sample is a point every method ends its steps on, so the
-integration step and the control rate are independent. Sensor noise is drawn from the run's
-seed by a counter-based generator (Philox4x64-10): sample ``k``'s noise is the same whatever
-the run's length, threads or chunks; every sensor is noise-free by default.
+integration step and the control rate are independent. Sensor noise is drawn by a
+counter-based generator (Philox4x64-10) keyed by the part's `seed` plus the run's row: sample
+``k``'s noise is the same whatever the run's length, threads or blocks; row ``i`` of a batch
+draws as its single run with ``seed + i``, so the rows of a batch draw different noise. Every
+sensor is noise-free by default.
 
 The classes take their values as objects (:class:`MagneticField`, :class:`Magnetometer`,
 :class:`Gyro`, :class:`StarTracker`) and store them as the core's flat parameters
@@ -140,6 +142,8 @@ def _vector(name: str, value: Any) -> tuple[float, float, float]:
 def _coerce(name: str, kind: str, choices: list[str], value: Any) -> Any:
     """`value` as the core's parameter `name` of kind `kind` holds it: a float, three floats,
     a tuple of floats or of three-float tuples, a word, a function; None if left out."""
+    if name == "seed":   # always given (0 by default)
+        return _seed(value)
     if value is None:
         return None
     if kind == "scalar":
@@ -165,6 +169,15 @@ def _coerce(name: str, kind: str, choices: list[str], value: Any) -> Any:
         return value
     raise TypeError(f"`{name}`: the core declares a kind of parameter this package does not "
                     f"know ({kind!r}); update the package")
+
+
+def _seed(value: Any) -> int:
+    """A sensors' seed: a whole number in ``[0, 2**53)`` (a float64 holds each exactly)."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"`seed` must be an int in [0, 2**53), got {type(value).__name__}")
+    if not 0 <= value < 2**53:
+        raise ValueError(f"`seed` must be an int in [0, 2**53), got {value}")
+    return int(value)
 
 
 def _shown(v: Any) -> str:
@@ -394,6 +407,9 @@ class BDot(_Loop):
     magnetometer : Magnetometer, optional
     gyro : Gyro, optional
         Used with ``rates="gyro"``.
+    seed : int
+        The sensors' noise seed, in ``[0, 2**53)`` (0); row ``i`` of a batch draws as the
+        single run of the part with ``seed + i``.
 
     Notes
     -----
@@ -407,10 +423,12 @@ class BDot(_Loop):
 
     def __init__(self, field: MagneticField, gain: float, period: float, *,
                  phase: float = 0.0, max_dipole: Any = None, rates: str = "magnetometer",
-                 magnetometer: Magnetometer | None = None, gyro: Gyro | None = None) -> None:
+                 magnetometer: Magnetometer | None = None, gyro: Gyro | None = None,
+                 seed: int = 0) -> None:
         _need("field", field, MagneticField)
         self._build({"gain": gain, "period": period, "phase": phase,
-                     "max_dipole": _limits("max_dipole", max_dipole), "rates": rates},
+                     "max_dipole": _limits("max_dipole", max_dipole), "rates": rates,
+                     "seed": seed},
                     field, _optional("magnetometer", magnetometer, Magnetometer),
                     _optional("gyro", gyro, Gyro))
 
@@ -431,16 +449,19 @@ class MomentumDumping(_Loop):
     phase : float
     max_dipole : float or array_like, shape (3,), optional
     magnetometer : Magnetometer, optional
+    seed : int
+        The sensors' noise seed, in ``[0, 2**53)`` (0); row ``i`` of a batch draws as the
+        single run of the part with ``seed + i``.
     """
 
     kind = "momentum_dumping"
 
     def __init__(self, field: MagneticField, gain: float, period: float, *,
                  phase: float = 0.0, max_dipole: Any = None,
-                 magnetometer: Magnetometer | None = None) -> None:
+                 magnetometer: Magnetometer | None = None, seed: int = 0) -> None:
         _need("field", field, MagneticField)
         self._build({"gain": gain, "period": period, "phase": phase,
-                     "max_dipole": _limits("max_dipole", max_dipole)},
+                     "max_dipole": _limits("max_dipole", max_dipole), "seed": seed},
                     field, _optional("magnetometer", magnetometer, Magnetometer))
 
 
@@ -483,6 +504,9 @@ class QuaternionFeedback(_Loop):
     phase : float
     star_tracker : StarTracker, optional
     gyro : Gyro, optional
+    seed : int
+        The sensors' noise seed, in ``[0, 2**53)`` (0); row ``i`` of a batch draws as the
+        single run of the part with ``seed + i``.
 
     Notes
     -----
@@ -504,8 +528,9 @@ class QuaternionFeedback(_Loop):
                  feedforward: str = "none", axes: Any = None, momentum: Any = None,
                  torque_limit: float | None = None, momentum_limit: float | None = None,
                  phase: float = 0.0, star_tracker: StarTracker | None = None,
-                 gyro: Gyro | None = None) -> None:
+                 gyro: Gyro | None = None, seed: int = 0) -> None:
         self._build({"kp": _gains("kp", kp), "kd": _gains("kd", kd), "period": period,
+                     "seed": seed,
                      "phase": phase, "target": target, "frame": frame,
                      "orbit_rate": orbit_rate, "feedforward": feedforward, "axes": axes,
                      "momentum": momentum, "torque_limit": torque_limit,
@@ -569,6 +594,9 @@ class Controller(_Loop):
     phase : float
     star_tracker, gyro, magnetometer : optional
         The sensors (noise-free by default).
+    seed : int
+        The sensors' noise seed, in ``[0, 2**53)`` (0); row ``i`` of a batch draws as the
+        single run of the part with ``seed + i``.
 
     Examples
     --------
@@ -588,11 +616,12 @@ class Controller(_Loop):
                  axes: Any = None, momentum: Any = None, torque_limit: float | None = None,
                  momentum_limit: float | None = None, max_dipole: Any = None,
                  phase: float = 0.0, star_tracker: StarTracker | None = None,
-                 gyro: Gyro | None = None, magnetometer: Magnetometer | None = None) -> None:
+                 gyro: Gyro | None = None, magnetometer: Magnetometer | None = None,
+                 seed: int = 0) -> None:
         if not callable(law):
             raise TypeError(f"`law` must be callable as law(t, q, omega, field, "
                             f"wheel_momentum), got {type(law).__name__}")
-        self._build({"law": law, "period": period, "phase": phase, "axes": axes,
+        self._build({"law": law, "period": period, "phase": phase, "axes": axes, "seed": seed,
                      "momentum": momentum, "torque_limit": torque_limit,
                      "momentum_limit": momentum_limit,
                      "max_dipole": _limits("max_dipole", max_dipole)},

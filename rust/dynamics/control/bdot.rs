@@ -18,7 +18,7 @@ use super::super::part::{
 use super::common::{
     clip_dipole, field_from, gyro_from, limits, magnetometer_from, saturated, set_slot, slot,
     vector_or, with_field, Clock, View, DIPOLE, GYRO_ANGLE_RANDOM_WALK, GYRO_BIAS,
-    MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE,
+    MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
 };
 use super::field::DipoleField;
 use super::laws::{bdot, rate_detumble};
@@ -104,6 +104,7 @@ impl Part for BDot {
             MAGNETOMETER_NOISE,
             GYRO_BIAS,
             GYRO_ANGLE_RANDOM_WALK,
+            SEED,
         ),
         state: &[
             Field {
@@ -158,7 +159,7 @@ impl Part for BDot {
             gyro: gyro_from(fields)?,
             field,
             run_field: field,
-            view: View::default(),
+            view: View::from_fields(fields)?,
         })
     }
 

@@ -265,6 +265,16 @@ pub const STAR_TRACKER_NOISE: Param = Param::new(
     "the star tracker's noise per axis, radians (default 0)",
 )
 .optional();
+/// The sensors' seed (see [`View::from_fields`]).
+pub const SEED: Param = Param::new(
+    "seed",
+    ParamKind::Scalar,
+    "the sensors' noise seed, a whole number in [0, 2**53) (default 0); row i of a batch \
+     draws as its single run seeded seed + i",
+)
+.optional();
+/// The largest seed plus one: `2^53`, below which a float64 holds every whole number.
+const MAX_SEED: f64 = 9_007_199_254_740_992.0;
 /// The sample clock's parameters.
 pub const PERIOD: Param = Param::new("period", ParamKind::Scalar, "the time between samples");
 pub const PHASE: Param = Param::new(
@@ -284,7 +294,9 @@ pub struct View {
     moments: i32,
     /// The run's times and rates.
     pub scale: RateScale,
-    /// The run's seed and the part's place among the system's parts.
+    /// The part's own seed (its parameter `seed`), the run's (added to it: a batch's row
+    /// number) and the part's place among the system's parts.
+    own: u64,
     seed: u64,
     index: u64,
 }
@@ -295,6 +307,7 @@ impl Default for View {
             axes: None,
             moments: 0,
             scale: RateScale::of([1.0; 3]),
+            own: 0,
             seed: 0,
             index: 0,
         }
@@ -302,6 +315,25 @@ impl Default for View {
 }
 
 impl View {
+    /// The view of a part whose parameter `seed` (default 0) seeds its sensors' noise.
+    ///
+    /// # Errors
+    /// A seed that is not a whole number in `[0, 2^53)`.
+    pub fn from_fields(fields: &Fields) -> Result<Self> {
+        let seed = number_or(fields, "seed", 0.0)?;
+        if !((0.0..MAX_SEED).contains(&seed) && seed.fract() == 0.0) {
+            return Err(Error::invalid(
+                "seed",
+                "must be a whole number in [0, 2**53)",
+                seed,
+            ));
+        }
+        Ok(Self {
+            own: seed as u64,
+            ..Self::default()
+        })
+    }
+
     /// The same view with the body axes mapped by `to_axes` (see [`super::super::Part::in_axes`]).
     pub fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
         let p = Matrix3::from_columns(&[
@@ -331,7 +363,8 @@ impl View {
         Self { scale, ..*self }
     }
 
-    /// The same view for the run seeded with `seed`, the part at `index`.
+    /// The same view for the run seeded with `seed` (added to the part's own: row `i` of a
+    /// batch is seeded `i`), the part at `index`.
     pub fn seeded(&self, seed: u64, index: usize) -> Self {
         Self {
             seed,
@@ -340,9 +373,11 @@ impl View {
         }
     }
 
-    /// The noise stream of the part's sensor `sensor` (0, 1, 2, …).
+    /// The noise stream of the part's sensor `sensor` (0, 1, 2, …): keyed by the part's seed
+    /// plus the run's, so that row `i` of a batch draws as its single run with the part's
+    /// seed plus `i`.
     pub fn noise(&self, sensor: u64) -> Noise {
-        Noise::new(self.seed, self.index * 8 + sensor)
+        Noise::new(self.own.wrapping_add(self.seed), self.index * 8 + sensor)
     }
 
     /// The user's time of the run's `t`.
@@ -519,5 +554,38 @@ mod tests {
         );
         assert_eq!(m, Vector3::new(0.2, -0.05, -1.0));
         assert_eq!(bits, 0b101);
+    }
+
+    fn seeded(seed: f64) -> Result<View> {
+        View::from_fields(&Fields::new().with("seed", Value::Number(seed)))
+    }
+
+    /// A part's noise is keyed by its seed plus the run's (a batch's row): row `i` of a batch
+    /// draws as the part seeded `seed + i` alone; the rows and the parts draw apart.
+    #[test]
+    fn the_noise_is_keyed_by_the_parts_seed_plus_the_runs() {
+        let draw = |v: View, sensor| v.noise(sensor).normals(3, 0);
+        let row_two = seeded(5.0).unwrap().seeded(2, 1);
+        assert_eq!(draw(row_two, 0), draw(seeded(7.0).unwrap().seeded(0, 1), 0));
+        assert_ne!(draw(row_two, 0), draw(seeded(5.0).unwrap().seeded(0, 1), 0));
+        // another part, another sensor: other streams
+        assert_ne!(draw(row_two, 0), draw(seeded(5.0).unwrap().seeded(2, 0), 0));
+        assert_ne!(draw(row_two, 0), draw(row_two, 1));
+        // left out, the seed is 0
+        assert_eq!(
+            View::from_fields(&Fields::new()).unwrap(),
+            seeded(0.0).unwrap()
+        );
+    }
+
+    #[test]
+    fn a_seed_that_is_not_a_whole_number_below_two_to_the_53_is_refused_by_name() {
+        for bad in [-1.0, 0.5, 9_007_199_254_740_992.0, f64::NAN, f64::INFINITY] {
+            match seeded(bad) {
+                Err(Error::InvalidArgument { name, .. }) => assert_eq!(name, "seed"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        assert!(seeded(9_007_199_254_740_991.0).is_ok());
     }
 }

@@ -26,7 +26,7 @@ use super::super::part::{
 use super::common::{
     clip_dipole, field_from, gyro_from, limits, magnetometer_from, saturated, set_slot, slot,
     star_tracker_from, vector_or, with_field, Clock, View, DIPOLE, GYRO_ANGLE_RANDOM_WALK,
-    GYRO_BIAS, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, STAR_TRACKER_NOISE,
+    GYRO_BIAS, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED, STAR_TRACKER_NOISE,
 };
 use super::field::DipoleField;
 use super::reaction::{self, ReactionWheels};
@@ -111,6 +111,7 @@ impl Part for Controller {
             GYRO_ANGLE_RANDOM_WALK,
             MAGNETOMETER_BIAS,
             MAGNETOMETER_NOISE,
+            SEED,
         ),
         state: &[
             reaction::STATE[0],
@@ -158,7 +159,7 @@ impl Part for Controller {
             magnetometer: magnetometer_from(fields)?,
             star_tracker: star_tracker_from(fields)?,
             gyro: gyro_from(fields)?,
-            view: View::default(),
+            view: View::from_fields(fields)?,
         })
     }
 

@@ -15,7 +15,7 @@ use super::super::part::{
 };
 use super::common::{
     clip_dipole, field_from, limits, magnetometer_from, saturated, set_slot, slot, vector_or,
-    with_field, Clock, View, DIPOLE, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE,
+    with_field, Clock, View, DIPOLE, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
 };
 use super::field::DipoleField;
 use super::laws::momentum_dump;
@@ -54,6 +54,7 @@ impl Part for MomentumDumping {
             .optional(),
             MAGNETOMETER_BIAS,
             MAGNETOMETER_NOISE,
+            SEED,
         ),
         state: &[
             Field {
@@ -95,7 +96,7 @@ impl Part for MomentumDumping {
             magnetometer: magnetometer_from(fields)?,
             field,
             run_field: field,
-            view: View::default(),
+            view: View::from_fields(fields)?,
         })
     }
 

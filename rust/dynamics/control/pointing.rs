@@ -19,7 +19,7 @@ use super::super::part::{
 };
 use super::common::{
     gyro_from, number_or, saturated, star_tracker_from, Clock, View, GYRO_ANGLE_RANDOM_WALK,
-    GYRO_BIAS, PERIOD, PHASE, STAR_TRACKER_NOISE,
+    GYRO_BIAS, PERIOD, PHASE, SEED, STAR_TRACKER_NOISE,
 };
 use super::laws::{quaternion_feedback, Target};
 use super::reaction::{self, ReactionWheels};
@@ -106,6 +106,7 @@ impl Part for QuaternionFeedback {
             STAR_TRACKER_NOISE,
             GYRO_BIAS,
             GYRO_ANGLE_RANDOM_WALK,
+            SEED,
         ],
         state: &[
             reaction::STATE[0],
@@ -179,7 +180,7 @@ impl Part for QuaternionFeedback {
             wheels: ReactionWheels::from_fields(fields)?,
             star_tracker: star_tracker_from(fields)?,
             gyro: gyro_from(fields)?,
-            view: View::default(),
+            view: View::from_fields(fields)?,
         })
     }
 
