@@ -124,10 +124,16 @@ class MagneticField:
     longitude: float = 0.0
 
     def __post_init__(self) -> None:
+        # the core checks these again when a part is built (a file's, a scene's)
         for name in _FIELD:
             value = getattr(self, name)
-            if value is not None:
-                object.__setattr__(self, name, as_float(name, value))
+            if value is not None or name not in ("moment", "mu"):   # None: the Earth's
+                object.__setattr__(self, name, as_float(
+                    name, value, positive=name in ("orbit_rate", "moment", "mu")))
+        for name in ("inclination", "tilt"):
+            if not 0.0 <= getattr(self, name) <= math.pi:
+                raise ValueError(f"`{name}` must be an angle in [0, π] (radians), got "
+                                 f"{getattr(self, name)!r}")
 
     def fields(self) -> dict[str, Any]:
         """The parameters by name, as parts store them."""
@@ -171,6 +177,14 @@ def _coerce(name: str, kind: str, choices: list[str], value: Any) -> Any:
                     f"know ({kind!r}); update the package")
 
 
+def _deviation(name: str, value: Any) -> float:
+    """A standard deviation: finite, not negative."""
+    x = as_float(name, value)
+    if x < 0:
+        raise ValueError(f"`{name}` must be finite and not negative, got {x!r}")
+    return x
+
+
 def _seed(value: Any) -> int:
     """A sensors' seed: a whole number in ``[0, 2**53)`` (a float64 holds each exactly)."""
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
@@ -201,7 +215,7 @@ class Magnetometer:
     bias: tuple[float, float, float] = (0.0, 0.0, 0.0)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "noise", as_float("noise", self.noise))
+        object.__setattr__(self, "noise", _deviation("noise", self.noise))
         object.__setattr__(self, "bias", _vector("bias", self.bias))
 
     def fields(self) -> dict[str, Any]:
@@ -220,7 +234,7 @@ class Gyro:
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "angle_random_walk",
-                           as_float("angle_random_walk", self.angle_random_walk))
+                           _deviation("angle_random_walk", self.angle_random_walk))
         object.__setattr__(self, "bias", _vector("bias", self.bias))
 
     def fields(self) -> dict[str, Any]:
@@ -235,7 +249,7 @@ class StarTracker:
     noise: float = 0.0
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "noise", as_float("noise", self.noise))
+        object.__setattr__(self, "noise", _deviation("noise", self.noise))
 
     def fields(self) -> dict[str, Any]:
         return {"star_tracker_noise": self.noise}

@@ -8,6 +8,7 @@ from typing import Any
 
 import numpy as np
 
+from ._args import as_float
 from ._core import model_info
 from .lvlh import lvlh_frame
 from .control import QuaternionFeedback
@@ -83,9 +84,7 @@ def detumbled_at(traj: Trajectory, rate: float) -> float:
     """
     if not isinstance(traj, Trajectory):
         raise TypeError(f"`traj` must be a Trajectory, got {type(traj).__name__}")
-    limit = float(rate)
-    if not limit > 0:
-        raise ValueError(f"`rate` must be positive, got {rate!r}")
+    limit = as_float("rate", rate, positive=True)
     above = np.flatnonzero(np.linalg.norm(traj.omega, axis=1) >= limit)
     if above.size == 0:
         return float(traj.t[0])
