@@ -237,13 +237,16 @@ impl Deployment {
     /// tensor's cofactors.
     #[inline(always)]
     pub fn omega_from_momentum(&self, t: f64, l: &Vector3<f64>) -> Vector3<f64> {
-        let k = self.times.partition_point(|&tk| tk <= t);
-        if k == 0 {
+        let (first, last) = (self.times[0], self.times[self.times.len() - 1]);
+        // (a NaN time takes the first tensor, as a search would give it)
+        if t < first || t.is_nan() {
             return self.inverses[0].times(l);
         }
-        if k == self.times.len() {
+        if t >= last {
             return self.inverses[1].times(l);
         }
+        // first <= t < last: the piece with times[k − 1] <= t < times[k]
+        let k = self.times.partition_point(|&tk| tk <= t);
         let (ta, tb) = (self.times[k - 1], self.times[k]);
         let (s, _) = smootherstep(crate::float::fraction(t, ta, tb));
         let m = self.tensors[k - 1] + (self.tensors[k] - self.tensors[k - 1]) * s;
