@@ -30,9 +30,10 @@
 //! `V' = −ω·τ + n ẑ_b·τ`; the three sum to zero. A constant body with constant wheels keeps
 //! it; a deployment (its work), a damper (its loss) or another torque do not.
 //!
-//! **Speed.** A right-hand side of a body in orbit is the free body's plus this torque, so that
-//! an RK4 step under the gravity gradient costs at most about twice the free body's (issue
-//! 21's bar). What makes it cheap, each at round-off from the plain formula:
+//! **Speed.** A right-hand side of a body in orbit is the free body's plus this torque; issue
+//! 21's bar is an RK4 step at most twice the free body's (not met: 3.4× on an AMD EPYC,
+//! 2026-11-29, with [`OrbitKernel`]; the phase and `1/|q|⁴` alone cost about the free body's
+//! step). What makes it cheap, each at round-off from the plain formula:
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
 //!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
