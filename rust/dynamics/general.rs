@@ -33,6 +33,8 @@ use crate::float::RateScale;
 use crate::kinematics::world_to_body;
 use crate::ode::OdeSystem;
 
+use super::damper::DamperKernel;
+use super::gravity::OrbitKernel;
 use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
@@ -225,6 +227,44 @@ impl Hot {
     }
 }
 
+/// A right-hand side written out for a common system (see [`OrbitKernel`], [`DamperKernel`]):
+/// a body of constant principal moments with the gravity gradient alone (and constant
+/// wheels), or with one damper alone. Every other system takes the parts in turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kernel {
+    None,
+    Orbit(OrbitKernel),
+    Damper(DamperKernel),
+}
+
+impl Kernel {
+    fn of(
+        inertia: &InertiaLaw,
+        parts: &[AnyPart],
+        folded: bool,
+        stored: Option<Vector3<f64>>,
+    ) -> Self {
+        let InertiaLaw::Constant(ConstantInertia {
+            diagonal: Some((d, r)),
+            ..
+        }) = inertia
+        else {
+            return Kernel::None;
+        };
+        let changing = |p: &&AnyPart| !GeneralModel::<7>::is_lean(std::slice::from_ref(p));
+        let mut hot = parts.iter().filter(changing);
+        match (hot.next(), hot.next(), folded) {
+            (Some(AnyPart::GravityGradient(g)), None, false) => {
+                Kernel::Orbit(OrbitKernel::new(g, *d, *r, stored.unwrap_or_default()))
+            }
+            (Some(AnyPart::Damper(p)), None, false) if parts.len() == 1 => {
+                Kernel::Damper(DamperKernel::new(p, *r))
+            }
+            _ => Kernel::None,
+        }
+    }
+}
+
 /// The general model (see the module doc); `N` is the state size, at least `7 +` the parts'
 /// state (and one for the dissipated work). `HOT = false` is the model of a system whose parts
 /// are all folded (constant wheels and torques, or none: a deployment): its right-hand side is
@@ -248,6 +288,7 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     sampled: Vec<Placed>,
     /// The right-hand side's view of the same (see [`Hot`]).
     hot: Hot,
+    kernel: Kernel,
     /// Whether there is any external torque.
     torqued: bool,
     /// The parts' state: how many numbers, and the dimension of each.
@@ -344,6 +385,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
             ));
         }
+        let folded = body_torque.is_some() || world_torque.is_some();
+        let kernel = match HOT {
+            true => Kernel::of(&inertia, &parts, folded, stored),
+            false => Kernel::None,
+        };
         let changing = matches!(inertia, InertiaLaw::Schedule(_));
         let kinds = kinds_of(changing, &parts);
         let works = kinds.models().any(|m| m.energy == EnergyRole::DoesWork);
@@ -360,6 +406,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             dissipators,
             sampled,
             hot,
+            kernel,
             torqued,
             width,
             dims,
@@ -547,6 +594,26 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
 impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        let q = [x[N - 4], x[N - 3], x[N - 2], x[N - 1]];
+        match self.kernel {
+            Kernel::Orbit(k) if HOT => {
+                let (dh, dq) = k.increment(t, [x[0], x[1], x[2]], q, s);
+                let mut dx = [0.0; N];
+                dx[..3].copy_from_slice(&dh);
+                dx[N - 4..].copy_from_slice(&dq);
+                return dx;
+            }
+            Kernel::Damper(k) if HOT && N >= 11 => {
+                let (dh, ds, dw, dq) = k.increment([x[0], x[1], x[2]], [x[3], x[4], x[5]], q, s);
+                let mut dx = [0.0; N];
+                dx[..3].copy_from_slice(&dh);
+                dx[3..6].copy_from_slice(&ds);
+                dx[N - 5] = dw;
+                dx[N - 4..].copy_from_slice(&dq);
+                return dx;
+            }
+            _ => {}
+        }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
         let mut dh = h.cross(&omega);
