@@ -21,15 +21,23 @@ import numpy as np
 
 from . import _core
 from .body import Body, as_body, principal_body
-from .damper import Damper
 from .deployment import Deployment
-from .orbit import TORQUE_TYPES, Torque, Wheel
-from .torques import CallableTorque
+from .orbit import Torque
+from .parts import SPECS, CallableTorque, Damper, Wheel
+from .parts import Part as AnyPart
 
 __all__ = ["System", "as_system", "Systems"]
 
 Part = Damper | Wheel
 """The internal parts a system takes."""
+
+
+def _names(external: bool) -> str:
+    names = [f"a dz.{c.__name__}" for c in dict.fromkeys(SPECS.values()) if c.external == external]
+    return ", ".join(names[:-1]) + " or " + names[-1] if len(names) > 1 else names[0]
+
+
+_INTERNAL, _EXTERNAL = _names(False), _names(True)
 
 
 class System:
@@ -81,16 +89,14 @@ class System:
         body = body if isinstance(body, Deployment) else as_body(body)
         parts_ = _sequence("parts", parts)
         for k, part in enumerate(parts_):
-            if not isinstance(part, (Damper, Wheel)):
-                raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
-                                f"{type(part).__name__}")
+            if not isinstance(part, AnyPart) or part.external:
+                raise TypeError(f"`parts[{k}]` must be {_INTERNAL}, got {type(part).__name__}")
         # a plain function is a CallableTorque
-        torques_ = tuple(t if isinstance(t, TORQUE_TYPES) or not callable(t)
+        torques_ = tuple(t if isinstance(t, AnyPart) or not callable(t)
                          else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, TORQUE_TYPES):
-                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
-                                f"dz.ConstantTorque, a dz.TabulatedTorque or a function "
+            if not isinstance(torque, AnyPart) or not torque.external:
+                raise TypeError(f"`torques[{k}]` must be {_EXTERNAL} or a function "
                                 f"(dz.CallableTorque), got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)

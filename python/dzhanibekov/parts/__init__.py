@@ -1,0 +1,66 @@
+"""The parts of a system, one class per family of the core's models, each following the
+core's declaration of its kind (see :mod:`._spec`): :class:`Damper`, :class:`Wheel` (the
+models ``wheel`` and ``wheel_schedule``), and the external torques :class:`GravityGradient`,
+:class:`ConstantTorque`, :class:`TabulatedTorque`, :class:`CallableTorque`.
+
+:data:`SPECS` maps every part model of the core's registry to its class: files and scenes
+build any part from its kind and fields through it, and a test checks it covers the
+registry.
+
+>>> from dzhanibekov.parts import SPECS
+>>> sorted(SPECS) == sorted(m.name for m in __import__("dzhanibekov").MODELS.values()
+...                         if not m.law)
+True
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from types import MappingProxyType
+from typing import Any
+
+from ._knots import BYTES_PER_KNOT, interpolate, knot_fraction, knot_times
+from ._spec import Param, Part, choice, params_of
+from .damper import Damper
+from .torques import CallableTorque, ConstantTorque, GravityGradient, TabulatedTorque
+from .wheels import Wheel
+
+__all__ = ["Part", "Param", "Damper", "Wheel", "GravityGradient", "ConstantTorque",
+           "TabulatedTorque", "CallableTorque", "SPECS", "TORQUE_TYPES", "from_fields", "example",
+           "knot_times", "knot_fraction", "interpolate", "choice", "params_of",
+           "BYTES_PER_KNOT"]
+
+SPECS: Mapping[str, type[Part]] = MappingProxyType({
+    "damper": Damper,
+    "wheel": Wheel,
+    "wheel_schedule": Wheel,
+    "gravity_gradient": GravityGradient,
+    "constant_torque": ConstantTorque,
+    "tabulated_torque": TabulatedTorque,
+    "callable_torque": CallableTorque,
+})
+"""The class of each part model of the core's registry, by the model's name."""
+
+TORQUE_TYPES: tuple[type[Part], ...] = tuple(dict.fromkeys(
+    cls for cls in SPECS.values() if cls.external))
+"""The classes of the external torques, for ``isinstance``."""
+
+
+def example(kind: str) -> Part:
+    """A small, valid part of the core's model `kind`, from its class's ``examples``: what
+    tests run through every result path, whatever models the core has.
+
+    >>> example("wheel_schedule").model
+    'wheel_schedule'
+    """
+    if kind not in SPECS:
+        raise ValueError(f"`kind` must be one of {', '.join(map(repr, SPECS))}, got {kind!r}")
+    return from_fields(kind, SPECS[kind].examples[kind])
+
+
+def from_fields(kind: str, fields: Mapping[str, Any]) -> Part:
+    """The part of the core's model `kind` from its parameters by name (as
+    :meth:`Part.fields` gives them): what files and scenes read."""
+    if kind not in SPECS:
+        raise ValueError(f"`kind` must be one of {', '.join(map(repr, SPECS))}, got {kind!r}")
+    return SPECS[kind].from_fields(kind, fields)
