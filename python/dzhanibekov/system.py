@@ -14,7 +14,7 @@ and says what the model keeps, which the drift, the projection and the registry 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -81,8 +81,8 @@ class System:
     _torques: tuple[Torque, ...]
     _core: _core.System
 
-    def __init__(self, body: Any, parts: Sequence[Part] = (),
-                 torques: Sequence[Torque] = ()) -> None:
+    def __init__(self, body: Any, parts: Sequence[AnyPart] = (),
+                 torques: Sequence[AnyPart | Callable[..., Any]] = ()) -> None:
         if isinstance(body, System):
             raise TypeError("`body` must be a Body or a Deployment, got a System (pass its "
                             "parts to it instead)")
