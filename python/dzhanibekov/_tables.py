@@ -118,9 +118,41 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
         out["body_mass"] = (lead, squeeze(mass), {"long_name": "mass (NaN: not given)"})
         out["body_center_of_mass"] = (lead + ("axis",), squeeze(com),
                                       {"long_name": "centre of mass, body coordinates"})
+        out |= shape_vars([s.body for s in items])
     for name, (dims, values, about) in _columns.columns(items).items():
         out[name] = (lead + dims, squeeze(values), {"long_name": about})
     return out
+
+
+def shape_vars(bodies: list[Any]) -> dict[str, Any]:
+    """The outline the pictures draw of the bodies (a box's edges, an ellipsoid's sections, a
+    composite's or a mesh's own), when every run's body has the same one: its points
+    ``body_vertices(body_vertex, axis)`` about the centre of mass in the body's own axes, the
+    lines ``body_edges(body_edge, body_edge_end)`` joining them and, for a surface, the
+    triangles ``body_faces(body_face, body_face_corner)``. None for a body given only by its
+    moments or tensor (drawn as a box of its moments), or when the runs' outlines differ."""
+    shape = bodies[0].shape
+    if shape is None or any(b.shape is not shape and not _same_shape(b.shape, shape)
+                            for b in bodies[1:]):
+        return {}
+    out = {"body_vertices": (("body_vertex", "axis"), np.asarray(shape.vertices, np.float64),
+                             {"long_name": "points of the body's outline, body axes about "
+                              "the centre of mass"}),
+           "body_edges": (("body_edge", "body_edge_end"), np.asarray(shape.edges, np.int64),
+                          {"long_name": "lines of the outline: indices of body_vertices"})}
+    if shape.faces is not None:
+        out["body_faces"] = (("body_face", "body_face_corner"),
+                             np.asarray(shape.faces, np.int64),
+                             {"long_name": "triangles of the surface: indices of "
+                              "body_vertices"})
+    return out
+
+
+def _same_shape(a: Any, b: Any) -> bool:
+    return (a is not None and np.array_equal(a.vertices, b.vertices)
+            and np.array_equal(a.edges, b.edges)
+            and (a.faces is None) == (b.faces is None)
+            and (a.faces is None or np.array_equal(a.faces, b.faces)))
 
 
 def _squeeze(lead: tuple[str, ...]) -> Callable[[np.ndarray], np.ndarray]:

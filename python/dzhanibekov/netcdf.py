@@ -45,6 +45,7 @@ from .parts import _columns, params_of
 from . import montecarlo
 from .montecarlo import MonteCarlo
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
+from .shapes import Shape
 from .system import System, Systems
 
 __all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE", "PART_NAMES"]
@@ -326,6 +327,7 @@ def _state_dims(name: str) -> tuple[str, ...]:
     return ("axis",) if width == 3 else (f"{name}_state",)
 
 _BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
+_SHAPE_VARS = ("body_vertices", "body_edges", "body_faces")
 _KNOT_VARS = ("knot_times", "knot_tensors")
 _DERIVED = ("energy", "momentum_body", "momentum_world")
 _KEPT = (*_tables.DRIFTS, *_tables.OPTIONAL_DRIFTS)
@@ -356,6 +358,14 @@ def system_parts(d: Loaded) -> str | None:
         if (name in parts) != (name in d.values):
             return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
                     f"the {name}, but its state `{name}` is {'missing' if name in parts else 'there'}")
+    outline = [name in d.values for name in _SHAPE_VARS]
+    if any(outline) and (not all(outline[:2]) or not all(body)):
+        return "`body_vertices` and `body_edges` must be there together, with the body's tensor"
+    if all(outline[:2]):
+        v = len(d["body_vertices"])
+        for name in _SHAPE_VARS[1:]:
+            if name in d.values and (d[name] >= v).any():
+                return f"`{name}` must be indices of `body_vertices` (0 … {v - 1})"
     missing = [name for name in _DERIVED if name not in d.values]
     if missing:
         return f"`{missing[0]}` is missing"
@@ -415,8 +425,11 @@ def _systems(d: Loaded) -> list[System]:
     else:
         tensor, mass = rows("body_tensor"), rows("body_mass")
         com = rows("body_center_of_mass")
+        shape = None if "body_vertices" not in d.values else Shape(
+            d["body_vertices"], d["body_edges"], d["body_faces"] if "body_faces" in d.values
+            else None)
         bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
-                                 com[i]) for i in range(n)]
+                                 com[i], shape) for i in range(n)]
     if "part_kind" in d.values or not any(name in d.values for name in _legacy_parts.NAMES):
         found = _columns.parts_of(d.values, runs)
         assert not isinstance(found, str)  # checked by `system_parts`
@@ -692,7 +705,7 @@ _KEPT_NAMES = Attr("U", (one_of(_KEPT),), shape=None)
 _PARTS = Attr("U", (one_of(PART_NAMES),), shape=None)
 _LABELS = {"axis": Var(("axis",), "U", (labels(_tables.AXIS),)),
            "quaternion": Var(("quaternion",), "U", (labels(_tables.QUATERNION),))}
-_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4}
+_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4, "body_edge_end": 2, "body_face_corner": 3}
 _OPT = True
 
 
@@ -702,6 +715,10 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
     return {
         "body_tensor": Var(lead + ("axis", "axis_"), "f", (finite,), optional=_OPT),
         "body_mass": Var(lead, "f", (finite_or_nan, positive_or_nan), optional=_OPT),
+        "body_vertices": Var(("body_vertex", "axis"), "f", (finite,), optional=_OPT),
+        "body_edges": Var(("body_edge", "body_edge_end"), "i", (non_negative,), optional=_OPT),
+        "body_faces": Var(("body_face", "body_face_corner"), "i", (non_negative,),
+                          optional=_OPT),
         "body_center_of_mass": Var(lead + ("axis",), "f", (finite,), optional=_OPT),
         "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
         "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
@@ -917,7 +934,9 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
          path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
     back: arrays bit for bit, and the metadata to rebuild the object (each run's system: the
-    body's tensor, a deployment's knots, the parts with their parameters; every part's
+    body's tensor, mass, centre of mass and the outline the pictures draw (a box's, an
+    ellipsoid's, a composite's or a mesh's), a deployment's knots, the parts with their
+    parameters, so that the loaded system ``==`` the saved one; every part's
     state, so that what a loaded run derives is the saved run's, bit for bit). All or nothing: the
     previous file is replaced only once the new one is complete, and is as it was after
     any failure (a full disk, Ctrl-C).

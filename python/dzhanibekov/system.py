@@ -158,10 +158,17 @@ class System:
         return (System, (self._body, self._parts, self._torques))
 
     def __eq__(self, other: object) -> bool:
+        """Systems of the same body, parts and torques (in their order) are equal; so are a
+        system without parts and its body or deployment (a run's ``system`` and what was
+        run, a loaded run's and what was saved)."""
+        if isinstance(other, (Body, Deployment)):
+            return not self._parts and not self._torques and self._body == other
         return (isinstance(other, System) and self._body == other._body
                 and self._parts == other._parts and self._torques == other._torques)
 
     def __hash__(self) -> int:
+        if not self._parts and not self._torques:
+            return hash(self._body)  # equal to its body: the same hash
         return hash((self._body, self._parts, self._torques))
 
     def __repr__(self) -> str:
