@@ -22,14 +22,14 @@ import numpy as np
 from . import _core
 from .body import Body, as_body, principal_body
 from .deployment import Deployment
-from .orbit import Torque
-from .parts import SPECS, CallableTorque, Damper, Wheel
+from .parts import SPECS, CallableTorque
 from .parts import Part as AnyPart
 
 __all__ = ["System", "as_system", "Systems"]
 
-Part = Damper | Wheel
-"""The internal parts a system takes."""
+Part = AnyPart
+"""The internal parts a system takes: any part that is not an external torque (a
+:class:`Damper`, a :class:`Wheel`, …, every part model of ``dz.MODELS``)."""
 
 
 def _names(external: bool) -> str:
@@ -48,10 +48,10 @@ class System:
     body : Body, Deployment, or array_like, shape (3,)
         The body: constant (a :class:`Body` of any kind, or its principal moments) or
         changing in a prescribed way (a :class:`Deployment`).
-    parts : sequence of Damper or Wheel, optional
-        Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
-        in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
-        no state of their own).
+    parts : sequence of parts, optional
+        Internal parts, in order, of any part model of ``dz.MODELS`` that is not an external
+        torque: a spherical viscous :class:`Damper` (its state appears in a run's ``parts``
+        under ``"damper"``), momentum :class:`Wheel` s (any number, no state of their own), …
     torques : sequence of torques, optional
         External torques, which add up: the gravity gradient of a circular orbit (a
         :class:`GravityGradient`, at most one), constant torques in body or world axes
@@ -78,7 +78,7 @@ class System:
 
     _body: Body | Deployment
     _parts: tuple[Part, ...]
-    _torques: tuple[Torque, ...]
+    _torques: tuple[AnyPart, ...]
     _core: _core.System
 
     def __init__(self, body: Any, parts: Sequence[AnyPart] = (),
@@ -118,7 +118,7 @@ class System:
         return self._parts
 
     @property
-    def torques(self) -> tuple[Torque, ...]:
+    def torques(self) -> tuple[AnyPart, ...]:
         """The external torques, in order."""
         return self._torques
 

@@ -19,8 +19,9 @@ from collections.abc import Mapping
 from types import MappingProxyType
 from typing import Any
 
+from .. import _core
 from ._knots import BYTES_PER_KNOT, interpolate, knot_fraction, knot_times
-from ._spec import Param, Part, choice, params_of
+from ._spec import REGISTRY, Param, Part, choice, params_of
 from .damper import Damper
 from .torques import CallableTorque, ConstantTorque, GravityGradient, TabulatedTorque
 from .wheels import Wheel
@@ -31,15 +32,9 @@ __all__ = ["Part", "Param", "Damper", "Wheel", "GravityGradient", "ConstantTorqu
            "BYTES_PER_KNOT"]
 
 SPECS: Mapping[str, type[Part]] = MappingProxyType({
-    "damper": Damper,
-    "wheel": Wheel,
-    "wheel_schedule": Wheel,
-    "gravity_gradient": GravityGradient,
-    "constant_torque": ConstantTorque,
-    "tabulated_torque": TabulatedTorque,
-    "callable_torque": CallableTorque,
-})
-"""The class of each part model of the core's registry, by the model's name."""
+    m.name: REGISTRY[m.name] for m in _core.MODELS if m.name in REGISTRY})
+"""The class of each part model of the core's registry, by the model's name (each class
+registers the models it makes when it is defined: importing its module is enough)."""
 
 TORQUE_TYPES: tuple[type[Part], ...] = tuple(dict.fromkeys(
     cls for cls in SPECS.values() if cls.external))

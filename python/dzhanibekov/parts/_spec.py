@@ -23,6 +23,11 @@ from ._knots import knot_times
 
 __all__ = ["Part", "Param", "choice", "params_of"]
 
+REGISTRY: dict[str, type[Part]] = {}
+"""The class of each part model, by the model's name: filled as the classes are made (a
+class makes the models of its ``examples``, or its ``kind``)."""
+
+
 class Param:
     """A parameter of a part, as the core declares it: `name`, `kind` (``scalar``,
     ``vector``, ``times``, ``values``, ``vectors``, ``choice``, ``function``), whether it is
@@ -145,6 +150,11 @@ class Part:
         if missing:
             raise TypeError(f"{cls.__name__} does not declare the parameters {missing} of the "
                             f"core's model {cls.kind!r}")
+        for model in cls.examples or (cls.kind,):
+            if model in REGISTRY and REGISTRY[model] is not cls:
+                raise TypeError(f"{cls.__name__} makes the model {model!r}, which "
+                                f"{REGISTRY[model].__name__} already makes")
+            REGISTRY[model] = cls
         for model, fields in cls.examples.items():
             names = {p.name for p in params_of(model)}
             if set(fields) - names:
