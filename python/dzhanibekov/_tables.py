@@ -180,10 +180,19 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
     """A run's parts' state and what its system says of each frame."""
     out: dict[str, Any] = {}
     for name, state in run.parts.items():
-        width = state.shape[-1]
-        out[name] = (prefix + ("time", "axis" if width == 3 else f"{name}_state"), state,
-                     {"long_name": f"the {name}'s state: " + "; ".join(
-                         about for _, _, _, about in _core.model_info(name).state)})
+        fields = _core.model_info(name).state
+        if len(fields) == 1 and fields[0][1] == 3:   # one vector, a damper's: the part's name
+            out[name] = (prefix + ("time", "axis"), state,
+                         {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})
+            continue
+        at = 0   # a part of several fields (the closed loop's): one variable each, by name
+        for field, width, _, about in fields:
+            block = state[..., at:at + width]
+            at += width
+            dims, values = ((prefix + ("time", "axis"), block) if width == 3 else
+                            (prefix + ("time",), block[..., 0]) if width == 1 else
+                            (prefix + ("time", f"{name}_{field}_index"), block))
+            out[f"{name}_{field}"] = (dims, values, {"long_name": f"the {name}'s {about}"})
     inv = run.invariants()
     out["energy"] = (prefix + ("time",), inv["energy"],
                      {"long_name": "total kinetic energy"})

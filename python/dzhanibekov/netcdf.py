@@ -36,6 +36,7 @@ from typing import Any
 import numpy as np
 
 from . import _core, _legacy_parts, _tables
+from . import control  # noqa: F401  (its parts register: the layout holds every model's columns)
 from ._args import check_size
 from ._files import HDF5_SIGNATURE, ReadError, as_path, describe, open_regular, replacing
 from .body import Body, InertiaWarning, tensor_moments
@@ -321,10 +322,22 @@ PART_NAMES = tuple(m.name for m in _core.MODELS if m.state and not m.law)
 """The parts a file may name (``parts``), each with its state variable of that name."""
 
 
-def _state_dims(name: str) -> tuple[str, ...]:
-    """The dims of part `name`'s state after ``time`` (see `_tables._derived`)."""
-    width = sum(w for _, w, _, _ in _core.model_info(name).state)
-    return ("axis",) if width == 3 else (f"{name}_state",)
+def state_vars(name: str) -> dict[str, tuple[str, ...]]:
+    """The variables of part `name`'s state and their dims after ``time``, as
+    `_tables._derived` writes them: the part's name for a state of one 3-vector (a
+    damper's σ), else one variable per field, ``<name>_<field>``."""
+    fields = _core.model_info(name).state
+    if len(fields) == 1 and fields[0][1] == 3:
+        return {name: ("axis",)}
+    return {f"{name}_{field}": () if width == 1 else ("axis",) if width == 3
+            else (f"{name}_{field}_index",) for field, width, _, _ in fields}
+
+
+def _state_of(d: Loaded, name: str) -> np.ndarray:
+    """Part `name`'s state, its fields side by side (..., time, width), as a run gives it."""
+    return np.concatenate([d[v] if dims else d[v][..., None]
+                           for v, dims in state_vars(name).items()], axis=-1)
+
 
 _BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
 _SHAPE_VARS = ("body_vertices", "body_edges", "body_faces")
@@ -343,8 +356,9 @@ def system_parts(d: Loaded) -> str | None:
     deployment's knots, and each named part's parameters and state; none for an empty
     batch."""
     runs = _runs(d)
-    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_legacy_parts.NAMES, *PART_NAMES,
-                                 *_DERIVED) if name in d.values]
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_legacy_parts.NAMES, *_DERIVED,
+                                 *(v for n in PART_NAMES for v in state_vars(n)))
+               if name in d.values]
     present += [name for name in d.values if name.startswith("part_")]
     if runs == 0:
         return None if not present else f"`{present[0]}` must not be there: the batch is empty"
@@ -355,9 +369,11 @@ def system_parts(d: Loaded) -> str | None:
                 "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
     parts = tuple(d["parts"]) if "parts" in d.attrs else ()
     for name in PART_NAMES:
-        if (name in parts) != (name in d.values):
-            return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
-                    f"the {name}, but its state `{name}` is {'missing' if name in parts else 'there'}")
+        for var in state_vars(name):
+            if (name in parts) != (var in d.values):
+                return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
+                        f"the {name}, but its state `{var}` is "
+                        f"{'missing' if name in parts else 'there'}")
     outline = [name in d.values for name in _SHAPE_VARS]
     if any(outline) and (not all(outline[:2]) or not all(body)):
         return "`body_vertices` and `body_edges` must be there together, with the body's tensor"
@@ -470,7 +486,7 @@ def _drift_of(d: Loaded, runs: bool) -> BatchDrift:
 
 def build_trajectory(d: Loaded) -> Trajectory:
     system = _systems(d)[0]
-    state = np.concatenate([d[name] for name in system.part_names], axis=1) \
+    state = np.concatenate([_state_of(d, name) for name in system.part_names], axis=1) \
         if system.part_names else None
     return Trajectory(
         t=d["time"], omega=d["omega"], q=d["q"],
@@ -498,7 +514,7 @@ def build_batch(d: Loaded) -> Batch:
         n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
         n_rejected=d["n_rejected"].astype(np.int64),
         drift=_drift_of(d, runs=True),
-        parts={name: d[name] for name in d["parts"]},
+        parts={name: _state_of(d, name) for name in d["parts"]},
     )
 
 
@@ -723,8 +739,8 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
         "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
         "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
                             optional=_OPT),
-        **{name: Var(lead + ("time",) + _state_dims(name), "f", (finite,), optional=_OPT)
-           for name in PART_NAMES},
+        **{var: Var(lead + ("time",) + dims, "f", (finite,), optional=_OPT)
+           for name in PART_NAMES for var, dims in state_vars(name).items()},
         **_legacy_vars(lead),
         **_part_vars(lead),
         "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),

@@ -32,12 +32,10 @@ Part = AnyPart
 :class:`Damper`, a :class:`Wheel`, …, every part model of ``dz.MODELS``)."""
 
 
-def _names(external: bool) -> str:
-    names = [f"a dz.{c.__name__}" for c in dict.fromkeys(SPECS.values()) if c.external == external]
+def _names(where: str) -> str:
+    """The part classes a System takes in `where` (``"parts"`` or ``"torques"``)."""
+    names = [f"a dz.{c.__name__}" for c in dict.fromkeys(SPECS.values()) if where in c.lists]
     return ", ".join(names[:-1]) + " or " + names[-1] if len(names) > 1 else names[0]
-
-
-_INTERNAL, _EXTERNAL = _names(False), _names(True)
 
 
 class System:
@@ -89,14 +87,15 @@ class System:
         body = body if isinstance(body, Deployment) else as_body(body)
         parts_ = _sequence("parts", parts)
         for k, part in enumerate(parts_):
-            if not isinstance(part, AnyPart) or part.external:
-                raise TypeError(f"`parts[{k}]` must be {_INTERNAL}, got {type(part).__name__}")
+            if not isinstance(part, AnyPart) or "parts" not in part.lists:
+                raise TypeError(f"`parts[{k}]` must be {_names('parts')}, got "
+                                f"{type(part).__name__}")
         # a plain function is a CallableTorque
         torques_ = tuple(t if isinstance(t, AnyPart) or not callable(t)
                          else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, AnyPart) or not torque.external:
-                raise TypeError(f"`torques[{k}]` must be {_EXTERNAL} or a function "
+            if not isinstance(torque, AnyPart) or "torques" not in torque.lists:
+                raise TypeError(f"`torques[{k}]` must be {_names('torques')} or a function "
                                 f"(dz.CallableTorque), got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
@@ -158,18 +157,19 @@ class System:
         return (System, (self._body, self._parts, self._torques))
 
     def __eq__(self, other: object) -> bool:
-        """Systems of the same body, parts and torques (in their order) are equal; so are a
+        """Systems of the same body and the same parts (its parts, then its torques, in their
+        order: which list an external part was given in does not matter) are equal; so are a
         system without parts and its body or deployment (a run's ``system`` and what was
         run, a loaded run's and what was saved)."""
         if isinstance(other, (Body, Deployment)):
             return not self._parts and not self._torques and self._body == other
         return (isinstance(other, System) and self._body == other._body
-                and self._parts == other._parts and self._torques == other._torques)
+                and self._parts + self._torques == other._parts + other._torques)
 
     def __hash__(self) -> int:
         if not self._parts and not self._torques:
             return hash(self._body)  # equal to its body: the same hash
-        return hash((self._body, self._parts, self._torques))
+        return hash((self._body, self._parts + self._torques))
 
     def __repr__(self) -> str:
         if not self._parts and not self._torques:

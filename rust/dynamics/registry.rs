@@ -12,6 +12,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 
+use super::control::{BDot, Controller, MomentumDumping, QuaternionFeedback, ResidualDipole};
 use super::kinds::{Conserved, Kinds, Traits};
 use super::part::{
     Ctx, EnergyRole, Field, Fields, Frame, Function, MapFunction, ModelInfo, Param, ParamKind,
@@ -221,8 +222,8 @@ macro_rules! parts {
                 match self { $(AnyPart::$ty(p) => Part::sampling(p),)* }
             }
 
-            pub fn sample(&self, t: f64, at: usize, x: &mut [f64]) {
-                match self { $(AnyPart::$ty(p) => Part::sample(p, t, at, x),)* }
+            pub fn sample(&self, c: &Ctx<'_>, at: usize, x: &mut [f64]) {
+                match self { $(AnyPart::$ty(p) => Part::sample(p, c, at, x),)* }
             }
         }
 
@@ -453,7 +454,12 @@ parts! {
     GravityGradient,
     ConstantTorque,
     TabulatedTorque,
-    CallableTorque;
+    CallableTorque,
+    ResidualDipole,
+    BDot,
+    QuaternionFeedback,
+    MomentumDumping,
+    Controller;
     // parts that exist only to test the seam
     test: Counter,
 }

@@ -44,7 +44,11 @@ def _same_outline(a, b):
 
 
 def test_the_list_covers_every_model_but_those_a_file_cannot_hold():
-    assert set(dz.MODELS) - set(STORABLE) == {"callable_torque"}
+    # only the models that hold code are left out
+    left_out = set(dz.MODELS) - set(STORABLE)
+    assert "callable_torque" in left_out and "damper" not in left_out
+    assert all(any(kind == "function" for _, kind, _, _, _ in dz.MODELS[n].params)
+               for n in left_out)
 
 
 @pytest.mark.parametrize("name", STORABLE)

@@ -15,8 +15,7 @@ True
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from types import MappingProxyType
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 from .. import _core
@@ -31,14 +30,28 @@ __all__ = ["Part", "Param", "Damper", "Wheel", "GravityGradient", "ConstantTorqu
            "knot_times", "knot_fraction", "interpolate", "choice", "params_of",
            "BYTES_PER_KNOT"]
 
-SPECS: Mapping[str, type[Part]] = MappingProxyType({
-    m.name: REGISTRY[m.name] for m in _core.MODELS if m.name in REGISTRY})
+class _Specs(Mapping[str, type[Part]]):
+    """The registered part classes by model, in the order of ``dz.MODELS``, read live: a
+    class defined in another module (the closed loop's, :mod:`dzhanibekov.control`)
+    registers when that module loads."""
+
+    def __getitem__(self, model: str) -> type[Part]:
+        return REGISTRY[model]
+
+    def __iter__(self) -> Iterator[str]:
+        return (m.name for m in _core.MODELS if m.name in REGISTRY)
+
+    def __len__(self) -> int:
+        return len(REGISTRY)
+
+
+SPECS: Mapping[str, type[Part]] = _Specs()
 """The class of each part model of the core's registry, by the model's name (each class
 registers the models it makes when it is defined: importing its module is enough)."""
 
-TORQUE_TYPES: tuple[type[Part], ...] = tuple(dict.fromkeys(
-    cls for cls in SPECS.values() if cls.external))
-"""The classes of the external torques, for ``isinstance``."""
+TORQUE_TYPES: tuple[type[Part], ...] = (GravityGradient, ConstantTorque, TabulatedTorque,
+                                        CallableTorque)
+"""The classes of this package's external torques, for ``isinstance``."""
 
 
 def example(kind: str) -> Part:

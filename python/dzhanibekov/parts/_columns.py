@@ -97,7 +97,8 @@ def _model_columns(model: str, per_run: list[list[Part]]
     fields = [[p.fields() for p in row] for row in per_run]
     count = max(len(row) for row in fields)
     knots = max((len(f[p.name]) for row in fields for f in row for p in params
-                 if p.kind == "times"), default=0)
+                 if p.kind in ("times", "values", "vectors") and f[p.name] is not None),
+                default=0)
     out: dict[str, tuple[tuple[str, ...], np.ndarray, str]] = {}
     for p in params:
         extra = tuple(knots if d == "knot" else 3 for d in _SHAPES[p.kind])
@@ -203,11 +204,15 @@ def _cell(p: Any, a: Any, real: bool, times: Any) -> tuple[Any, str | None]:
         if nan.any() or not np.isfinite(a).all():
             return None, "must be finite for each part (NaN: an optional value left out)"
         return (float(a) if p.kind == "scalar" else tuple(a.tolist())), None
-    given = ~np.isnan(np.asarray(times, dtype=np.float64))
+    rows = a.reshape(a.shape[0], int(np.prod(a.shape[1:])))
+    # a table's rows are its knots' (its model's times), or its own (a table without times)
+    given = ~np.isnan(rows).all(axis=1) if times is None else \
+        ~np.isnan(np.asarray(times, dtype=np.float64))
     k = int(given.sum())
+    if k == 0 and p.optional:
+        return None, None
     if not given[:k].all():
         return None, "must hold a part's knots first, then NaN"
-    rows = a.reshape(len(given), -1)
     if not np.isfinite(rows[:k]).all() or not np.isnan(rows[k:]).all():
         return None, f"must be finite at a part's {k} knots and NaN beyond them"
     return a[:k], None

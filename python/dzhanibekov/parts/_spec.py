@@ -114,7 +114,7 @@ def _hashable(v: Any) -> Any:
 def _shown(v: Any) -> str:
     if isinstance(v, np.ndarray):
         if v.ndim == 1:
-            return f"[{v[0]!r} … {v[-1]!r}]" if len(v) > 2 else repr(v.tolist())
+            return f"[{float(v[0])!r} … {float(v[-1])!r}]" if len(v) > 2 else repr(v.tolist())
         return f"<{len(v)} vectors>"
     if callable(v) and not isinstance(v, (str, tuple)):
         return getattr(v, "__qualname__", None) or repr(v)
@@ -133,6 +133,14 @@ class Part:
     """The kind's parameters, in the core's order."""
     external: ClassVar[bool] = False
     """Whether the part is an external torque (a system's ``torques``)."""
+    _parameters: ClassVar[inspect.Signature]
+    lists: ClassVar[tuple[str, ...]] = ()
+    """Where a System takes the class's parts: ``("parts",)`` for an internal part,
+    ``("torques",)`` for an external torque (the default from the core's declaration), both
+    for a part on board that also acts from outside (the closed loop's: magnetorquers)."""
+    declares_types: ClassVar[bool] = True
+    """Whether the class annotates each parameter (checked when it is made); the closed
+    loop's parts, whose flat parameters come from objects (a field, sensors), do not."""
     examples: ClassVar[Mapping[str, Mapping[str, Any]]] = {}
     """Fields of a small, valid part of each model the class makes, by model: what the tests
     run through every result path (files, figures, studies) and the docs show."""
@@ -144,10 +152,12 @@ class Part:
             return
         cls.params = params_of(cls.kind)
         cls.external = _core.model_info(cls.kind).external
+        if not cls.lists:
+            cls.lists = ("torques",) if cls.external else ("parts",)
         # the class states its attributes' types for mypy: they must be the core's parameters
         hints = {k for c in cls.__mro__ for k in getattr(c, "__annotations__", {})}
         missing = [p.name for p in cls.params if p.name not in hints]
-        if missing:
+        if missing and cls.declares_types:
             raise TypeError(f"{cls.__name__} does not declare the parameters {missing} of the "
                             f"core's model {cls.kind!r}")
         for model in cls.examples or (cls.kind,):
@@ -160,7 +170,9 @@ class Part:
             if set(fields) - names:
                 raise TypeError(f"{cls.__name__}.examples[{model!r}] names "
                                 f"{sorted(set(fields) - names)}, not parameters of the model")
-        cls.__signature__ = cls._signature()  # type: ignore[attr-defined]
+        cls._parameters = cls._signature()
+        if "__init__" not in cls.__dict__:  # (a class with its own __init__ keeps its own)
+            cls.__signature__ = cls._parameters  # type: ignore[attr-defined]
 
     @classmethod
     def _signature(cls) -> inspect.Signature:
@@ -175,7 +187,7 @@ class Part:
 
     def __init__(self, *args: Any, **kwargs: Any) -> None:
         try:
-            bound = type(self).__signature__.bind(*args, **kwargs)  # type: ignore[attr-defined]
+            bound = type(self)._parameters.bind(*args, **kwargs)
         except TypeError as exc:
             raise TypeError(f"{type(self).__name__}(): {exc}") from None
         bound.apply_defaults()
@@ -195,13 +207,18 @@ class Part:
                     raise TypeError(f"{type(self).__name__}(): `{p.name}` must be given")
                 out[p.name] = None
                 continue
-            out[p.name] = coerce(p, value, knots if p.name != times else None)
+            out[p.name] = self._coerce(p, value, knots if p.name != times else None)
             if p.name == times:
                 knots = len(out[p.name])
         core = _core.Part(kind, {k: v for k, v in out.items() if v is not None})
         for name, value in self._public(kind, out).items():
             object.__setattr__(self, name, value)
         object.__setattr__(self, "_core", core)
+
+    def _coerce(self, param: Param, value: Any, knots: int | None) -> Any:
+        """`value` as `param` holds it (:func:`coerce`; a class may take a parameter its
+        own way, as the closed loop's parts take their sensors' seed)."""
+        return coerce(param, value, knots)
 
     def _public(self, kind: str, values: dict[str, Any]) -> dict[str, Any]:
         """The attributes a part shows of the core's parameters `values` (the same, unless a

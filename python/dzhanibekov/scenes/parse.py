@@ -342,15 +342,14 @@ def scene_parts(source: str, key: str, entries: Any) -> tuple[AnyPart, ...]:
     if isinstance(entries, (str, bytes, Mapping)) or not isinstance(entries, (list, tuple)):
         raise SceneError(source, key, f"must be an array of tables [[{key}]], each with a "
                          f"`kind`, got {type(entries).__name__}")
-    external = key == "torques"
-    kinds = [m for m in storable_models() if SPECS[m].external == external]
+    kinds = [m for m in storable_models() if key in SPECS[m].lists]
     out = []
     for i, entry in enumerate(entries):
         where = f"{key}[{i}]"
         if isinstance(entry, AnyPart):
-            if entry.external != external:
+            if key not in entry.lists:
                 raise SceneError(source, where, f"is a {type(entry).__name__}: give it in "
-                                 f"`{'torques' if entry.external else 'parts'}`")
+                                 f"`{entry.lists[0]}`")
             out.append(entry)
             continue
         if not isinstance(entry, Mapping):
@@ -360,9 +359,8 @@ def scene_parts(source: str, key: str, entries: Any) -> tuple[AnyPart, ...]:
         if kind is None:
             raise SceneError(source, f"{where}.kind", f"is missing; one of {', '.join(kinds)}")
         if kind not in kinds:
-            if isinstance(kind, str) and kind in SPECS and SPECS[kind].external != external:
-                other = "torques" if SPECS[kind].external else "parts"
-                message = f"is {kind!r}, which goes in [[{other}]]"
+            if isinstance(kind, str) and kind in SPECS and key not in SPECS[kind].lists:
+                message = f"is {kind!r}, which goes in [[{SPECS[kind].lists[0]}]]"
             elif isinstance(kind, str) and kind in SPECS:
                 message = f"is {kind!r}, which a scene cannot hold (a file cannot hold code)"
             else:
