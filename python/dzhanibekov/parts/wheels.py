@@ -77,9 +77,10 @@ class Wheel(Part):
     """The momentum: a number, or the schedule ``(times, values)`` as tuples."""
 
     def __init__(self, axis: Any, momentum: Any) -> None:
-        a = as_array("axis", axis, "(3,)", last=3, ndim=(1,))
-        if not np.any(a):
+        v = as_array("axis", axis, "(3,)", last=3, ndim=(1,))
+        if not (v[0] or v[1] or v[2]):
             raise ValueError("`axis` must not be zero, got (0, 0, 0)")
+        a = (float(v[0]), float(v[1]), float(v[2]))
         if isinstance(momentum, (tuple, list)):
             if len(momentum) != 2:
                 raise ValueError(f"`momentum` must be a number or a schedule (times, values), "
