@@ -1,0 +1,164 @@
+//! Pendulum slosh: the equivalent mechanical model of a tank's first sloshing mode, a point
+//! mass `m` on a massless rod of length `l` from a pivot `p` of the body, free to swing in
+//! every direction, with a viscous torque `−c ν` at the pivot (`ν` the rod's angular velocity
+//! relative to the body) — Abramson, *The Dynamic Behavior of Liquids in Moving Containers*,
+//! NASA SP-106, 1966; Dodge, *The New Dynamic Behavior of Liquids in Moving Containers*, 2000.
+//!
+//! **No angles.** The rod's direction is a unit vector `n` (body axes) and the state holds it
+//! with the rod's conjugate momentum `π` (3 + 3 numbers): two angles would be singular at
+//! their poles. The mass is at `r = p + l n`, moving at `ṙ = l ν × n` relative to the body;
+//! `ν ⊥ n` (a turn about the rod moves nothing). Varying the rod's direction by a small turn
+//! `η` (`δn = η × n`, `δν = η̇ + η × ν`), Hamilton's principle with the dissipation gives the
+//! Euler–Poincaré equations
+//!
+//! ```text
+//! n' = ν × n
+//! π' = ν × π + n × ∂T/∂n − c ν,      π = ∂T/∂ν = l m n × (u − P/M),
+//! ∂T/∂n = l m (u − P/M) × (ω + ν)    (at fixed ω, ν; u = ω × r + ṙ)
+//! ```
+//!
+//! Both keep `|n| = 1` and `π · n = 0` exactly (`(π · n)' = (ν × π)·n + π·(ν × n) = 0`). The
+//! joint solve takes the rod's rates in a basis `t₁, t₂` of the plane normal to `n`
+//! (`ν = a t₁ + b t₂`, `ṙ = l (b t₁ − a t₂)`, momenta `π · t₁`, `π · t₂`), picked afresh at
+//! each evaluation: the equations read only `n/|n|` and `π`'s part normal to it, so
+//! integration error in `|n|` or `π · n` (of the order of the method's, and measured) never
+//! feeds back into the motion. There is no spring: on a spinning body the centrifugal field is
+//! the pendulum's restoring force. `V = 0`, the dissipated power `c |ν|²`.
+
+use nalgebra::Vector3;
+
+use crate::error::Result;
+
+use super::multibody::Carried;
+use super::spring_mass::{checked, point};
+
+/// A slosh pendulum (see the module doc).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Slosh {
+    mass: f64,
+    pivot: Vector3<f64>,
+    length: f64,
+    damping: f64,
+}
+
+/// The rod at one direction: `n` normalised and a basis `t₁, t₂` of the plane normal to it
+/// (`t₂ = n × t₁`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rod {
+    pub direction: Vector3<f64>,
+    pub t1: Vector3<f64>,
+    pub t2: Vector3<f64>,
+}
+
+impl Rod {
+    /// The rod along `n` (any non-zero length).
+    #[inline(always)]
+    pub fn along(n: &Vector3<f64>) -> Self {
+        let direction = n / n.norm();
+        // t₁ normal to n, from the body axis n is least along: never near parallel to n
+        let a = direction.map(f64::abs);
+        let helper = match (a.x <= a.y, a.x <= a.z, a.y <= a.z) {
+            (true, true, _) => Vector3::x(),
+            (false, _, true) => Vector3::y(),
+            _ => Vector3::z(),
+        };
+        let t1 = direction.cross(&helper).normalize();
+        Self {
+            direction,
+            t1,
+            t2: direction.cross(&t1),
+        }
+    }
+
+    /// `ν = a t₁ + b t₂` of the rates `[a, b]`.
+    #[inline(always)]
+    pub fn spin(&self, rates: [f64; 2]) -> Vector3<f64> {
+        self.t1 * rates[0] + self.t2 * rates[1]
+    }
+
+    /// `π`'s part normal to the rod.
+    #[inline(always)]
+    pub fn normal_part(&self, pi: &Vector3<f64>) -> Vector3<f64> {
+        pi - self.direction * self.direction.dot(pi)
+    }
+}
+
+impl Slosh {
+    /// A mass `mass` on a rod of length `length` from `pivot`, with pivot damping `damping`.
+    ///
+    /// # Errors
+    /// A mass or length that is not positive, a damping that is negative, any not finite; a
+    /// pivot that is not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::Slosh;
+    /// assert!(Slosh::try_new(0.1, [0.0, 0.0, 3.0], 0.5, 0.01).is_ok());
+    /// assert!(Slosh::try_new(0.1, [0.0, 0.0, 3.0], 0.0, 0.01).is_err());
+    /// ```
+    pub fn try_new(mass: f64, pivot: [f64; 3], length: f64, damping: f64) -> Result<Self> {
+        Ok(Self {
+            mass: checked("mass", mass, true)?,
+            pivot: point("pivot", pivot)?,
+            length: checked("length", length, true)?,
+            damping: checked("damping", damping, false)?,
+        })
+    }
+
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+
+    pub fn pivot(&self) -> Vector3<f64> {
+        self.pivot
+    }
+
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+
+    pub fn damping(&self) -> f64 {
+        self.damping
+    }
+
+    /// What it carries with the rod `rod`, its rates `[a, b]` about `t₁`, `t₂`.
+    #[inline(always)]
+    pub fn carried(&self, rod: &Rod) -> Carried {
+        let l = self.length;
+        Carried::point(
+            self.mass,
+            self.pivot + rod.direction * l,
+            &[-rod.t2 * l, rod.t1 * l],
+        )
+    }
+
+    /// The momenta `[π · t₁, π · t₂]` the joint solve takes.
+    #[inline(always)]
+    pub fn momenta(&self, rod: &Rod, pi: &Vector3<f64>) -> [f64; 2] {
+        [pi.dot(&rod.t1), pi.dot(&rod.t2)]
+    }
+
+    /// `(n', π')` of the stored direction `n` and momentum `pi`, with the rod `rod` (of `n`),
+    /// its angular velocity `nu` relative to the body, the body rates `omega` and the mass's
+    /// velocity `velocity` in the frame of the mass centre.
+    #[inline(always)]
+    pub fn rates(
+        &self,
+        n: &Vector3<f64>,
+        pi: &Vector3<f64>,
+        rod: &Rod,
+        nu: &Vector3<f64>,
+        omega: &Vector3<f64>,
+        velocity: &Vector3<f64>,
+    ) -> (Vector3<f64>, Vector3<f64>) {
+        let dn = nu.cross(n);
+        let pull = velocity.cross(&(omega + nu)) * (self.length * self.mass);
+        let dpi = nu.cross(&rod.normal_part(pi)) + rod.direction.cross(&pull) - nu * self.damping;
+        (dn, dpi)
+    }
+
+    /// The power the damping takes, `c |ν|²`.
+    pub fn dissipation(&self, nu: &Vector3<f64>) -> f64 {
+        self.damping * nu.norm_squared()
+    }
+}
