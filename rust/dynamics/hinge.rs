@@ -156,7 +156,7 @@ impl Hinge {
     /// The panel at hinge angle `beta`.
     #[inline(always)]
     pub fn pose(&self, beta: f64) -> Pose {
-        let (sin, cos) = beta.sin_cos();
+        let (sin, cos) = super::gravity::sin_cos(beta);
         let arm = self.arm * cos + self.normal * sin;
         let normal = self.axis.cross(&arm);
         let [js, je, jg] = [self.moments.x, self.moments.y, self.moments.z];

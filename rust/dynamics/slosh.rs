@@ -19,8 +19,8 @@
 //!
 //! Both keep `|n| = 1` and `π · n = 0` exactly (`(π · n)' = (ν × π)·n + π·(ν × n) = 0`). The
 //! joint solve takes the rod's rates in a basis `t₁, t₂` of the plane normal to `n`
-//! (`ν = a t₁ + b t₂`, `ṙ = l (b t₁ − a t₂)`, momenta `π · t₁`, `π · t₂`), picked afresh at
-//! each evaluation: the equations read only `n/|n|` and `π`'s part normal to it, so
+//! (`ν = a t₁ + b t₂`, `ṙ = l (b t₁ − a t₂)` for `t₂ = n × t₁`, momenta `π · t₁`, `π · t₂`),
+//! picked afresh at each evaluation: the equations read only `n/|n|` and `π`'s part normal to it, so
 //! integration error in `|n|` or `π · n` (of the order of the method's, and measured) never
 //! feeds back into the motion. There is no spring: on a spinning body the centrifugal field is
 //! the pendulum's restoring force. `V = 0`, the dissipated power `c |ν|²`.
@@ -41,8 +41,10 @@ pub struct Slosh {
     damping: f64,
 }
 
-/// The rod at one direction: `n` normalised and a basis `t₁, t₂` of the plane normal to it
-/// (`t₂ = n × t₁`).
+/// The rod at one direction: `n` normalised and a basis `t₁, t₂` of the plane normal to it,
+/// orthogonal and of equal length (`t₁ = n × a`, `a` the body axis `n` is least along, so
+/// `|t₁|² ≥ 2/3`; `t₂ = n × t₁`). The basis is not normalised: the joint solve takes the rates
+/// in any basis, and the right-hand side never needs it to be.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rod {
     pub direction: Vector3<f64>,
@@ -54,15 +56,13 @@ impl Rod {
     /// The rod along `n` (any non-zero length).
     #[inline(always)]
     pub fn along(n: &Vector3<f64>) -> Self {
-        let direction = n / n.norm();
-        // t₁ normal to n, from the body axis n is least along: never near parallel to n
+        let direction = n * (1.0 / n.norm());
         let a = direction.map(f64::abs);
-        let helper = match (a.x <= a.y, a.x <= a.z, a.y <= a.z) {
-            (true, true, _) => Vector3::x(),
-            (false, _, true) => Vector3::y(),
-            _ => Vector3::z(),
+        let t1 = match (a.x <= a.y, a.x <= a.z, a.y <= a.z) {
+            (true, true, _) => Vector3::new(0.0, direction.z, -direction.y),
+            (false, _, true) => Vector3::new(-direction.z, 0.0, direction.x),
+            _ => Vector3::new(direction.y, -direction.x, 0.0),
         };
-        let t1 = direction.cross(&helper).normalize();
         Self {
             direction,
             t1,
@@ -74,6 +74,17 @@ impl Rod {
     #[inline(always)]
     pub fn spin(&self, rates: [f64; 2]) -> Vector3<f64> {
         self.t1 * rates[0] + self.t2 * rates[1]
+    }
+
+    /// The rates `[a, b]` of an angular velocity `nu` (its part along the rod left out).
+    pub fn rates_of(&self, nu: &Vector3<f64>) -> [f64; 2] {
+        let s = self.t1.norm_squared();
+        [nu.dot(&self.t1) / s, nu.dot(&self.t2) / s]
+    }
+
+    /// The momentum `π` normal to the rod whose components are `momenta` (`π · t₁`, `π · t₂`).
+    pub fn momentum_of(&self, momenta: [f64; 2]) -> Vector3<f64> {
+        (self.t1 * momenta[0] + self.t2 * momenta[1]) / self.t1.norm_squared()
     }
 
     /// `π`'s part normal to the rod.
