@@ -193,6 +193,22 @@ def _equilibrium(p: Any, kind: str, base: Any, w: np.ndarray) -> np.ndarray:
     return q
 
 
+def frequencies(kind: str, part: Any, spin: Any) -> np.ndarray:
+    """The undamped frequencies of a part's small oscillation about its relative equilibrium
+    on a body turning steadily at `spin` (a vector, body axes) — the body held to that turn,
+    as a heavy body is — sorted: ``√eig(𝕄⁻¹ 𝕂)`` of the linearised equation (gyroscopic
+    coupling left out; for the three sinks here it vanishes at these equilibria)."""
+    spin = np.asarray(spin, float)
+    residual, width = RESIDUALS[kind]
+    axis = spin / np.linalg.norm(spin)
+    base = _base(part, kind, axis)
+    q = _equilibrium(part, kind, base, spin)
+    zero, z3 = np.zeros(width), np.zeros(3)
+    mass = _jacobian(lambda x: residual(part, q, zero, x, spin, z3, base), zero)
+    stiff = _jacobian(lambda x: residual(part, x, zero, zero, spin, z3, base), q)
+    return np.sort(np.sqrt(np.linalg.eigvals(np.linalg.solve(mass, stiff)).real))
+
+
 class SinkEstimate:
     """What the estimate found: the composite's moments, the spin, the nutation rate in body
     axes, each part's mean power per unit ``ω_t²``, and the time constant."""
