@@ -342,3 +342,29 @@ def amended_frequency(spin_inertia, coupling, rate_inertia, d_spin, dd_spin, sti
     i, b, j = spin_inertia, coupling, rate_inertia
     curvature = h**2 * (2 * d_spin**2 / i**3 - dd_spin / i**2) / 2 + stiffness
     return np.sqrt(curvature / (j - b**2 / i))
+
+
+def free_swing_time(spin_inertia, coupling, rate_inertia, h, energy, theta0, theta1, sign=1.0):
+    """The time a free part (no spring, no damping) takes from θ₀ to θ₁ on a body spinning
+    about a fixed principal axis, by quadrature of the two integrals: with ``h`` and the
+    energy ``E`` kept, ``½ μ(θ) θ̇² = E − h² / (2 I(θ))``, ``μ = j − b²/I`` (see
+    `amended_frequency`), so ``t = ∫ √(μ / (2 (E − h²/(2I)))) dθ`` (scipy's quad). The
+    body's rate at θ is ``Ω = (h − b θ̇) / I``. `spin_inertia`, `coupling`, `rate_inertia` are
+    functions of θ; `sign` the direction of travel."""
+    from scipy.integrate import quad
+
+    def dt(theta):
+        i = spin_inertia(theta)
+        mu = rate_inertia(theta) - coupling(theta) ** 2 / i
+        return np.sqrt(mu / (2.0 * (energy - h**2 / (2.0 * i))))
+
+    value, _ = quad(dt, theta0, theta1, epsabs=0.0, epsrel=1e-13, limit=200)
+    return sign * value
+
+
+def free_swing_rate(spin_inertia, coupling, rate_inertia, h, energy, theta, sign=1.0):
+    """``(θ̇, Ω)`` of the free part at θ (see `free_swing_time`)."""
+    i = spin_inertia(theta)
+    mu = rate_inertia(theta) - coupling(theta) ** 2 / i
+    rate = sign * np.sqrt(2.0 * (energy - h**2 / (2.0 * i)) / mu)
+    return rate, (h - coupling(theta) * rate) / i
