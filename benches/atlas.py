@@ -65,7 +65,10 @@ HLW_OMEGA = tuple(m / i for m, i in zip(HLW_MOMENTUM, HLW_INERTIA))
 
 
 def fixed_step_methods() -> list[str]:
-    return [name for name, m in dz.METHODS.items() if m.order is not None and not m.adaptive]
+    """The fixed-step methods that run the free body (the atlas's problems; the exact-flow
+    splittings run a body under torques only)."""
+    return [name for name, m in dz.METHODS.items()
+            if m.order is not None and not m.adaptive and "free" in m.models]
 
 
 def rate_bound(inertia: Sequence[float], omega0: Sequence[float]) -> float:

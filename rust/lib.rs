@@ -18,7 +18,7 @@
 //! (rust/python.rs) holds the bindings and nothing else.
 //!
 //! The modules in their one-way order, each using only those before it: [`error`], [`float`],
-//! [`buffer`] → [`body`] → [`dynamics`], [`kinematics`], [`mesh`] → [`ode`] → [`integrators`]
+//! [`buffer`], [`isa`] → [`body`] → [`dynamics`], [`kinematics`], [`mesh`] → [`ode`] → [`integrators`]
 //! → [`rigid`] → [`exact`] → [`observe`] → [`run`] → [`ensemble`] → `python`.
 
 pub mod body;
@@ -29,6 +29,7 @@ pub mod error;
 pub mod exact;
 pub mod float;
 pub mod integrators;
+pub mod isa;
 pub mod kinematics;
 pub mod mesh;
 pub mod observe;

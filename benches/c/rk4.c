@@ -1,7 +1,9 @@
 /* The C baseline of benches/python/bench_core.py: eq. 1 by classic RK4, written plainly with
  * scalar locals, parameters read at run time, frames stored as the package stores them.
  * Build: cc -O3 -march=native -o rk4 rk4.c
- * Run:   ./rk4 STEPS FRAMES IX IY IZ DT   -> prints the median seconds per step of 5 runs. */
+ * Run:   ./rk4 STEPS FRAMES IX IY IZ DT [REPEATS]
+ *        -> prints the median wall seconds per step of REPEATS runs (5 if not given), a
+ *           check value, and the median CPU (process) seconds per step. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -15,9 +17,9 @@
     D##5 = 0.5 * (q0 * v + q3 * u - q1 * w);            \
     D##6 = 0.5 * (q0 * w + q1 * v - q2 * u);
 
-static double now(void) {
+static double now(clockid_t clock) {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
@@ -27,18 +29,23 @@ static int cmp(const void *p, const void *q) {
 }
 
 int main(int argc, char **argv) {
-    if (argc != 7) {
-        fprintf(stderr, "usage: rk4 STEPS FRAMES IX IY IZ DT\n");
+    if (argc != 7 && argc != 8) {
+        fprintf(stderr, "usage: rk4 STEPS FRAMES IX IY IZ DT [REPEATS]\n");
+        return 2;
+    }
+    int repeats = argc == 8 ? atoi(argv[7]) : 5;
+    if (repeats < 1 || repeats > 99) {
+        fprintf(stderr, "REPEATS must be 1 to 99\n");
         return 2;
     }
     long steps = atol(argv[1]), frames = atol(argv[2]);
     double ix = atof(argv[3]), iy = atof(argv[4]), iz = atof(argv[5]), h = atof(argv[6]);
     double a = (iy - iz) / ix, b = (iz - ix) / iy, c = (ix - iy) / iz;
     long sub = steps / (frames - 1);
-    double *out = malloc(sizeof(double) * 7 * frames), times[5], check = 0.0;
-    for (int rep = 0; rep < 5; rep++) {
+    double *out = malloc(sizeof(double) * 7 * frames), times[99], cpu[99], check = 0.0;
+    for (int rep = 0; rep < repeats; rep++) {
         double u = 0.01, v = 0.01, w = 1.0, q0 = 1.0, q1 = 0.0, q2 = 0.0, q3 = 0.0;
-        double start = now();
+        double start = now(CLOCK_MONOTONIC), start_cpu = now(CLOCK_PROCESS_CPUTIME_ID);
         for (long f = 1; f < frames; f++) {
             for (long s = 0; s < sub; s++) {
                 double k0, k1, k2, k3, k4, k5, k6, l0, l1, l2, l3, l4, l5, l6;
@@ -66,11 +73,13 @@ int main(int argc, char **argv) {
             double *o = out + 7 * f;
             o[0] = u; o[1] = v; o[2] = w; o[3] = q0; o[4] = q1; o[5] = q2; o[6] = q3;
         }
-        times[rep] = (now() - start) / (double)(sub * (frames - 1));
+        times[rep] = (now(CLOCK_MONOTONIC) - start) / (double)(sub * (frames - 1));
+        cpu[rep] = (now(CLOCK_PROCESS_CPUTIME_ID) - start_cpu) / (double)(sub * (frames - 1));
         check += out[7 * (frames - 1) + 3];
     }
-    qsort(times, 5, sizeof(double), cmp);
-    printf("%.6e %.17g\n", times[2], check / 5);
+    qsort(times, repeats, sizeof(double), cmp);
+    qsort(cpu, repeats, sizeof(double), cmp);
+    printf("%.6e %.17g %.6e\n", times[repeats / 2], check / repeats, cpu[repeats / 2]);
     free(out);
     return 0;
 }

@@ -1,5 +1,6 @@
 """Type stubs of the Rust core. Call it through the package's functions, which coerce input."""
 
+from collections.abc import Callable
 from typing import Any, final, overload
 
 import numpy as np
@@ -15,6 +16,7 @@ __all__ = [
     "Damper",
     "Deployment",
     "ENERGY_GROWTH_TOL",
+    "FLAT_SHARE",
     "MAX_MOMENT_RATIO",
     "METHODS",
     "NEAR_SYMMETRY",
@@ -53,6 +55,7 @@ DEFAULT_RTOL: float
 DEFAULT_ATOL: float
 DEFAULT_MAX_STEPS: int
 ENERGY_GROWTH_TOL: float
+FLAT_SHARE: float
 MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 SYMMETRY_TOLERANCE: float
@@ -219,6 +222,12 @@ class StepPlan:
     def predicted_drift(self) -> float: ...
     @property
     def stiffness(self) -> float: ...
+    @property
+    def predicted_error(self) -> float: ...
+    @property
+    def out_of_reach(self) -> bool: ...
+    @property
+    def reached_by(self) -> str | None: ...
 
 @final
 class BatchPlan:
@@ -269,6 +278,8 @@ class BatchResult:
     @property
     def flip_offsets(self) -> npt.NDArray[np.int64]: ...
     @property
+    def flat_time(self) -> npt.NDArray[np.float64]: ...
+    @property
     def flip_times(self) -> npt.NDArray[np.float64]: ...
     @property
     def runs(self) -> RunColumns: ...
@@ -305,6 +316,7 @@ def simulate_batch(
     keep_frames: bool,
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
+    progress: Callable[[float], object] | None = None,
 ) -> BatchResult: ...
 def sweep(
     systems: list[System],

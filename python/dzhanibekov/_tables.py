@@ -47,7 +47,8 @@ PARAMETERS = (("u0", "omega0", 0), ("v0", "omega0", 1), ("w0", "omega0", 2),
               ("Ix", "inertia", 0), ("Iy", "inertia", 1), ("Iz", "inertia", 2))
 """Sweep parameters a grid axis may vary: name, attribute, component."""
 
-EXTRA = 'the `io` extra: pip install ".[io]" from a checkout (xarray, pandas, h5netcdf, h5py)'
+EXTRA = ('the `io` extra: pip install "dzhanibekov[io]" (xarray, pandas, h5netcdf, h5py; '
+         'by the package\'s name it installs only those, without rebuilding the core)')
 
 Q_DOC = ("attitude world-from-body, unit quaternion scalar first (Q, U, V, W): "
          "x_world = M(q) x_body")

@@ -42,11 +42,31 @@ class StepSizeWarning(UserWarning):
     motion (``|q|`` and with it the attitude decay), or diverge beyond its stability limit."""
 
 
+def _warn_reach(plan: _core.StepPlan, method: str, rtol: float, *, stacklevel: int,
+                where: str) -> None:
+    """Warns that `rtol` is out of reach of `method` at the run's length (its round-off alone
+    exceeds it), naming the method that reaches it."""
+    other = plan.reached_by
+    advice = (f"{other!r} reaches it (method={other!r})" if other is not None else
+              "no fixed-step method reaches it over this length: shorten t_end, or loosen rtol")
+    warnings.warn(
+        f"{where}rtol = {rtol:g} is out of reach for {method!r} over this run: the round-off "
+        f"of its steps alone (each adds a fraction of an ulp, and they add up over the run) "
+        f"keeps its predicted error at {plan.predicted_error:.2g} at best; it takes the step "
+        f"of least error, {plan.step:.4g}. {advice[0].upper()}{advice[1:]}.",
+        StepSizeWarning,
+        stacklevel=stacklevel,
+    )
+
+
 def warn_step(plan: _core.StepPlan, method: str, dt_given: bool, rtol: float, *,
               stacklevel: int, where: str = "") -> None:
     """Warns with `StepSizeWarning` when `plan` (a row's `_core.StepPlan`) predicts that RK4
-    dissipates the run; `where` names the run (a batch's worst row). `stacklevel` counts
-    from this function."""
+    dissipates the run, or, for a step picked for `rtol`, that the run's length puts `rtol`
+    out of the method's reach; `where` names the run (a batch's worst row). `stacklevel`
+    counts from this function."""
+    if not dt_given and plan.out_of_reach:
+        _warn_reach(plan, method, rtol, stacklevel=stacklevel + 1, where=where)
     drift = plan.predicted_drift
     # a step chosen for an accuracy answers to that accuracy
     tolerance = MAX_PREDICTED_DRIFT if dt_given else max(rtol, MAX_PREDICTED_DRIFT)

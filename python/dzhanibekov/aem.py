@@ -174,7 +174,7 @@ def write_aem(
     object_id: str | Sequence[str],
     epoch: _dt.datetime | str,
     *,
-    ref_frame_a: str,
+    ref_frame_a: str | None = None,
     time_unit: float = 1.0,
     ref_frame_b: str = "SC_BODY_1",
     center_name: str | None = None,
@@ -261,6 +261,11 @@ def write_aem(
         raise TypeError(f"`rates` must be True or False, got {type(rates).__name__}")
     names = _per_run("object_name", object_name, runs)
     ids = _per_run("object_id", object_id, runs)
+    if ref_frame_a is None:
+        raise TypeError("write_aem() needs `ref_frame_a`: the inertial frame the run's world "
+                        "axes are ('EME2000', 'ICRF', …), written as REF_FRAME_A; the "
+                        "package's world frame is whatever frame q0 was given in, which only "
+                        "you know")
     frame_a = _keyword("ref_frame_a", ref_frame_a)
     frame_b = _keyword("ref_frame_b", ref_frame_b)
     center = None if center_name is None else _keyword("center_name", center_name)

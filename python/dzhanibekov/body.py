@@ -452,7 +452,7 @@ class Body:
     def load(cls, path: str | os.PathLike[str], mass: float | None = None,
              density: float | None = None) -> Body:
         """A uniform solid from a mesh file (STL, OBJ, PLY, … anything trimesh reads), as
-        :meth:`from_mesh`. Needs the optional ``mesh`` extra: ``pip install ".[mesh]"``.
+        :meth:`from_mesh`. Needs the optional ``mesh`` extra: ``pip install "dzhanibekov[mesh]"``.
 
         The file must be a regular file (a FIFO or a device is refused at once) of at most
         :data:`MAX_MESH_BYTES`.
@@ -471,8 +471,8 @@ class Body:
             import trimesh  # type: ignore[import-untyped, import-not-found, unused-ignore]
         except ImportError:
             raise ImportError("`Body.load` reads mesh files with trimesh, an optional "
-                              "dependency: pip install \".[mesh]\" (or pip install "
-                              "trimesh)") from None
+                              "dependency: pip install \"dzhanibekov[mesh]\" (or pip "
+                              "install trimesh)") from None
         p = as_path(path)
         what = "a mesh file (STL, OBJ, PLY, … that trimesh reads)"
         try:

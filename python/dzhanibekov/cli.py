@@ -2,12 +2,13 @@
 
 - ``dzhanibekov paper --out DIR``: every figure of the paper and its animation, and the
   stable counter-examples; prints each run's flip times and drift.
-- ``dzhanibekov run SCENE.toml --out DIR``: what one scene draws (a file or a shipped name).
+- ``dzhanibekov run SCENE.toml [--out DIR]``: what one scene draws (a file or a shipped name),
+  into DIR (default: a folder named after the scene).
 - ``dzhanibekov scenes``: the shipped scenes; ``--show NAME`` prints one, to start your own.
 - ``dzhanibekov map --out DIR``: stability maps (flip period and tilt over a grid of starts,
   with the separatrix) and their sweeps' numbers.
-- ``dzhanibekov view SCENE --out FILE.html``: the interactive viewer, one self-contained
-  HTML file (the ``viewer`` extra).
+- ``dzhanibekov view SCENE [--out FILE.html]``: the interactive viewer, one self-contained
+  HTML file (the ``viewer`` extra; default: SCENE-NAME.html).
 - ``dzhanibekov --version``.
 
 Output is all or nothing: files are drawn in a temporary folder inside DIR and moved in
@@ -32,6 +33,7 @@ from typing import Any
 import numpy as np
 
 from ._core import __version__
+from ._progress import progress_default
 from .methods import is_adaptive
 from .render import PAPER_RENDER, CommittedInterrupt
 from .scenes.plan import SceneResult
@@ -41,31 +43,61 @@ from .simulate import METHODS
 __all__ = ["main"]
 
 
+_MEASURES = (("energy", "E/E"), ("momentum", "|L|/|L|"), ("momentum_world", "L_world"),
+             ("q_norm", "|q|"), ("jacobi", "J/J"))
+"""The drift's measures in the table's order, with their short names."""
+
+_NOT_ASKED = "-"
+"""The flip count of a run that did not locate its flips."""
+
+
+def _invariants(drift: Any) -> tuple[str, str]:
+    """What a run's model keeps, with its drift (the integration's error: ``dE/E 2.1e-10``),
+    and the rest, with how much the model's own law changed it (a deployment's work, a
+    damper's loss, a torque's: ``ΔE/E 5.0e-01``)."""
+    kept, changed = [], []
+    for name, short in _MEASURES:
+        value = getattr(drift, name)
+        if value is None:  # no Jacobi integral
+            continue
+        if name in drift.kept:
+            kept.append(f"d{short} {value:.1e}")
+        else:
+            changed.append(f"Δ{short} {value:.1e}")
+    return " ".join(kept), " ".join(changed)
+
+
 def _table(results: Sequence[SceneResult], seconds: float) -> str:
-    """The summary table: per scene its steps, flips (the count and the first four) and the
-    invariants' drift, each column as wide as its widest entry. It reads only what it prints:
-    a run of 10⁸ flips costs four."""
-    head = ("scene", "steps", "flips", "first flip times", "dE/E", "d|L|/|L|", "dL_world",
-            "d|q|")
+    """The summary table: per scene its steps, flips (the count and the first four), the
+    drift of what its model keeps and the change of the rest, each column as wide as its
+    widest entry; a legend for what needs one. It reads only what it prints: a run of 10⁸
+    flips costs four."""
+    head = ("scene", "steps", "flips", "first flip times", "drift of what the model keeps",
+            "changed by the model")
     rows: list[tuple[str, ...]] = [head]
     for r in results:
         run = r.trajectory if r.trajectory is not None else r.summary
         assert run is not None
         times = r.flip_times
-        count = "?" if times is None else str(len(times))
+        count = _NOT_ASKED if times is None else str(len(times))
         first = [] if times is None else [float(t) for t in np.asarray(times[:4])]
         more = times is not None and len(times) > 4
         flips = ", ".join(f"{t:.3f}" for t in first) + (", …" if more else "")
-        d = r.drift
-        rows.append((r.scene.name, str(run.n_steps), count, flips,
-                     *(f"{x:.1e}" for x in (d.energy, d.momentum, d.momentum_world, d.q_norm))))
-    least = (16, 9, 5, 28, 8, 8, 8, 8)
+        kept, changed = _invariants(r.drift)
+        rows.append((r.scene.name, str(run.n_steps), count, flips, kept, changed or "none"))
+    least = (16, 9, 5, 28, 0, 0)
     widths = [max(least[k], *(len(row[k]) for row in rows)) for k in range(len(head))]
-    gaps = ("", " ", " ", "  ", " ", " ", " ", " ")  # before each column
-    left = (0, 3)  # the names and the flip times read from the left; numbers from the right
-    lines = ["".join(gap + (cell.ljust(w) if k in left else cell.rjust(w))
-                     for k, (gap, cell, w) in enumerate(zip(gaps, row, widths)))
+    gaps = ("", " ", " ", "  ", "  ", "  ")  # before each column
+    right = (1, 2)  # the counts read from the right; the rest from the left
+    lines = ["".join(gap + (cell.rjust(w) if k in right else cell.ljust(w))
+                     for k, (gap, cell, w) in enumerate(zip(gaps, row, widths))).rstrip()
              for row in rows]
+    lines += textwrap.wrap("d…: the largest drift over the frames of what the model keeps "
+                           "(the integration's error); Δ…: the largest change of what it does "
+                           "not keep, by its own law (a deployment's work, a damper's loss, a "
+                           "torque); relative (L_world to |L|, |q| to 1)", 79)
+    if any(row[2] == _NOT_ASKED for row in rows[1:]):
+        lines.append(f"flips {_NOT_ASKED}: not located (the scene's [ask] flips = false)")
     lines.append(f"rendered in {seconds:.1f} s")
     return "\n".join(lines)
 
@@ -210,6 +242,8 @@ def _run(args: argparse.Namespace) -> int:
     from .render import output_folder, render_scene
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
+    if args.out is None:  # a folder named after the scene, here
+        args.out = Path(scene.name)
     overrides = {key: getattr(args, key) for key in _OPTIONS if getattr(args, key) is not None}
     if overrides:
         scene = _override(scene, overrides)
@@ -259,6 +293,8 @@ def _view(args: argparse.Namespace) -> int:
     from .viewer import write_html
 
     scene = load_scene(args.scene)  # errors name the file and key, before any output
+    if args.out is None:  # a page named after the scene, here
+        args.out = Path(f"{scene.name}.html")
     out = Path(args.out)
     if out.is_dir():
         raise ValueError(f"`--out` must be an HTML file, but {out} is a folder")
@@ -375,14 +411,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     run = commands.add_parser(
         "run",
         help="render one scene (a TOML file, or a shipped scene's name)",
-        description="Simulate one scene and render what it draws into DIR: NAME-FIGURE.png "
+        description="Simulate one scene and render what it draws into DIR (--out; default: "
+        "a folder named NAME after the scene, in the current one): NAME-FIGURE.png "
         "for each figure, NAME.gif (and .mp4) if it asks for an animation, NAME.json with "
         "its flip times and drift. See `dzhanibekov scenes --show fig3a` for a file to "
         "start from.",
     )
     run.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
-    run.add_argument("--out", required=True, type=Path, metavar="DIR",
-                     help="folder to write into (created; files of the same name replaced)")
+    run.add_argument("--out", type=Path, metavar="DIR",
+                     help="folder to write into (created; files of the same name replaced; "
+                     "default: a folder named after the scene, in the current one)")
     run.add_argument("--method", default=None,
                      help="override the scene's method: one of " + ", ".join(METHODS))
     run.add_argument("--t-end", type=float, default=None, dest="t_end", metavar="T",
@@ -395,7 +433,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("--flip-times", action="store_true", dest="flip_times",
                      help="also write every flip time to NAME-flip-times.npy (the JSON lists "
                      "at most 1000 and summarises longer lists)")
-    run.add_argument("--no-progress", action="store_true", help="no progress bar")
+    run.add_argument("--no-progress", action="store_true",
+                     help="no progress: neither the run's (a bar on a terminal, else a line "
+                     "every 10 s on stderr) nor the animation's")
     _movie_options(run)
     run.set_defaults(run=_run)
 
@@ -423,14 +463,16 @@ def main(argv: Sequence[str] | None = None) -> int:
     view = commands.add_parser(
         "view",
         help="write the interactive viewer of a scene (one HTML file)",
-        description="Simulate one scene and write FILE.html: the body, its inertia "
+        description="Simulate one scene and write FILE.html (--out; default: NAME.html after "
+        "the scene, in the current folder): the body, its inertia "
         "ellipsoid and the signal point's path, to rotate in a browser, with play/pause and "
         "a time slider. One self-contained file (plotly embedded): it opens offline. Needs "
-        'the viewer extra: pip install ".[viewer]".',
+        'the viewer extra: pip install "dzhanibekov[viewer]".',
     )
     view.add_argument("scene", metavar="SCENE", help="a scene file (.toml) or a shipped name")
-    view.add_argument("--out", required=True, type=Path, metavar="FILE.html",
-                      help="the HTML file to write")
+    view.add_argument("--out", type=Path, metavar="FILE.html",
+                      help="the HTML file to write (default: the scene's name .html, in the "
+                      "current folder)")
     view.add_argument("--frames", type=int, default=None,
                       help="frames shown (default: every frame, at most 201)")
     view.set_defaults(run=_view)
@@ -450,7 +492,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         warnings.simplefilter("always")
         args.caught = caught
         try:
-            return int(args.run(args))
+            # `--no-progress` silences the runs' progress too (a bar, or lines in a log)
+            with progress_default(False if getattr(args, "no_progress", False) else None):
+                return int(args.run(args))
         except (SceneError, ValueError, TypeError, ImportError, OSError) as exc:
             # OSError: the output folder cannot be written (render.OutputError names the path)
             _warn_all(args)

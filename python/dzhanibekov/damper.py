@@ -17,7 +17,7 @@ from .body import Body, as_body
 __all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate",
            "StiffDamperWarning", "STIFF_RATIO", "ENERGY_GROWTH_TOL", "damper_rate"]
 
-FLAT_SHARE = 0.99
+FLAT_SHARE: float = _core.FLAT_SHARE
 """A spin is flat once the major axis carries this share of ``|L|``."""
 
 
@@ -199,10 +199,14 @@ def _major_axes(body: Body) -> list[int]:
 
 
 def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
-    """The first frame time at which the major axis carries `share` of ``|L|``.
+    """The first time at which the major axis carries `share` of ``|L|``.
 
     For a symmetric top whose two largest moments are equal, the plane of both counts.
-    NaN if the run never gets there.
+    NaN if the run never gets there. A run of a damped body of constant inertia locates the
+    time of `FLAT_SHARE` in the core, inside the step, whatever its frames (as it locates
+    the flips); for another `share`, another body or a run read from a file,
+    it is the first frame past it (a nutation rides on the share's slow rise, so that can be
+    up to a nutation period late: take frames closer than that).
 
     Parameters
     ----------
@@ -224,6 +228,9 @@ def flat_spin_time(traj: Any, share: float = FLAT_SHARE) -> float:
     if not isinstance(body, Body):
         raise TypeError("`traj` must be a run of a constant body (a damped body), got one of "
                         f"a {type(body).__name__}")
+    located = getattr(traj, "_flat_time", None)
+    if located is not None and share == FLAT_SHARE:
+        return float(located)
     # the shares on the principal axes: the major axis is a principal axis, whatever the
     # body's own axes
     shares = axis_shares(traj) @ body.principal_axes
@@ -254,7 +261,7 @@ def flat_spin_estimate(body: Any, damper: Damper, omega0: Any, sigma0: Any = Non
     the rigid motion the damper perturbs is that of the body *with* the sphere: its moment
     ``j`` is added to each of the body's (whose tensor counts only the sphere's mass, as a
     point at its centre), as the model's total momentum ``H = I ω + j σ`` does; leaving it out
-    gave 1280 for the example below against 1365 simulated. The nutation angle θ between
+    gave 1280 for the example below against 1364 simulated. The nutation angle θ between
     ``H`` and the symmetry axis obeys ``T = ½ H² (sin²θ / It + cos²θ / Ia)``. In space the body rate is a
     constant part plus a part of size ``ω_r sin θ``, ``ω_r = H cos θ (It − Ia) / (Ia It)``,
     turning at the precession rate ``ω_p = H / It``; the sphere, a first-order lag of time
@@ -268,7 +275,7 @@ def flat_spin_estimate(body: Any, damper: Damper, omega0: Any, sigma0: Any = Non
     the rigid one (first order in ``c``), the sphere's lag as if it followed the body's rate
     in space at a fixed precession rate, and the two transverse moments averaged. The
     relative error vanishes with the damper (``j, c → 0`` at a fixed ``j / c``); for
-    Explorer 1 below (``j`` 5 % of the least moment) it is within 1 % of the simulated 1365.
+    Explorer 1 below (``j`` 5 % of the least moment) it is within 1 % of the simulated 1364.
 
     Parameters
     ----------

@@ -35,7 +35,8 @@ DEFAULT_RTOL: float = _core.DEFAULT_RTOL
 """Relative tolerance of the adaptive methods, and the accuracy ``dt=None`` aims at."""
 
 DEFAULT_ATOL: float = _core.DEFAULT_ATOL
-"""Absolute tolerance of the adaptive methods: on ``q``, and on ``ω`` in units of ``Ω``."""
+"""Absolute tolerance of the adaptive methods at the default `rtol`: on ``q``, and on ``ω`` in
+units of ``Ω``. A run given an `rtol` and no `atol` takes ``rtol / 1000``."""
 
 DEFAULT_MAX_STEPS: int = _core.DEFAULT_MAX_STEPS
 """Runs needing more steps are refused unless `max_steps` is raised (about 5 minutes of RK4)."""

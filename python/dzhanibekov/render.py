@@ -10,6 +10,7 @@ import dataclasses
 import contextlib
 import json
 import multiprocessing
+import multiprocessing.connection
 import os
 import shutil
 import signal
@@ -21,6 +22,8 @@ import warnings
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import partial
+from multiprocessing.connection import Connection
+from multiprocessing.process import BaseProcess
 from pathlib import Path
 from typing import Any
 
@@ -265,31 +268,61 @@ def _done_line(task: _Task, files: list[Path], seconds: float) -> str:
 
 # -- the workers ---------------------------------------------------------------------------
 
-_FRAMES: Any = None
-"""In a worker: the queue that frame counts go to (None: nobody shows them)."""
+_Frame = Callable[[str, int, int], None]
+"""Takes a task's label, the frames drawn and the frames in all."""
 
 
-def _start_worker(frames: Any) -> None:
-    """A worker's set-up: Ctrl-C is the parent's to handle (it ends the workers)."""
-    global _FRAMES
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    _FRAMES = frames
-
-
-def _work(task: _Task) -> tuple[str, list[Path], float, list[tuple[type[Warning], str]]]:
+def _work(task: _Task, on_frame: _Frame | None
+          ) -> tuple[str, list[Path], float, list[tuple[type[Warning], str]]]:
     """A worker's task: done, with its files, its time and the warnings it raised."""
     start = time.perf_counter()
-    queue = _FRAMES
 
-    def on_frame(done: int, total: int) -> None:
-        if queue is not None and (done % 5 == 0 or done == total):
-            queue.put((task.label, done, total))
+    def frame(done: int, total: int) -> None:
+        if on_frame is not None and (done % 5 == 0 or done == total):
+            on_frame(task.label, done, total)
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        files = _do(task, on_frame=on_frame)
+        files = _do(task, on_frame=frame)
     return task.label, files, time.perf_counter() - start, \
         [(w.category, str(w.message)) for w in caught]
+
+
+def _serve(conn: Connection, frames: bool) -> None:
+    """A worker process: does each task it is sent on `conn` and sends back ``("done",
+    what _work returns)`` or ``("error", exception)``, and with `frames` ``("frame", label,
+    done, total)`` on the way; ends when the parent closes its end. Ctrl-C is the parent's
+    to handle (it kills its workers)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+    def on_frame(label: str, done: int, total: int) -> None:
+        conn.send(("frame", label, done, total))
+
+    while True:
+        try:
+            task = conn.recv()
+        except EOFError:
+            return
+        try:
+            reply: tuple[str, Any] = ("done", _work(task, on_frame if frames else None))
+        except Exception as exc:
+            reply = ("error", exc)
+        try:
+            conn.send(reply)
+        except BrokenPipeError:  # the parent is gone
+            return
+        except Exception as exc:  # `reply` cannot be pickled: its words can
+            what = reply[1] if reply[0] == "error" else exc
+            conn.send(("error", RuntimeError(f"{task.label}: {type(what).__name__}: {what}")))
+
+
+def _died(proc: BaseProcess, task: _Task) -> ChildProcessError:
+    """The error of a worker that ended (killed, out of memory) before `task` was done."""
+    proc.join(1)
+    code = proc.exitcode
+    how = f"was killed by {signal.Signals(-code).name}" if code is not None and code < 0 \
+        else f"ended (exit code {code})"
+    return ChildProcessError(f"the process drawing {task.label} {how} before it was done")
 
 
 def default_workers() -> int:
@@ -352,38 +385,68 @@ def _run_tasks(tasks: list[_Task], workers: int, bars: _Bars) -> list[Path]:
             bars.line(task.label, f"[{k:>{len(str(n))}}/{n}] "
                       + _done_line(task, files, time.perf_counter() - start))
         return written
+    # Worker processes of our own, one pipe each, each sent a task only when it is idle: the
+    # parent's sends cannot block for long and no thread of ours writes to a pipe. (Pool hung
+    # here: after Ctrl-C, Pool.terminate() could kill the workers while its task-handler
+    # thread was about to write a pickled task -- 34 kB to 2.2 MB, the pipe holds 64 kB --
+    # and then waited for ever for that thread.) On Ctrl-C or an error the workers are killed.
     context = multiprocessing.get_context("spawn")  # no threads inherited from this process
-    queue = context.Queue() if bars.show else None
-    pool = context.Pool(min(workers, n), initializer=_start_worker, initargs=(queue,))
-    listener = None
-    if queue is not None:
-        def listen() -> None:
-            while (item := queue.get()) is not None:
-                bars.frame(*item)
-
-        listener = threading.Thread(target=listen, daemon=True)
-        listener.start()
-    by_label = {t.label: t for t in tasks}
+    procs: dict[Connection, BaseProcess] = {}
+    doing: dict[Connection, _Task | None] = {}  # what each worker draws (None: it waits)
+    todo = list(tasks)
+    done = False
     try:
-        for k, (label, files, seconds, caught) in enumerate(
-                pool.imap_unordered(_work, tasks, chunksize=1), 1):
-            for category, message in caught:
-                warnings.warn(message, category, stacklevel=2)
-            written += files
-            bars.line(label, f"[{k:>{len(str(n))}}/{n}] "
-                      + _done_line(by_label[label], files, seconds))
-        pool.close()
-    except BaseException:
-        pool.terminate()
-        raise
+        for _ in range(min(workers, n)):
+            here, there = context.Pipe()
+            proc = context.Process(target=_serve, args=(there, bars.show), daemon=True)
+            with _ctrl_c_held() as came:  # a started worker is always in `procs`
+                proc.start()
+                procs[here], doing[here] = proc, None
+            there.close()  # this end is the worker's: its death is EOF here
+            if came:
+                raise KeyboardInterrupt
+        k = 0
+        while k < n:
+            for conn, doing_now in doing.items():
+                if doing_now is None and todo:
+                    doing[conn] = sent = todo.pop(0)
+                    try:
+                        conn.send(sent)
+                    except BrokenPipeError:
+                        raise _died(procs[conn], sent) from None
+            for ready in multiprocessing.connection.wait(
+                    [conn for conn, doing_now in doing.items() if doing_now is not None]):
+                assert isinstance(ready, Connection)
+                drawing = doing[ready]
+                assert drawing is not None
+                try:
+                    kind, *what = ready.recv()
+                except EOFError:
+                    raise _died(procs[ready], drawing) from None
+                if kind == "frame":
+                    bars.frame(*what)
+                    continue
+                doing[ready] = None
+                if kind == "error":
+                    raise what[0]
+                label, files, seconds, caught = what[0]
+                for category, message in caught:
+                    warnings.warn(message, category, stacklevel=2)
+                written += files
+                k += 1
+                bars.line(label, f"[{k:>{len(str(n))}}/{n}] "
+                          + _done_line(drawing, files, seconds))
+        done = True
     finally:
-        pool.join()
-        if queue is not None:
-            queue.put(None)
-            assert listener is not None
-            listener.join()
-            queue.close()
-            queue.join_thread()
+        for conn, worker in procs.items():
+            conn.close()  # a waiting worker's recv() ends: it returns
+            if not done:
+                worker.kill()
+        for worker in procs.values():
+            worker.join(None if not done else 10)
+            if worker.exitcode is None:
+                worker.kill()
+                worker.join()
         bars.close()
     return written
 

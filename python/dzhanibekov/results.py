@@ -151,6 +151,9 @@ class Trajectory:
     n_rejected: int = 0
     parts: dict[str, np.ndarray] = field(default_factory=dict)
     _observed: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    _flat_time: float | None = field(default=None, repr=False)
+    """The time the spin went flat, located in the run (NaN: not by the end; see
+    :func:`~dzhanibekov.flat_spin_time`); None for a run that did not watch for it."""
 
     @property
     def body(self) -> Any:
@@ -429,6 +432,8 @@ class Batch:
     drift: BatchDrift
     parts: dict[str, np.ndarray] = field(default_factory=dict)
     _observed: dict[str, np.ndarray] = field(default_factory=dict, repr=False)
+    _flat_times: np.ndarray | None = field(default=None, repr=False)
+    """Each run's :attr:`Trajectory._flat_time`, shape (M,); None where not watched."""
 
     def to_xarray(self) -> Any:
         """Every run as an ``xarray.Dataset`` (dims ``run``, ``time``, ``axis``, ``quaternion``;
@@ -520,6 +525,7 @@ class Batch:
             n_rejected=int(self.n_rejected[i]),
             parts={k: v[i] for k, v in self.parts.items()},
             _observed={k: v[i] for k, v in self._observed.items()},
+            _flat_time=None if self._flat_times is None else float(self._flat_times[i]),
         )
 
     def invariants(self) -> dict[str, np.ndarray]:
@@ -584,7 +590,8 @@ class Batch:
                        n_steps=self.n_steps[take], nfev=self.nfev[take],
                        n_rejected=self.n_rejected[take], drift=self.drift.take(take),
                        parts={k: v[take] for k, v in self.parts.items()},
-                       _observed={k: v[take] for k, v in self._observed.items()})
+                       _observed={k: v[take] for k, v in self._observed.items()},
+                       _flat_times=None if self._flat_times is None else self._flat_times[take])
 
     @property
     def t_end(self) -> float:

@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 
 from . import _core
 from ._args import as_array, check_size, run_options
+from ._progress import PROGRESS_DELAY, RunProgress, resolve
 from .accuracy import warn_step
 from .body import Body
 from .damper import warn_stiff
@@ -168,8 +169,9 @@ def simulate(
         100 ulps and below 1. Fixed-step methods with ``dt=None``: the accuracy the step
         is chosen for (default 1e-9). Not allowed with a fixed-step method and a `dt`.
     atol : float, optional
-        Adaptive methods only: absolute tolerance (default 1e-12) on ``q`` and on ``ω`` in
-        units of ``Ω``, so that runs are invariant under ``(ω, t) → (sω, t/s)``.
+        Adaptive methods only: absolute tolerance on ``q`` and on ``ω`` in units of ``Ω``,
+        so that runs are invariant under ``(ω, t) → (sω, t/s)``; default ``rtol / 1000``
+        (1e-12 at the default `rtol`), so that a tighter `rtol` is not held back by it.
     flips : bool
         Locate the flips (default). Watching every step for them costs about 8% of an RK4
         run; ``flips=False`` skips it and leaves ``flip_times`` as None.
@@ -181,10 +183,13 @@ def simulate(
         A batch's threads (default: all cores), capped at the number of runs and at 256
         (``MAX_THREADS`` of the core); pools are kept and reused. A single run uses one.
     progress : bool, optional
-        A batch's progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter), advanced
-        per block of 1024 runs: None (default) shows it for batches of more than one block
-        when stderr is a terminal and the batch takes more than a second; True always;
-        False never. A single run shows none, nor a batch of deployments or dampers.
+        A progress bar (``tqdm.auto``: on stderr, or a widget in Jupyter). A single run's
+        is advanced by the core as the run goes (at no cost a step: it reads how far the run
+        got when it looks for Ctrl-C); where no bar can show (stderr is not a terminal) a
+        line on stderr says how far it got every ``LINE_EVERY`` (10) seconds. A batch's is
+        advanced per block of 1024 runs. None (default) shows the bar for runs of more than
+        a second (a batch: of more than one block), the lines for runs of more than 10
+        seconds; True always; False never.
 
     Returns
     -------
@@ -285,10 +290,6 @@ PROGRESS_BLOCK = 1024
 """Rows per call to the core when a batch shows its progress (a multiple of the SIMD
 lanes' 16, so that the lanes are grouped as in one call; rows never depend on it)."""
 
-PROGRESS_DELAY = 1.0
-"""Seconds before a progress bar shows (``progress=None``): quick calls show none."""
-
-
 def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = None,
               keep_frames: bool = True) -> Batch:
     """The runs of `rows` (planned) over one frame grid, as a :class:`Batch` (a single run's
@@ -302,14 +303,22 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
                    "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo study) "
                    "for per-run outcomes, which keep no frames")
 
+    progress = resolve(progress)
+
     def run(block: slice) -> Any:
         part = rows.take(block)
         systems, moments = part.core()
+        # a single run reports its progress from the core
+        report = RunProgress(options.t_end, progress is True) \
+            if m == 1 and progress is not False else None
         try:
             return _core.simulate_batch(systems, part.omega, part.q, options, keep_frames,
-                                        inertia=moments)
+                                        inertia=moments, progress=report)
         except ValueError as exc:
             raise row_error(exc, rows, block.start or 0) from None
+        finally:
+            if report is not None:
+                report.close()
 
     out = _in_blocks(run, m, progress)
     system = rows.systems.first if m else None
@@ -327,6 +336,7 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
         n_rejected=out.runs.n_rejected,
         drift=batch_drift(out.runs),
         parts={} if system is None else split_parts(system, out.parts),
+        _flat_times=out.flat_time if len(out.flat_time) == m else None,
     )
 
 
@@ -372,6 +382,7 @@ class _Joined:
     parts: np.ndarray | None
     flip_offsets: np.ndarray
     flip_times: np.ndarray
+    flat_time: np.ndarray
     runs: _Columns
 
     @staticmethod
@@ -387,6 +398,7 @@ class _Joined:
             t=parts[0].t, omega=joined([p.omega for p in parts]),
             q=joined([p.q for p in parts]), parts=joined([p.parts for p in parts]),
             flip_offsets=offsets, flip_times=joined([p.flip_times for p in parts]),
+            flat_time=np.concatenate([p.flat_time for p in parts]),
             runs=_Columns(
                 drift=[np.concatenate(c) for c in zip(*(r.drift for r in runs))],
                 kept=runs[0].kept,

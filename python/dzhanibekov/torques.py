@@ -149,7 +149,7 @@ class TabulatedTorque:
         return (TabulatedTorque, (self.times, self.vectors, self.frame, self.outside))
 
     def __repr__(self) -> str:
-        return (f"TabulatedTorque(times=[{self.times[0]!r} … {self.times[-1]!r}], "
+        return (f"TabulatedTorque(times=[{float(self.times[0])!r} … {float(self.times[-1])!r}], "
                 f"knots={len(self.times)}, frame={self.frame!r}, outside={self.outside!r})")
 
     def __eq__(self, other: object) -> bool:

@@ -5,12 +5,18 @@ a wing nut, a composite, a mesh, shaded), its inertia ellipsoid, the signal poin
 path, the angular momentum — with plotly, each labelled, and writes a single HTML file with
 plotly's JavaScript embedded, so it opens anywhere without a network: drag to rotate, scroll
 to zoom, play/pause and a time slider. A run (a `Trajectory`, or rows of a `Batch`) is drawn
-as it is. plotly is the ``viewer`` extra: ``pip install ".[viewer]"`` from a checkout.
+as it is. plotly is the ``viewer`` extra: ``pip install "dzhanibekov[viewer]"``.
 """
 
 from __future__ import annotations
 
+import base64
 import dataclasses
+import functools
+import gzip
+import html
+import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -20,21 +26,27 @@ from ._args import as_float, as_int
 from ._files import as_path, replacing
 from ._tables import require
 from .results import Batch, Trajectory
+from .scenes.parse import drawn_label
 from .scenes.plan import SceneResult, execute, make_plan
 from .scenes.scene import Scene, SceneError
 from .scenes.staging import result_for
 
 __all__ = ["write_html", "figure"]
 
-EXTRA = 'the `viewer` extra: pip install ".[viewer]" from a checkout (plotly)'
+EXTRA = ('the `viewer` extra: pip install "dzhanibekov[viewer]" (plotly; by the package\'s '
+         'name it installs only that, without rebuilding the core)')
 DEFAULT_FRAMES = 201
 """Frames shown at most by default: each is a copy of every drawn point in the page."""
 MAX_FRAMES = 1000
 """The most frames the viewer shows (`frames`): each shown frame holds a copy of every drawn
-point, and the signal point's trail up to it, in the page (about 0.1 MB a frame)."""
+point, and the signal point's trail up to it, in the page (about 3 kB a frame, packed)."""
 PATH_POINTS = 1000
 """The most points of the signal point's path in the page: a run of more frames is drawn
 through that many of them, evenly spread (the shown frames among them)."""
+RESOLUTION = 40_000
+"""The page's coordinates are rounded to a decimal step of at most ``1 / RESOLUTION`` of the
+axes' span: a quarter of a pixel on a 10 000-pixel screen, nothing anyone sees, and numbers
+short enough that the page of a shipped scene is about 2.5 MB, not 10."""
 
 
 Drawable = Scene | SceneResult | Trajectory | Batch
@@ -153,7 +165,7 @@ def figure(scene: Drawable, *, frames: int | None = None, fps: float = 20.0,
     points = [w.points for r in results for w in r.world.values() if w.points.size]
     paths = [r.path for r in results if r.scene.draw.path]
     size = 1.1 * float(max([np.abs(p).max() for p in points + paths] or [1.0]))
-    body_name = "body" if result.scene.body.shape is not None else "box"
+    body_name = drawn_label(result.scene.body, result.scene.body_spec)
     colors = ["#c0392b", "#2e86c1", "#27ae60", "#8e44ad", "#d35400", "#16a085"]
 
     def traces(frame: int) -> list[Any]:
@@ -246,7 +258,10 @@ def write_html(scene: Drawable, path: str | Path, *, frames: int | None = None,
     own shape, shaded where it has faces), its inertia ellipsoid (radii of gyration for a
     run; the scene's convention for a scene), the signal point and its path, and the angular
     momentum's direction, at each shown frame; plotly's JavaScript is embedded, so the file
-    opens offline in any browser. Drag to rotate, scroll to zoom; play, pause and a time
+    opens offline in any browser (from 2023 on: plotly.js and the figure are stored
+    gzip-compressed and unpacked by the browser's ``DecompressionStream``, which keeps a
+    shipped scene's page near 2.5 MB; coordinates are rounded to :data:`RESOLUTION` of the
+    axes' span, below a pixel). Drag to rotate, scroll to zoom; play, pause and a time
     slider move through the frames.
 
     Parameters
@@ -288,6 +303,122 @@ def write_html(scene: Drawable, path: str | Path, *, frames: int | None = None,
     """
     destination = as_path(path)
     fig = figure(scene, frames=frames, fps=fps, rows=rows)
+    page = _page(fig)
     with replacing(destination) as tmp:  # all or nothing: the previous file kept on failure
-        fig.write_html(tmp, include_plotlyjs=True, full_html=True, auto_play=False)
+        Path(tmp).write_text(page, encoding="utf-8")
     return destination
+
+
+_PAGE = """<!DOCTYPE html>
+<html lang="en">
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>html, body {{ height: 100%; }} #viewer {{ height: 100%; width: 100%; }}</style>
+</head>
+<body>
+<div id="viewer"></div>
+<noscript>The viewer is drawn by JavaScript: allow it for this page.</noscript>
+<script>
+"use strict";
+// Written by dzhanibekov.viewer.write_html: plotly.js {version} and the figure, each
+// gzip-compressed and base64-encoded (a page of a few MB instead of ten), unpacked here by
+// the browser's own DecompressionStream; nothing is fetched from the network.
+const PLOTLY = "{plotly}";
+const FIGURE = "{figure}";
+async function inflate(text) {{
+  const bytes = Uint8Array.from(atob(text), (c) => c.charCodeAt(0));
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream("gzip"));
+  return await new Response(stream).text();
+}}
+(async () => {{
+  const viewer = document.getElementById("viewer");
+  if (typeof DecompressionStream === "undefined") {{
+    viewer.textContent = "This page needs a browser from 2023 or later (Chrome 80, Firefox " +
+      "113, Safari 16.4): it unpacks plotly.js with DecompressionStream.";
+    return;
+  }}
+  const script = document.createElement("script");
+  script.textContent = await inflate(PLOTLY);
+  document.head.appendChild(script);
+  const fig = JSON.parse(await inflate(FIGURE));
+  await Plotly.newPlot(viewer, fig.data, fig.layout, {{responsive: true}});
+  await Plotly.addFrames(viewer, fig.frames);
+}})().catch((error) => {{
+  document.getElementById("viewer").textContent = "The viewer could not start: " + error;
+  throw error;
+}});
+</script>
+</body>
+</html>
+"""
+
+
+def _packed(text: str) -> str:
+    """`text` gzip-compressed and base64-encoded, as the page unpacks it."""
+    return base64.b64encode(gzip.compress(text.encode("utf-8"), 9, mtime=0)).decode("ascii")
+
+
+@functools.lru_cache(maxsize=1)
+def _plotly_js() -> tuple[str, str]:
+    """plotly.js as the page holds it (packed once a process), and its version."""
+    offline = require("plotly.offline", "the viewer", EXTRA)
+    version = require("plotly", "the viewer", EXTRA).__version__
+    return _packed(offline.get_plotlyjs()), str(version)
+
+
+def _page(fig: Any) -> str:
+    """The self-contained page of the viewer's figure `fig` (see :func:`write_html`)."""
+    plotly, version = _plotly_js()
+    title = fig.layout.title.text or "dzhanibekov viewer"
+    return _PAGE.format(title=html.escape(str(title)), version=version, plotly=plotly,
+                        figure=_packed(_figure_json(fig)))
+
+
+_COORDINATES = ("x", "y", "z")
+_FACES = ("i", "j", "k")
+
+
+def _figure_json(fig: Any) -> str:
+    """`fig` as compact JSON for the page: every coordinate rounded to a decimal step of at
+    most the axes' span over `RESOLUTION` (shortest decimals, which compress well), and the
+    faces of a mesh given once, in the trace, not again in every frame (an animation frame
+    changes only what it gives)."""
+    spec = fig.to_plotly_json()
+    span = 2 * float(spec["layout"]["scene"]["xaxis"]["range"][1])
+    decimals = max(0, math.ceil(math.log10(RESOLUTION / span))) if span > 0 else 6
+
+    def plain(trace: dict[str, Any], in_frame: bool) -> dict[str, Any]:
+        out = {}
+        for key, value in trace.items():
+            if in_frame and trace.get("type") == "mesh3d" and key in _FACES:
+                continue
+            if key in _COORDINATES and value is not None:
+                value = [None if v is None else round(float(v), decimals)
+                         for v in _array(value)]
+            elif key in _FACES:
+                value = np.asarray(_array(value)).astype(int).tolist()
+            out[key] = value
+        return out
+
+    data = [plain(t, False) for t in spec["data"]]
+    frames = [dict(f, data=[plain(t, True) for t in f["data"]]) for f in spec["frames"]]
+    page = {"data": data, "layout": spec["layout"], "frames": frames}
+    return json.dumps(page, separators=(",", ":"), default=_plain_value)
+
+
+def _array(value: Any) -> Any:
+    """A trace's array as plotly holds it: a sequence, or a typed array ``{dtype, bdata}``."""
+    if isinstance(value, dict) and "bdata" in value:
+        array = np.frombuffer(base64.b64decode(value["bdata"]), dtype=value["dtype"])
+        return array.reshape(value["shape"]) if "shape" in value else array
+    return value
+
+
+def _plain_value(value: Any) -> Any:
+    """What json cannot write itself: NumPy arrays and numbers as lists and floats."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"the viewer's figure holds a {type(value).__name__}, which JSON cannot")

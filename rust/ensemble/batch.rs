@@ -485,6 +485,9 @@ pub struct BatchOutput {
     /// Where each row ended (kept by batches of systems with parts or a schedule; empty for
     /// free bodies, whose last frame says it when frames are kept).
     pub end: Vec<crate::observe::End>,
+    /// The time each row's spin went flat (NaN: not by the end); empty for batches whose rows
+    /// are not watched (see [`crate::run::RunOutput::flat_time`]).
+    pub flat_time: Vec<f64>,
 }
 
 impl BatchOutput {
@@ -618,6 +621,7 @@ pub fn simulate_batch(
         stats: try_with_capacity(m, "the batch's statistics", ROWS_HINT)?,
         dt: try_with_capacity(m, "the batch's steps", ROWS_HINT)?,
         end: Vec::new(),
+        flat_time: Vec::new(),
     };
     out.flip_offsets.push(0);
     for row in rows {

@@ -19,76 +19,13 @@
 //! detectors called, lane by lane, with the states before and after the step, exactly as a
 //! single run calls its detector. The state is double-buffered so that both are at hand.
 
+pub use crate::isa::Isa;
+
 use crate::dynamics::{scaled_increment, FreeRigidBody, State};
 use crate::integrators::Rk4;
 use crate::observe::tilt::TiltMonitor;
 use crate::observe::{crosses, FlipDetector};
 use crate::ode::{OdeSystem, Stepper};
-
-/// An instruction set the lane kernel is compiled for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Isa {
-    /// The architecture's baseline (SSE2 on x86-64): 2 lanes per vector.
-    Baseline,
-    /// AVX2: 4 lanes per vector.
-    Avx2,
-    /// AVX-512F: 8 lanes per vector.
-    Avx512,
-}
-
-impl Isa {
-    /// The widest instruction set this CPU offers.
-    pub fn detect() -> Isa {
-        *Self::available().last().unwrap_or(&Isa::Baseline)
-    }
-
-    /// Every instruction set this CPU offers, narrowest first.
-    pub fn available() -> Vec<Isa> {
-        [Isa::Baseline, Isa::Avx2, Isa::Avx512]
-            .into_iter()
-            .filter(|isa| isa.is_supported())
-            .collect()
-    }
-
-    /// Whether this CPU can run the kernel compiled for `self`.
-    pub fn is_supported(self) -> bool {
-        match self {
-            Isa::Baseline => true,
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx2 => std::arch::is_x86_feature_detected!("avx2"),
-            #[cfg(target_arch = "x86_64")]
-            Isa::Avx512 => std::arch::is_x86_feature_detected!("avx512f"),
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => false,
-        }
-    }
-
-    /// The name used in messages and benches: `"baseline"`, `"avx2"`, `"avx512"`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Isa::Baseline => "baseline",
-            Isa::Avx2 => "avx2",
-            Isa::Avx512 => "avx512",
-        }
-    }
-}
-
-impl std::str::FromStr for Isa {
-    type Err = crate::Error;
-
-    fn from_str(s: &str) -> crate::Result<Self> {
-        match s {
-            "baseline" => Ok(Isa::Baseline),
-            "avx2" => Ok(Isa::Avx2),
-            "avx512" => Ok(Isa::Avx512),
-            other => Err(crate::Error::invalid(
-                "isa",
-                "must be one of 'baseline', 'avx2', 'avx512'",
-                other,
-            )),
-        }
-    }
-}
 
 /// Eq. 1 with a lane's coefficients: what one lane integrates ([`scaled_increment`], as
 /// [`crate::FreeRigidBody`] does for a single run).

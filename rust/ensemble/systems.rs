@@ -133,6 +133,7 @@ pub fn simulate_systems(
             }
             Ok(Row {
                 flip_times: run.flip_times,
+                flat_time: run.flat_time,
                 drift: run.drift,
                 stats: run.stats,
                 dt: run.dt,
@@ -148,9 +149,11 @@ pub fn simulate_systems(
         ..collect_rows(m)?
     };
     out.end = try_with_capacity(m, "the batch's ends", "run fewer starts at a time")?;
+    out.flat_time = try_with_capacity(m, "the batch's ends", "run fewer starts at a time")?;
     for row in outputs {
         out.push_row(row.flip_times, row.drift, row.stats, row.dt)?;
         out.end.push(row.end);
+        out.flat_time.extend(row.flat_time);
     }
     Ok(out)
 }
@@ -210,12 +213,14 @@ fn one_row(
         stats: vec![run.stats],
         dt: vec![run.dt],
         end: vec![run.end],
+        flat_time: run.flat_time.into_iter().collect(),
     })
 }
 
 /// What a row leaves besides its frames.
 struct Row {
     flip_times: Vec<f64>,
+    flat_time: Option<f64>,
     drift: crate::observe::Drift,
     stats: crate::ode::Stats,
     dt: f64,

@@ -40,6 +40,7 @@
 //! sign change of the intermediate rate) counts when the intermediate axis is dominant,
 //! `|L2| > |L|/√2`, in the half-periods on both sides of it within the run.
 
+pub(crate) mod compensated;
 pub mod elliptic;
 
 use nalgebra::{Matrix3, Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
@@ -47,6 +48,7 @@ use nalgebra::{Matrix3, Quaternion, Rotation3, Unit, UnitQuaternion, Vector3};
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, State};
 use crate::error::{Error, Result};
+use crate::exact::compensated::{dd_mul, two_sum};
 use crate::exact::elliptic::{sn2_integral, sn2_integral_complete, Jacobi};
 
 /// Flip times a run may return at most (800 MB).
@@ -333,21 +335,6 @@ fn separatrix_measure(j: [f64; 3], w1: f64, w3: f64) -> f64 {
     let minor = dd_mul(dd_mul(dd_mul(two_sum(j2, -j1), j1), w1), w1);
     let (hi, lo) = two_sum(major.0, -minor.0);
     hi + (lo + (major.1 - minor.1))
-}
-
-/// `a + b` as an unevaluated sum `(s, e)` with `s = fl(a + b)` exactly (Knuth's TwoSum).
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let s = a + b;
-    let bb = s - a;
-    (s, (a - (s - bb)) + (b - bb))
-}
-
-/// The double-double `x` times `y`, renormalised (the product `x.0 · y` error-free by FMA).
-fn dd_mul(x: (f64, f64), y: f64) -> (f64, f64) {
-    let p = x.0 * y;
-    let e = x.0.mul_add(y, -p) + x.1 * y;
-    let s = p + e;
-    (s, e - (s - p))
 }
 
 /// A power of two near `x > 0`.

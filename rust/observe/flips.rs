@@ -190,21 +190,23 @@ impl<S> FlipDetector<'_, S> {
     }
 
     /// The zero of the cubic Hermite interpolant of `L_mid` over a step, its slopes from the
-    /// momentum's rate. Rare (twice per flip period), so kept out of the step loop.
+    /// momentum's rate. Rare (twice per flip period), so kept out of the step loop. The
+    /// states come by value: a reference would make the step loop keep them in memory for
+    /// this call's sake, and reload them there (a stall: a wide load of narrow stores).
     #[cold]
     #[inline(never)]
     fn crossing<const N: usize>(
         &self,
         axis: Axis,
-        (t0, x0, l0): (f64, &[f64; N], f64),
-        (t1, x1, l1): (f64, &[f64; N], f64),
+        (t0, x0, l0): (f64, [f64; N], f64),
+        (t1, x1, l1): (f64, [f64; N], f64),
     ) -> f64
     where
         S: Model<N>,
     {
         let h = t1 - t0;
         let slope = |t: f64, x: &[f64; N]| h * axis.of(&self.sys.momentum_rate(t, x));
-        hermite_zero(t0, h, (l0, slope(t0, x0)), (l1, slope(t1, x1)))
+        hermite_zero(t0, h, (l0, slope(t0, &x0)), (l1, slope(t1, &x1)))
     }
 
     /// Counts a flip if the intermediate axis has come near `L` on the side opposite to the
@@ -249,7 +251,7 @@ impl<const N: usize, S: Model<N>> Observer<N> for FlipDetector<'_, S> {
         let l1 = self.sys.momentum_body(t1, x1);
         let (r0, r1) = (axis.of(&self.sys.momentum_body(t0, x0)), axis.of(&l1));
         if crosses(r0, r1) {
-            self.sides.candidate = Some(self.crossing(axis, (t0, x0, r0), (t1, x1, r1)));
+            self.sides.candidate = Some(self.crossing(axis, (t0, *x0, r0), (t1, *x1, r1)));
         }
         self.settle(axis, &l1);
     }

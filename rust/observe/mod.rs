@@ -2,12 +2,14 @@
 //! what a caller needs — stored frames, invariant drift, flip times.
 
 mod drift;
+pub mod flat;
 mod flips;
 mod frames;
 mod sides;
 pub mod tilt;
 
 pub use drift::{Drift, DriftMonitor};
+pub use flat::{FlatAxes, FlatSpin, FLAT_SHARE};
 pub use flips::FlipDetector;
 pub use frames::{End, LastFrame, Recorder};
 

@@ -48,7 +48,12 @@ impl PyTorqueFunction {
                     .getattr("shape")
                     .map(|s| format!("shape {s}"))
                     .unwrap_or_else(|_| {
-                        out.get_type().name().map_or("?".into(), |n| n.to_string())
+                        let kind = out.get_type().name().map_or("?".into(), |n| n.to_string());
+                        // a sequence says how many numbers it held
+                        match out.len() {
+                            Ok(n) => format!("a {kind} of {n}"),
+                            Err(_) => kind,
+                        }
                     });
                 PyValueError::new_err(format!(
                     "the `torque` function must return three numbers (body axes, shape (3,)), \

@@ -111,6 +111,18 @@ fn detach_with<T: Send>(
     work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
     on_stop: impl Fn() + Send + Sync,
 ) -> PyResult<T> {
+    detach_reporting(py, long, work, on_stop, |_| Ok(()))
+}
+
+/// [`detach_with`], calling `report` with the GIL at every poll of long work (after the look
+/// for signals): a progress bar's update. An exception it raises stops the work like a signal.
+fn detach_reporting<T: Send>(
+    py: Python<'_>,
+    long: bool,
+    work: impl FnOnce(&AtomicBool) -> Result<T, Error> + Send,
+    on_stop: impl Fn() + Send + Sync,
+    mut report: impl FnMut(Python<'_>) -> PyResult<()> + Send,
+) -> PyResult<T> {
     if !long {
         let cancel = AtomicBool::new(false);
         let result = py.detach(|| {
@@ -130,7 +142,7 @@ fn detach_with<T: Send>(
             if shut_out() {
                 return true;
             }
-            match Python::attach(|py| py.check_signals()) {
+            match Python::attach(|py| py.check_signals().and_then(|()| report(py))) {
                 Err(e) => {
                     interrupt = Some(e);
                     on_stop();
@@ -178,6 +190,7 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("DEFAULT_ATOL", DEFAULT_ATOL)?;
     m.add("DEFAULT_MAX_STEPS", DEFAULT_MAX_STEPS)?;
     m.add("ENERGY_GROWTH_TOL", crate::run::ENERGY_GROWTH_TOL)?;
+    m.add("FLAT_SHARE", crate::observe::FLAT_SHARE)?;
     m.add("MAX_MOMENT_RATIO", crate::body::MAX_MOMENT_RATIO)?;
     m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
     m.add("SYMMETRY_TOLERANCE", crate::body::SYMMETRY_TOLERANCE)?;

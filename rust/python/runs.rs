@@ -1,6 +1,8 @@
 //! The runs: planning, a batch (a single run is a batch of one), a sweep, and what a system says of its frames; their
 //! results as frozen classes of NumPy arrays.
 
+use std::sync::Arc;
+
 use numpy::ndarray::{Ix1, Ix2, Ix3};
 use numpy::{
     PyArray1, PyArray2, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyUntypedArrayMethods,
@@ -19,12 +21,13 @@ use crate::error::Error;
 use crate::observe::Drift;
 use crate::ode::Stats;
 use crate::run::options::RunOptions;
+use crate::run::progress::{metered, Meter};
 use crate::run::step_size::StepPlan;
 use crate::run::{watchdog, FrameGrid, Keep};
 
 use super::arrays::owned;
 use super::values::{PyRunOptions, PySystem};
-use super::{detach, detach_with};
+use super::{detach, detach_reporting};
 
 /// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
 #[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
@@ -40,6 +43,13 @@ struct PyStepPlan {
     predicted_drift: f64,
     /// The model's fastest decay rate (a damper's slip); 0 for none.
     stiffness: f64,
+    /// A fixed step's predicted error, truncation and round-off; 0 for other methods.
+    predicted_error: f64,
+    /// Whether no step meets `rtol` over the run (its round-off alone exceeds it).
+    out_of_reach: bool,
+    /// The cheapest fixed-step method that meets `rtol` where this one cannot (see
+    /// `run::step_size::reaching`).
+    reached_by: Option<&'static str>,
 }
 
 impl From<StepPlan> for PyStepPlan {
@@ -50,6 +60,9 @@ impl From<StepPlan> for PyStepPlan {
             rate_bound: p.rate_bound,
             predicted_drift: p.predicted_drift,
             stiffness: p.stiffness,
+            predicted_error: p.predicted_error,
+            out_of_reach: p.out_of_reach,
+            reached_by: p.reached_by,
         }
     }
 }
@@ -242,7 +255,8 @@ const ROWS_HINT: &str = "run fewer starts at a time";
 
 /// A batch's output: the frame times; frames `(M, frames, ·)` and parts' state if kept; where
 /// each row ended (`(M, 3)`, `(M, 4)`, `(M, k)`; NaN where not kept); every row's flip times
-/// (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`); per-row columns.
+/// (row `i`'s are `flip_times[flip_offsets[i]:flip_offsets[i + 1]]`); the time each row's spin
+/// went flat (NaN: not by the end; empty where not watched); per-row columns.
 #[pyclass(name = "BatchResult", module = "dzhanibekov._core", frozen, get_all)]
 struct PyBatchResult {
     t: Py<PyArray1<f64>>,
@@ -254,6 +268,7 @@ struct PyBatchResult {
     end_parts: Py<PyArray2<f64>>,
     flip_offsets: Py<PyArray1<i64>>,
     flip_times: Py<PyArray1<f64>>,
+    flat_time: Py<PyArray1<f64>>,
     runs: Py<PyRunColumns>,
 }
 
@@ -264,9 +279,10 @@ fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOpt
     })
 }
 
-/// Runs every row (as `plan` takes them) over one frame grid.
+/// Runs every row (as `plan` takes them) over one frame grid; a single long run calls
+/// `progress(share)` now and then with the share of its span done (see `run::progress`).
 #[pyfunction]
-#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None))]
+#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, progress = None))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch(
     py: Python<'_>,
@@ -277,6 +293,7 @@ fn simulate_batch(
     keep_frames: bool,
     isa: Option<&str>,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
+    progress: Option<Py<PyAny>>,
 ) -> PyResult<PyBatchResult> {
     let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
     let options = options.inner;
@@ -297,11 +314,27 @@ fn simulate_batch(
     let long = watchdog::is_long(&method, &grid, m);
     // a Python torque function's failure stops the run: its own error reaches the caller
     super::callable::reset(&systems);
-    let out = detach_with(
+    // a single run reports how far it got; a batch's rows, run on other threads, do not
+    let meter = Arc::new(Meter::new());
+    let mut shown = -1.0;
+    let out = detach_reporting(
         py,
         long,
-        |cancel| simulate_systems(rows, &grid, method, keep, &batch, cancel),
+        |cancel| {
+            let run = || simulate_systems(rows, &grid, method, keep, &batch, cancel);
+            match (&progress, m) {
+                (Some(_), 1) => metered(meter.clone(), run),
+                _ => run(),
+            }
+        },
         || super::callable::stop(&systems),
+        |py| match &progress {
+            Some(report) if meter.share() != shown => {
+                shown = meter.share();
+                report.call1(py, (shown,)).map(|_| ())
+            }
+            _ => Ok(()),
+        },
     );
     let out = match super::callable::failure(&systems) {
         Some(e) => return Err(e),
@@ -337,6 +370,7 @@ fn simulate_batch(
         end_parts,
         flip_offsets,
         flip_times: column(py, out.flip_times)?,
+        flat_time: column(py, out.flat_time)?,
         runs: Py::new(py, runs)?,
     })
 }

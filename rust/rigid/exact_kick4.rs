@@ -14,7 +14,8 @@
 //! at the same cost. Two kicks that meet between sub-steps act at the same time and attitude,
 //! so they are one kick of the summed weight: six torque evaluations and five closed-form free
 //! motions a step. Every sub-flow keeps `|q| = 1` (the kicks do not touch `q`): `|q|` is kept
-//! to round-off; with no torque it is the exact solution.
+//! to round-off; with no torque it is the exact solution. The motion's invariants are carried
+//! through the five free flows and six kicks as in [`ExactKick`].
 //!
 //! Why Suzuki's and not Yoshida's triple jump `(γ, 1 − 2γ, γ)`, `γ = 1/(2 − 2^{1/3})` (three
 //! free motions a step): on the free body's classical splitting Suzuki's composition had
@@ -23,17 +24,19 @@
 
 use crate::dynamics::GeneralModel;
 use crate::error::Result;
+use crate::exact::compensated::{dd_add, dd_diff, dd_mul, Dd};
 use crate::ode::Stepper;
 
 use super::exact_kick::ExactKick;
 use super::splitting::suzuki_weights;
 
 /// The fourth-order splitting (see the module doc).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct ExactKick4 {
     strang: ExactKick,
-    /// The sub-steps' weights.
-    flows: [f64; 5],
+    /// The sub-steps' weights, in double-double: they sum to 1 to round-off (the middle one
+    /// takes the rest), so that sub-steps along one motion sum to the step.
+    flows: [Dd; 5],
     /// The kicks' weights: half the weights of the sub-steps they join.
     kicks: [f64; 6],
     /// The kicks' times, as fractions of the step (the last is the step's end, exactly).
@@ -46,16 +49,22 @@ impl ExactKick4 {
     /// # Errors
     /// As [`ExactKick::of`].
     pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
-        let flows = suzuki_weights();
+        let weights = suzuki_weights();
         let mut kicks = [0.0; 6];
         let mut times = [0.0; 5];
         let mut elapsed = 0.0;
-        for (k, w) in flows.iter().enumerate() {
+        for (k, w) in weights.iter().enumerate() {
             kicks[k] += 0.5 * w;
             kicks[k + 1] += 0.5 * w;
             elapsed += w;
             times[k] = elapsed;
         }
+        let mut flows = weights.map(|w| (w, 0.0));
+        let outer = [0, 1, 3, 4]
+            .iter()
+            .fold((0.0, 0.0), |sum, &k| dd_add(sum, flows[k]));
+        let middle = dd_add((1.0, 0.0), (-outer.0, -outer.1));
+        flows[2] = (weights[2], dd_diff(middle, (weights[2], 0.0)));
         Ok(Self {
             strang: ExactKick::of(model, x0)?,
             flows,
@@ -71,15 +80,18 @@ impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick4 {
     const RHS_PER_STEP: u64 = 6;
 
     fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
-        ExactKick::kick(sys, t, self.kicks[0] * h, x);
+        let s = &self.strang;
+        let mut carried = s.carried_to(x);
+        s.kick(sys, t, self.kicks[0] * h, x, &mut carried);
         for k in 0..5 {
-            self.strang.free_flow(self.flows[k] * h, x);
+            s.free_flow(dd_mul(self.flows[k], h), x, &carried);
             let tk = match k {
                 4 => t + h,
                 _ => t + self.times[k] * h,
             };
-            ExactKick::kick(sys, tk, self.kicks[k + 1] * h, x);
+            s.kick(sys, tk, self.kicks[k + 1] * h, x, &mut carried);
         }
+        s.carry(carried, x);
     }
 }
 
@@ -98,9 +110,13 @@ mod tests {
         let x0 = model.state_from(0.0, [0.3, 0.2, 0.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
         let s = ExactKick4::of(&model, &x0).unwrap();
         // Σ w = 1 and Σ w³ = 0 (HLW §II.4, eq. 4.4), symmetric weights
-        assert!((s.flows.iter().sum::<f64>() - 1.0).abs() < 1e-15);
-        assert!(s.flows.iter().map(|w| w * w * w).sum::<f64>().abs() < 1e-15);
-        assert!((0..5).all(|k| s.flows[k] == s.flows[4 - k]));
+        let w = s.flows.map(|w| w.0);
+        assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-15);
+        assert!(w.iter().map(|w| w * w * w).sum::<f64>().abs() < 1e-15);
+        assert!((0..5).all(|k| w[k] == w[4 - k]));
+        // in double-double they sum to 1 to round-off
+        let sum = s.flows.iter().fold((0.0, 0.0), |a, &b| dd_add(a, b));
+        assert!(dd_diff(sum, (1.0, 0.0)).abs() < 1e-30, "{sum:?}");
         assert!((s.kicks.iter().sum::<f64>() - 1.0).abs() < 1e-15);
         assert!((s.times[4] - 1.0).abs() < 1e-15 && s.times[2] < s.times[1]);
     }

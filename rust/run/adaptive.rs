@@ -166,7 +166,7 @@ where
             h *= factor.min(1.0);
             rejected = true;
             if stats.n_rejected.is_multiple_of(CHECK_EVERY) {
-                check(&x, t, cancel)?;
+                check(&x, t, t_end, cancel)?;
             }
             continue;
         }
@@ -196,7 +196,7 @@ where
             obs.frame(next_frame, tf, &xf);
             next_frame += 1;
             if (next_frame as u64).is_multiple_of(FRAMES_BETWEEN_CHECKS) {
-                check(&x, t, cancel)?;
+                check(&x, t, t_end, cancel)?;
             }
         }
         stats.nfev += dense_nfev;
@@ -224,17 +224,20 @@ where
             h = h.max(wanted);
         }
         if stats.n_steps.is_multiple_of(CHECK_EVERY) {
-            check(&x, t, cancel)?;
+            check(&x, t, t_end, cancel)?;
         }
     }
-    check(&x, t, cancel)?;
+    check(&x, t, t_end, cancel)?;
     Ok((x, stats))
 }
 
-fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
+/// Stops on the cancel flag or a state that is not finite; reports the progress (see
+/// [`crate::run::progress`]).
+fn check<const N: usize>(x: &[f64; N], t: f64, t_end: f64, cancel: &AtomicBool) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);
     }
+    crate::run::progress::report(t, t_end);
     if !x.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,

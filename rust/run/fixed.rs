@@ -19,6 +19,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::error::{Error, Result};
+use crate::isa::Isa;
 use crate::observe::Observer;
 use crate::ode::{OdeSystem, Stats, Stepper};
 use crate::run::grid::FrameGrid;
@@ -86,16 +87,16 @@ where
             let extra;
             (x, extra) = advance_across(method, sys, obs, x, ta, h, (n, tb), inside);
             splits += extra;
-            check(&x, tb, cancel)?;
+            check(&x, tb, grid.t_end(), cancel)?;
             obs.frame(i, tb, &method.to_state(sys, &x));
             continue;
         }
         let mut done = 0;
         while done < n {
             let chunk = (n - done).min(CHECK_EVERY);
-            x = advance(method, sys, obs, x, ta, h, done..done + chunk, (n, tb));
+            x = advance_widest(method, sys, obs, x, ta, h, done..done + chunk, (n, tb));
             done += chunk;
-            check(&x, ta + done as f64 * h, cancel)?;
+            check(&x, ta + done as f64 * h, grid.t_end(), cancel)?;
         }
         obs.frame(i, tb, &method.to_state(sys, &x));
     }
@@ -141,6 +142,56 @@ where
         }
     }
     x
+}
+
+/// [`advance`], compiled for AVX-512 and run where the CPU has it: the same operations in the
+/// same order (see [`crate::isa`] for the bits), with 32 vector registers instead of 16, in
+/// which RK4's stages of a 7-state system spill less to the stack (AMD EPYC, CPU time: the
+/// free body's RK4 step 23.5 -> 21.0 ns; AVX2's encoding alone gained nothing, 23.8 ns).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn advance_widest<const N: usize, S, M, O>(
+    method: &M,
+    sys: &S,
+    obs: &mut O,
+    x: [f64; N],
+    ta: f64,
+    h: f64,
+    range: std::ops::Range<u64>,
+    end: (u64, f64),
+) -> [f64; N]
+where
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
+{
+    #[cfg(target_arch = "x86_64")]
+    {
+        #[target_feature(enable = "avx512f")]
+        #[allow(clippy::too_many_arguments)]
+        fn avx512<const N: usize, S, M, O>(
+            method: &M,
+            sys: &S,
+            obs: &mut O,
+            x: [f64; N],
+            ta: f64,
+            h: f64,
+            range: std::ops::Range<u64>,
+            end: (u64, f64),
+        ) -> [f64; N]
+        where
+            S: OdeSystem<N>,
+            M: Stepper<N, S>,
+            O: Observer<N>,
+        {
+            advance(method, sys, obs, x, ta, h, range, end)
+        }
+        if Isa::detect() == Isa::Avx512 {
+            // SAFETY: the CPU has AVX-512F (checked just now).
+            return unsafe { avx512(method, sys, obs, x, ta, h, range, end) };
+        }
+    }
+    advance(method, sys, obs, x, ta, h, range, end)
 }
 
 /// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the `kinks` (increasing,
@@ -199,11 +250,14 @@ pub(crate) fn after(t: f64) -> f64 {
     t.next_up()
 }
 
+/// Stops on the cancel flag or a state that is not finite; reports the progress (see
+/// [`crate::run::progress`]).
 #[inline]
-fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()> {
+fn check<const N: usize>(x: &[f64; N], t: f64, t_end: f64, cancel: &AtomicBool) -> Result<()> {
     if cancel.load(Ordering::Relaxed) {
         return Err(Error::Interrupted);
     }
+    crate::run::progress::report(t, t_end);
     if !x.iter().all(|v| v.is_finite()) {
         return Err(Error::Diverged {
             t,
@@ -211,4 +265,39 @@ fn check<const N: usize>(x: &[f64; N], t: f64, cancel: &AtomicBool) -> Result<()
         });
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::RigidBody;
+    use crate::dynamics::{state_from, FreeRigidBody};
+    use crate::integrators::Rk4;
+    use crate::rigid::Rk4Projected;
+
+    /// The steps of `method` from `x0`, by the baseline build of [`advance`] and by the one
+    /// this CPU runs ([`advance_widest`]: AVX-512 where there is one).
+    fn both<M: Stepper<7, FreeRigidBody>>(method: &M, sys: &FreeRigidBody) -> [[u64; 7]; 2] {
+        let x0 = method.to_internal(sys, &state_from([0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.5]));
+        let (n, h) = (2000, 1e-3);
+        let plain = advance(method, sys, &mut (), x0, 0.0, h, 0..n, (n, 2.0));
+        let widest = advance_widest(method, sys, &mut (), x0, 0.0, h, 0..n, (n, 2.0));
+        [plain.map(f64::to_bits), widest.map(f64::to_bits)]
+    }
+
+    #[test]
+    fn the_widest_build_gives_the_baselines_bits() {
+        // the same IEEE operations, however encoded: RK4's products and sums, the
+        // projection's square roots and divisions (a step that calls the C library's sin and
+        // cos may not: LLVM joins the two into one `sincos` call in one build of a loop and
+        // not in another, and glibc's answers can differ in the last bit)
+        let body = RigidBody::try_new([1.0, 1.7, 2.3]).unwrap();
+        let sys = FreeRigidBody::new(body);
+        let x0 = state_from([0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.5]);
+        let [a, b] = both(&Rk4, &sys);
+        assert_eq!(a, b, "rk4");
+        assert_ne!(a, x0.map(f64::to_bits), "the state moved");
+        let [a, b] = both(&Rk4Projected::new(&sys, &x0), &sys);
+        assert_eq!(a, b, "rk4_projected");
+    }
 }

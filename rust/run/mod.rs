@@ -6,6 +6,7 @@ pub mod adaptive;
 pub mod fixed;
 pub mod grid;
 pub mod options;
+pub mod progress;
 pub mod registry;
 pub mod step_size;
 pub(crate) mod system;
@@ -23,7 +24,9 @@ use crate::exact::ExactMotion;
 use crate::float::RateScale;
 use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
-use crate::observe::{Drift, DriftMonitor, End, FlipDetector, LastFrame, Observer, Recorder};
+use crate::observe::{
+    Drift, DriftMonitor, End, FlatAxes, FlatSpin, FlipDetector, LastFrame, Observer, Recorder,
+};
 use crate::ode::controller::Adaptive;
 use crate::ode::Stats;
 
@@ -105,6 +108,9 @@ pub struct RunOutput {
     pub flip_times: Vec<f64>,
     /// The largest tilt of the spin axis from where it started, in radians; NaN unless kept.
     pub tilt: f64,
+    /// The time the spin went flat ([`crate::observe::flat`]; NaN: not by the end), for a
+    /// damped body of constant inertia; `None` for other runs.
+    pub flat_time: Option<f64>,
     /// Where the run ended (kept whether or not the frames are).
     pub end: End,
     pub drift: Drift,
@@ -187,7 +193,7 @@ pub(crate) fn check_rates(omega0: [f64; 3]) -> Result<()> {
 /// A non-finite `x0`; a method that cannot run the model ([`Error::Unsupported`]);
 /// [`Error::Interrupted`] soon after `cancel` is set; [`Error::Diverged`] if the state stops
 /// being finite; [`Error::TooLarge`] beyond a step cap or memory.
-pub fn simulate_model<const N: usize, S: Runs<N>>(
+pub fn simulate_model<const N: usize, S: Runs<N> + FlatAxes<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -199,7 +205,7 @@ pub fn simulate_model<const N: usize, S: Runs<N>>(
 }
 
 /// [`simulate_model`], with the tilt watched by `tilt` (given in the run's own units).
-fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+fn simulate_model_with<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -239,7 +245,7 @@ fn simulate_model_with<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
         first.copy_from_slice(&omega0);
     }
     let mut out = finite_frames(out, grid)?;
-    for t in &mut out.flip_times {
+    for t in out.flip_times.iter_mut().chain(out.flat_time.as_mut()) {
         *t = time_from_unit(scale, *t, grid.t_end());
     }
     out.dt = scale.time_from_unit(out.dt);
@@ -312,7 +318,7 @@ impl TiltWatch<7> for TiltMonitor {
 }
 
 /// [`simulate_model`] of a start in the motion's own units (rates near 1).
-fn simulate_unit<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
+fn simulate_unit<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
@@ -336,23 +342,39 @@ fn simulate_unit<const N: usize, S: Runs<N>, T: TiltWatch<N>>(
         let flip_times = sys.run_exact(x0, grid, &mut obs, keep.flips, cancel)?;
         return finished(obs, flip_times, Stats::default(), 0.0, grid);
     }
-    // Flip detection looks at every step; without it the step loop stays bare.
-    let (stats, flip_times) = if keep.flips {
-        let mut flips = FlipDetector::new(sys, 0.0, &x0);
-        let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
-        (stats, flips.into_flip_times()?)
-    } else {
-        (
+    // Flip detection looks at every step, and so does the watch for a damped body's flat
+    // spin; without them the step loop stays bare.
+    let flat = sys.flat_axes().map(|major| FlatSpin::new(sys, major));
+    let (stats, flip_times, flat_time) = match (keep.flips, flat) {
+        (true, Some(mut flat)) => {
+            let mut flips = FlipDetector::new(sys, 0.0, &x0);
+            let mut watch = (&mut obs, (&mut flips, &mut flat));
+            let stats = sys.run_method(method, x0, grid, &mut watch, cancel)?;
+            (stats, flips.into_flip_times()?, Some(flat.time()))
+        }
+        (true, None) => {
+            let mut flips = FlipDetector::new(sys, 0.0, &x0);
+            let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flips), cancel)?;
+            (stats, flips.into_flip_times()?, None)
+        }
+        (false, Some(mut flat)) => {
+            let stats = sys.run_method(method, x0, grid, &mut (&mut obs, &mut flat), cancel)?;
+            (stats, Vec::new(), Some(flat.time()))
+        }
+        (false, None) => (
             sys.run_method(method, x0, grid, &mut obs, cancel)?,
             Vec::new(),
-        )
+            None,
+        ),
     };
     let dt = if method.is_adaptive() {
         grid.t_end() / stats.n_steps.max(1) as f64
     } else {
         grid.step_size()
     };
-    finished(obs, flip_times, stats, dt, grid)
+    let mut out = finished(obs, flip_times, stats, dt, grid)?;
+    out.flat_time = flat_time;
+    Ok(out)
 }
 
 /// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::float`]):
@@ -446,10 +468,13 @@ pub(crate) fn evaluate_exact<O: Observer<7>>(
     let omega0 = [x0[0], x0[1], x0[2]];
     let motion = ExactMotion::try_new(body, omega0, [x0[3], x0[4], x0[5], x0[6]])?;
     for i in 0..grid.frames() {
-        if (i as u64).is_multiple_of(CHECK_EVERY) && cancel.load(Ordering::Relaxed) {
-            return Err(Error::Interrupted);
-        }
         let t = grid.time(i);
+        if (i as u64).is_multiple_of(CHECK_EVERY) {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(Error::Interrupted);
+            }
+            progress::report(t, grid.t_end());
+        }
         let x = motion.state_at(t);
         if !x.iter().all(|v| v.is_finite()) {
             return Err(Error::TooLarge {
@@ -496,6 +521,7 @@ fn finished<const N: usize, S: Model<N>, T: TiltWatch<N>>(
             parts,
             flip_times,
             tilt: tilt.tilt(),
+            flat_time: None,
             end: last.end(),
             drift,
             stats,

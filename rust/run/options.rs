@@ -4,6 +4,8 @@
 use crate::error::{Error, Result};
 use crate::ode::controller::check_rtol;
 
+use crate::ode::controller::default_atol;
+
 use super::registry::{Method, DEFAULT_ATOL, DEFAULT_MAX_STEPS, DEFAULT_METHOD, DEFAULT_RTOL};
 
 /// What a run is asked to do, checked (see [`RunOptions::try_new`]).
@@ -49,8 +51,8 @@ impl Default for RunOptions {
 impl RunOptions {
     /// Options checked against each other: `t_end` positive and finite; `frames` at least 2;
     /// `dt` positive and finite; `method` a name of the registry; `rtol` (default
-    /// [`DEFAULT_RTOL`]) at least 100 ulps and below 1; `atol` (default [`DEFAULT_ATOL`])
-    /// positive and finite and given only to an adaptive method; `rtol` not given with a `dt`
+    /// [`DEFAULT_RTOL`]) at least 100 ulps and below 1; `atol` (default [`default_atol`] of
+    /// `rtol`: [`DEFAULT_ATOL`] at the default `rtol`) positive and finite and given only to an adaptive method; `rtol` not given with a `dt`
     /// to a fixed-step method (it sets the step only with `dt = None`); `max_steps` and
     /// `threads` at least 1. `None` for `method` and `max_steps` takes the defaults. The counts
     /// come signed, as callers give them, and are refused below their minimum here.
@@ -118,7 +120,7 @@ impl RunOptions {
             }
         }
         let rtol = check_rtol(rtol.unwrap_or(DEFAULT_RTOL))?;
-        let atol = atol.unwrap_or(DEFAULT_ATOL);
+        let atol = atol.unwrap_or_else(|| default_atol(rtol));
         let method = Method::named(name, rtol, atol, dt)?;
         let max_steps = match max_steps {
             None => DEFAULT_MAX_STEPS,

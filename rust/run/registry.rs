@@ -69,11 +69,13 @@ pub enum Method {
 pub enum StepRule {
     /// No steps: the method evaluates the solution at the frames.
     NoSteps,
-    /// A fixed step from the error model `C · ΩT · (hΩ)^order` (see
-    /// [`crate::run::step_size`]) with this `C`.
+    /// A fixed step from the error model `ΩT · (C (hΩ)^order + R ε / (hΩ))` (see
+    /// [`crate::run::step_size`]) with this `C` and `R`.
     Accuracy {
-        /// `C` of the error model.
+        /// `C` of the error model: the truncation error.
         constant: f64,
+        /// `R` of the error model: the round-off a step adds, in units of `ε = 2⁻⁵²`.
+        roundoff: f64,
     },
     /// Error control; the first step from the order of the error estimate.
     Adaptive {
@@ -178,6 +180,11 @@ pub const METHODS: [MethodInfo; 15] = [
         // 1.6e-4); this is twice that. (The quaternion's own phase error alone gives 1/3840.)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 400.0,
+            // Round-off (measured by `benches/python/step_roundoff.py` on three well-conditioned
+            // orbits, `ΩT` up to 15000, `hΩ` = 5e-4–2e-3): at most 0.22 ε a step, median
+            // 0.11; this is the largest, rounded up (`C` has the margin). Near the separatrix
+            // it is ten to a hundred times more (see `crate::run::step_size`).
+            roundoff: 0.25,
         },
         keeps: Conserved::NONE,
         rhs_per_step: fixed::<Rk4>(),
@@ -193,6 +200,8 @@ pub const METHODS: [MethodInfo; 15] = [
         order: Some(4),
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 400.0, // as RK4's
+            // round-off measured at most 0.011 ε a step (the projection keeps the frequency)
+            roundoff: 0.012,
         },
         keeps: ALL_INVARIANTS,
         rhs_per_step: fixed::<Rk4Projected<crate::dynamics::FreeProjection>>(),
@@ -213,6 +222,9 @@ pub const METHODS: [MethodInfo; 15] = [
         // equatorial plane), this is twice that
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 6.0,
+            // round-off measured at most 1e-4 ε a step over ΩT = 10; splitting4's (0.008) for
+            // longer runs
+            roundoff: 0.008,
         },
         keeps: ROTATIONS,
         rhs_per_step: fixed::<Splitting2>(),
@@ -230,6 +242,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // measured at most 2.3e-4 (median 2.9e-5)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 2000.0,
+            // round-off measured at most 0.008 ε a step
+            roundoff: 0.008,
         },
         keeps: ROTATIONS,
         rhs_per_step: fixed::<Splitting4>(),
@@ -248,6 +262,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // too): at most 2.1e-5 (median 3.8e-7); this is twice that, rounded up.
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 20000.0,
+            // round-off measured at most 0.003 ε a step
+            roundoff: 0.003,
         },
         keeps: ROTATIONS,
         rhs_per_step: fixed::<Splitting6>(),
@@ -265,6 +281,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // measured at most 1.3e-2 (median 8.4e-3; `python benches/atlas.py constants`)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 35.0,
+            // round-off measured at most 0.008 ε a step (over ΩT = 10, `hΩ` = 1e-6–2e-6)
+            roundoff: 0.01,
         },
         keeps: Conserved::ENERGY
             .union(Conserved::MOMENTUM)
@@ -285,6 +303,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // measured at most 8.4e-2 (median 2.9e-2)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 5.0,
+            // round-off measured at most 0.008 ε a step (over ΩT = 10, `hΩ` = 1e-6–2e-6)
+            roundoff: 0.01,
         },
         keeps: ALL_INVARIANTS,
         rhs_per_step: fixed::<Dmv>(),
@@ -303,6 +323,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // measured at most 4.5e-3 (median 2.1e-3)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 100.0,
+            // round-off measured at most 0.27 ε a step
+            roundoff: 0.3,
         },
         keeps: ALL_INVARIANTS,
         rhs_per_step: fixed::<DmvModified>(),
@@ -322,6 +344,8 @@ pub const METHODS: [MethodInfo; 15] = [
         // its axis with a wide wobble)
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 50.0,
+            // round-off measured at most 0.14 ε a step
+            roundoff: 0.15,
         },
         keeps: Conserved::MOMENTA,
         rhs_per_step: fixed::<Rkmk4>(),
@@ -338,7 +362,11 @@ pub const METHODS: [MethodInfo; 15] = [
         order: Some(3),
         // measured at most 0.45 (median 1.1e-2; the largest on HLW's body spun about its
         // smallest moment)
-        step_rule: StepRule::Accuracy { constant: 1.0 },
+        step_rule: StepRule::Accuracy {
+            constant: 1.0,
+            // round-off measured at most 0.087 ε a step (over ΩT = 100); as rkmk4's
+            roundoff: 0.15,
+        },
         keeps: Conserved::MOMENTA,
         rhs_per_step: fixed::<CrouchGrossman3>(),
         batch: false,
@@ -355,6 +383,9 @@ pub const METHODS: [MethodInfo; 15] = [
         // not measured yet over many bodies: the splitting's constant
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 6.0,
+            // round-off not measured: it carries the invariants and the phase (see
+            // `crate::rigid::ExactKick`), as the splittings keep theirs
+            roundoff: 0.01,
         },
         keeps: Conserved::Q_NORM,
         rhs_per_step: <ExactKick as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,
@@ -373,6 +404,9 @@ pub const METHODS: [MethodInfo; 15] = [
         // not measured yet over many bodies: the free body's fourth-order splitting's constant
         step_rule: StepRule::Accuracy {
             constant: 1.0 / 2000.0,
+            // round-off not measured: it carries the invariants and the phase (see
+            // `crate::rigid::ExactKick`), as the splittings keep theirs
+            roundoff: 0.01,
         },
         keeps: Conserved::Q_NORM,
         rhs_per_step: <ExactKick4 as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,

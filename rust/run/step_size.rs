@@ -22,11 +22,27 @@
 //! with each method's constant (its `StepRule` in [`crate::run::registry`]) gives the step
 //! `dt = None` takes. Near the separatrix the
 //! error grows faster than linearly and this rule does not hold (no fixed rule can).
+//!
+//! **Round-off.** Each step also adds round-off, which over `n = T / h` steps grows about
+//! linearly in `n` (a rounding that leans the same way, and a frequency moved by the invariants'
+//! rounding, which moves the phase): `R · n · ε` with `ε = 2⁻⁵²` and `R` measured per method
+//! (the registry's `roundoff`: 0.06–0.22 for RK4 on well-conditioned orbits, a tenth of that
+//! for the methods that keep the invariants and so the frequency). So the error of a run is
+//! `ΩT · (C (hΩ)^p + R ε / (hΩ))`, least at `(hΩ)* = (R ε / (p C))^{1/(p+1)}`. Where that least
+//! error meets `rtol` the planner takes the truncation's step as before (`C` is twice the
+//! largest measured, ten times the median: the margin holds the round-off); where it does not
+//! (body (1, 1.7, 2.3) from ω₀ = (0.4, −0.9, 0.6) over T = 10⁴ at `rtol = 1e-10`: RK4 ended
+//! 7.6 `rtol` off with the 1.2·10⁷ steps the truncation alone asked for) no step meets `rtol`:
+//! the planner takes the step of least error (fewer steps, as good a run), and the plan says
+//! so ([`StepPlan::predicted_error`] above `rtol`) and which method reaches `rtol`
+//! ([`StepPlan::reached_by`]). Near the separatrix the round-off, amplified like any error
+//! there, is ten to a hundred times more (RK4 on the paper's fig. 3a: `R` ≈ 8), and the
+//! prediction is low.
 
 use crate::body::RigidBody;
 use crate::error::{Error, Result};
 use crate::ode::controller::check_rtol;
-use crate::run::registry::Method;
+use crate::run::registry::{Method, MethodInfo, StepRule, METHODS};
 
 pub use crate::dynamics::{frequency_factor, rate_bound};
 
@@ -57,18 +73,88 @@ pub fn rk4_predicted_drift(h: f64, rate: f64, n_steps: f64) -> f64 {
 /// no longer describes the method.
 pub const MAX_STEP_RATE: f64 = 0.5;
 
-/// The step at which a method of `order` with error constant `constant` is predicted to meet
-/// `rtol` over `t_end` at rate bound `rate` (see the module docs); at most `t_end`.
+/// A method's error model: order `p`, truncation constant `C`, round-off `R` (see the module
+/// docs and [`crate::run::registry::StepRule::Accuracy`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ErrorModel {
+    pub order: u32,
+    pub constant: f64,
+    pub roundoff: f64,
+}
+
+/// The error model a method's fixed step is planned by; `None` for the methods that choose
+/// their own steps or take none.
+pub fn error_model(info: &MethodInfo) -> Option<ErrorModel> {
+    match (info.step_rule, info.order) {
+        (StepRule::Accuracy { constant, roundoff }, Some(order)) => Some(ErrorModel {
+            order,
+            constant,
+            roundoff,
+        }),
+        _ => None,
+    }
+}
+
+/// The most steps a run can take and still be planned for the least error: beyond, the run
+/// is refused by its length whatever the step (float64 counts steps exactly to 2⁵³).
+const MOST_PLANNED_STEPS: f64 = 9_007_199_254_740_992.0;
+
+impl ErrorModel {
+    /// Whether no step meets `rtol` over `turns = ΩT` radians in a run that can be taken at
+    /// all (see the module docs): its least error exceeds `rtol`, in a countable number of
+    /// steps.
+    pub fn out_of_reach(&self, turns: f64, rtol: f64) -> bool {
+        let turns = turns.max(1.0);
+        self.roundoff > 0.0
+            && self.least_error(turns) > rtol
+            && turns / self.best_step_rate() <= MOST_PLANNED_STEPS
+    }
+
+    /// The error per radian of the motion at `x = hΩ`: `C x^p + R ε / x`.
+    pub fn per_turn(&self, x: f64) -> f64 {
+        self.constant * x.powi(self.order as i32) + self.roundoff_per_turn(x)
+    }
+
+    /// Its round-off part, `R ε / x`.
+    fn roundoff_per_turn(&self, x: f64) -> f64 {
+        self.roundoff * f64::EPSILON / x
+    }
+
+    /// The `x = hΩ` of least error per radian, `(R ε / (p C))^{1/(p+1)}`, at most
+    /// [`MAX_STEP_RATE`].
+    pub fn best_step_rate(&self) -> f64 {
+        let p = f64::from(self.order);
+        (self.roundoff * f64::EPSILON / (p * self.constant))
+            .powf(1.0 / (p + 1.0))
+            .min(MAX_STEP_RATE)
+    }
+
+    /// The least error a run of `turns = ΩT` radians can have.
+    pub fn least_error(&self, turns: f64) -> f64 {
+        turns.max(1.0) * self.per_turn(self.best_step_rate())
+    }
+
+    /// The `x = hΩ` the planner takes for `rtol` over `turns = ΩT` radians (see the module
+    /// docs): the truncation's `(rtol / (C ΩT))^{1/p}` (at most [`MAX_STEP_RATE`]) where
+    /// some step meets `rtol`; else the step of least error.
+    fn step_rate(&self, turns: f64, rtol: f64) -> f64 {
+        if self.out_of_reach(turns, rtol) {
+            return self.best_step_rate();
+        }
+        let target = rtol / turns;
+        (target / self.constant)
+            .powf(1.0 / f64::from(self.order))
+            .min(MAX_STEP_RATE)
+    }
+}
+
+/// The step at which a method with error model `model` is predicted to meet `rtol` over
+/// `t_end` at rate bound `rate` (see the module docs), or the step of least error where none
+/// does; at most `t_end`.
 ///
 /// # Errors
 /// As [`check_rtol`].
-pub fn step_for_accuracy(
-    order: u32,
-    constant: f64,
-    rate: f64,
-    t_end: f64,
-    rtol: f64,
-) -> Result<f64> {
+pub fn step_for_accuracy(model: ErrorModel, rate: f64, t_end: f64, rtol: f64) -> Result<f64> {
     check_rtol(rtol)?;
     if !(rate > 0.0 && rate.is_finite()) {
         return Ok(t_end); // nothing moves
@@ -82,8 +168,8 @@ pub fn step_for_accuracy(
             hint: "take a shorter t_end",
         });
     }
-    let h_rate = (rtol / (constant * turns)).powf(1.0 / order as f64);
-    let h = (h_rate.min(MAX_STEP_RATE) / rate).min(t_end);
+    let h_rate = model.step_rate(turns, rtol);
+    let h = (h_rate / rate).min(t_end);
     if h.is_nan() || h <= 0.0 {
         return Err(Error::TooLarge {
             what: "the run",
@@ -95,8 +181,41 @@ pub fn step_for_accuracy(
     Ok(h)
 }
 
+/// The error `model` predicts for a run of `t_end` at rate bound `rate` with steps `h`:
+/// `ΩT · (C (hΩ)^p + R ε / (hΩ))` (0 for a motion that does not move).
+pub fn predicted_error(model: ErrorModel, rate: f64, t_end: f64, h: f64) -> f64 {
+    let x = h * rate;
+    match x > 0.0 && x.is_finite() {
+        true => (rate * t_end).max(1.0) * model.per_turn(x),
+        false => 0.0,
+    }
+}
+
+/// The fixed-step method of the registry that runs every model of `kinds` and whose least
+/// error over `t_end` at rate `rate` meets `rtol`, in the fewest steps (the registry holds
+/// no cost a step that compares them all: the splittings evaluate no right-hand side; at a
+/// tolerance this tight the higher orders win by their steps); `None` if there is none.
+pub fn reaching(
+    kinds: crate::dynamics::Kinds,
+    rate: f64,
+    t_end: f64,
+    rtol: f64,
+) -> Option<&'static str> {
+    let turns = (rate * t_end).max(1.0);
+    METHODS
+        .iter()
+        .filter(|m| m.models.contains(kinds))
+        .filter_map(|m| {
+            let model = error_model(m)?;
+            (model.least_error(turns) <= rtol)
+                .then(|| (m.name, turns / model.step_rate(turns, rtol)))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(name, _)| name)
+}
+
 /// The step of a run and what it predicts, worked out before the run.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct StepPlan {
     /// The step the run is given: the planned (or asked) step of a fixed-step method; the
     /// asked first step of an adaptive one (`None`: each run picks its own); `None` for the
@@ -115,6 +234,15 @@ pub struct StepPlan {
     /// an explicit method is stable while `step · stiffness` is within its real-axis limit;
     /// 0 for a model without one.
     pub stiffness: f64,
+    /// The error (ω in units of Ω, q absolute) a fixed-step method's error model predicts at
+    /// the step, truncation and round-off (see the module docs); 0 for other methods.
+    pub predicted_error: f64,
+    /// Whether no step of the method meets `rtol` over the run (its round-off alone exceeds
+    /// it): the planner took the step of least error. Only for a step picked for `rtol`.
+    pub out_of_reach: bool,
+    /// Where `rtol` is out of reach, the cheapest fixed-step method that meets it (see
+    /// [`reaching`]), if one does.
+    pub reached_by: Option<&'static str>,
 }
 
 /// Plans the step of a run of the free body `body` (principal moments) from `omega0` (see
@@ -140,13 +268,52 @@ pub fn plan(
             omega0,
         ));
     }
-    crate::run::system::plan_step(rate, 0.0, t_end, frames, method, dt, rtol)
+    let mut plan = crate::run::system::plan_step(rate, 0.0, t_end, frames, method, dt, rtol)?;
+    if plan.out_of_reach {
+        plan.reached_by = reaching(crate::dynamics::Kinds::FREE, rate, t_end, rtol);
+    }
+    Ok(plan)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    #[test]
+    fn the_least_error_is_the_minimum_of_the_error_model() {
+        let rk4 = error_model(Method::Rk4.info()).unwrap();
+        // brute force over hΩ from 1e-6 to 0.5
+        let brute = (0..4000)
+            .map(|i| 1e-6 * (0.5e6_f64).powf(f64::from(i) / 3999.0))
+            .map(|x| rk4.per_turn(x))
+            .fold(f64::INFINITY, f64::min);
+        assert_relative_eq!(rk4.least_error(1.0), brute, max_relative = 1e-5);
+    }
+
+    #[test]
+    fn the_step_is_the_truncations_unless_no_step_meets_rtol() {
+        let rk4 = error_model(Method::Rk4.info()).unwrap();
+        // within reach: (rtol / (C ΩT))^(1/4) / Ω, as before round-off was counted
+        let (rate, t_end, rtol) = (1.54, 1e3, 1e-9);
+        let h = step_for_accuracy(rk4, rate, t_end, rtol).unwrap();
+        let truncation = (rtol / (rk4.constant * rate * t_end)).powf(0.25) / rate;
+        assert_eq!(h, truncation);
+        // the run (ΩT = 1.54·10⁴, rtol 1e-10): out of reach for RK4, whose step is
+        // then the one of least error (fewer steps than the truncation's), but not for the
+        // splittings
+        let (t_end, rtol) = (1e4, 1e-10);
+        assert!(rk4.least_error(rate * t_end) > rtol);
+        let h = step_for_accuracy(rk4, rate, t_end, rtol).unwrap();
+        assert_relative_eq!(h * rate, rk4.best_step_rate(), max_relative = 1e-12);
+        assert!(h > (rtol / (rk4.constant * rate * t_end)).powf(0.25) / rate);
+        let free = crate::dynamics::Kinds::FREE;
+        assert_eq!(reaching(free, rate, t_end, rtol), Some("splitting6"));
+        // a damped body has RK4 and its projection only
+        let damped = crate::dynamics::Kinds::FREE.union(crate::dynamics::Kinds::DAMPER);
+        assert_eq!(reaching(damped, rate, t_end, rtol), Some("rk4_projected"));
+        assert_eq!(reaching(damped, rate, 1e6, rtol), None);
+    }
 
     #[test]
     fn gain_is_one_at_the_stability_limit() {

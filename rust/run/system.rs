@@ -18,7 +18,9 @@ use crate::kinematics::normalized;
 use crate::ode::controller::check_rtol;
 
 use super::registry::StepRule;
-use super::step_size::{rk4_predicted_drift, step_for_accuracy, StepPlan};
+use super::step_size::{
+    error_model, predicted_error, reaching, rk4_predicted_drift, step_for_accuracy, StepPlan,
+};
 use super::{check_rates, simulate, simulate_model, FrameGrid, Keep, Method, RunOutput};
 
 /// The change between the user's axes and the principal axes of a constant body: `R`, user
@@ -258,7 +260,11 @@ pub fn plan_system(
             (rate, model.stiffness())
         }
     };
-    plan_step(rate, stiffness, t_end, frames, method, dt, rtol)
+    let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
+    if plan.out_of_reach {
+        plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
+    }
+    Ok(plan)
 }
 
 /// The model's rate bound from `x0`, taken in the motion's own units (where its squares stay
@@ -299,7 +305,7 @@ pub(crate) fn plan_step(
     rtol: f64,
 ) -> Result<StepPlan> {
     let info = method.info();
-    let constant = match info.step_rule {
+    let model = match info.step_rule {
         StepRule::NoSteps => {
             FrameGrid::try_frames(t_end, frames)?;
             return Ok(StepPlan {
@@ -308,6 +314,7 @@ pub(crate) fn plan_step(
                 rate_bound: rate,
                 predicted_drift: 0.0,
                 stiffness,
+                ..StepPlan::default()
             });
         }
         StepRule::Adaptive { error_order } => {
@@ -325,13 +332,16 @@ pub(crate) fn plan_step(
                 rate_bound: rate,
                 predicted_drift: 0.0,
                 stiffness,
+                ..StepPlan::default()
             });
         }
-        StepRule::Accuracy { constant } => constant,
+        StepRule::Accuracy { .. } => error_model(info),
     };
+    let model = model.ok_or_else(|| Error::invalid("method", "has no order", info.name))?;
+    let planned = dt.is_none() && rate > 0.0;
     let dt = match dt {
         Some(dt) => dt,
-        None => step_for_accuracy(method.order(), constant, rate, t_end, rtol)?,
+        None => step_for_accuracy(model, rate, t_end, rtol)?,
     };
     let grid = FrameGrid::try_new(t_end, frames, dt, u64::MAX)?;
     let predicted_drift = match info.rk4_dissipation {
@@ -344,5 +354,8 @@ pub(crate) fn plan_step(
         rate_bound: rate,
         predicted_drift,
         stiffness,
+        predicted_error: predicted_error(model, rate, t_end, grid.step_size()),
+        out_of_reach: planned && model.out_of_reach(rate * t_end, rtol),
+        reached_by: None,
     })
 }

@@ -220,3 +220,26 @@ def test_a_large_batch_shows_its_progress_and_keeps_its_bits(rng, capsys):
         assert np.array_equal(shown[i].flip_times, whole[i].flip_times)
     with pytest.raises(TypeError, match="`progress` must be True, False or None"):
         dz.simulate(inertia[:2], omega[:2], progress="yes")
+
+
+def test_a_long_single_run_reports_its_progress_from_the_core(capsys, monkeypatch):
+    # Issue 33: a single run showed nothing, however long. Off a terminal (pytest captures
+    # stderr) a line says how far it got, every LINE_EVERY seconds (here every report)
+    import dzhanibekov._progress as progress
+
+    shares = []
+    monkeypatch.setattr(progress, "LINE_EVERY", 0.0)
+    monkeypatch.setattr(progress.RunProgress, "__call__",
+                        lambda self, share, call=progress.RunProgress.__call__:
+                        (shares.append(share), call(self, share))[1])
+    run = dict(t_end=400.0, dt=2e-5, flips=False)  # 2·10⁷ RK4 steps, about 0.5 s
+    shown = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), progress=None, **run)
+    lines = capsys.readouterr().err.splitlines()
+    assert any(line.startswith("dzhanibekov: run at t = ") for line in lines), lines
+    # the core reports the share of the span reached, growing, below 1 until the end
+    assert len(shares) > 2 and shares == sorted(shares) and 0 < shares[0] < 1, shares
+    # the run is the same, bit for bit, and --no-progress's default silences it
+    with progress.progress_default(False):
+        quiet = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), **run)
+    assert capsys.readouterr().err == ""
+    np.testing.assert_array_equal(shown.q, quiet.q)

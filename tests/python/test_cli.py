@@ -169,7 +169,8 @@ def test_the_module_and_the_script_run(tmp_path):
         assert "stable-largest" in done.stdout
     done = subprocess.run([sys.executable, "-m", "dzhanibekov", "run"], capture_output=True,
                           text=True)
-    assert done.returncode == 2 and "required: SCENE, --out" in done.stderr
+    # the scene is required; --out is not (issue 33: a folder named after the scene)
+    assert done.returncode == 2 and "required: SCENE\n" in done.stderr
 
 
 def test_run_overrides_the_scenes_method_end_frames_and_step(tmp_path, capsys):
@@ -319,3 +320,15 @@ def test_each_command_gives_the_apis_advice_in_its_own_options():
     assert "--dt none" in said["run"] and "--method splitting" in said["run"]
     assert "`dzhanibekov run SCENE --method splitting`" in said["paper"]
     assert said["map"].endswith("Take a smaller --dt.")
+
+
+def test_run_and_view_write_next_to_you_without_out(tmp_path, monkeypatch, capsys):
+    # Issue 33: `run` and `view` required --out; by default they write after the scene's name
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "fig3b", "--no-animation", "--no-progress"]) == 0
+    assert (tmp_path / "fig3b" / "fig3b.json").exists()
+    assert "wrote 5 files to fig3b:" in capsys.readouterr().out
+    # the viewer, though a folder `fig3b` is now there: a folder is never the scene
+    pytest.importorskip("plotly")
+    assert main(["view", "fig3b"]) == 0
+    assert (tmp_path / "fig3b.html").exists()

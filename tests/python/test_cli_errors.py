@@ -3,13 +3,19 @@ the cause, exit code 2, and the destination exactly as it was (issues 11, 15 and
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import queue
 import re
 import resource
+import signal
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
+from typing import NoReturn
 
 import numpy as np
 import pytest
@@ -273,11 +279,31 @@ def test_the_tables_columns_line_up_past_long_flip_times():
                            flip_times=long, drift=real.drift)
     head, short, wide = _table([real, fake], 1.0).splitlines()[:3]
     assert "1142.401, …" in wide
-    for name, value in (("dE/E", real.drift.energy), ("d|q|", real.drift.q_norm)):
-        end = head.index(name) + len(name)  # numbers are right-aligned under their name
-        cell = f"{value:.1e}"
-        for row in (short, wide):
-            assert row[end - len(cell):end] == cell, (name, row)
+    # the drift starts under its header in every row, whatever the flips' width
+    start = head.index("drift of what the model keeps")
+    for row in (short, wide):
+        assert row[start:].startswith(f"dE/E {real.drift.energy:.1e} "), row
+        assert f"d|q| {real.drift.q_norm:.1e}" in row[start:], row
+
+
+def test_the_table_names_what_each_model_keeps_and_what_it_changes():
+    """Issue 33: the table showed every invariant as a drift (the gravity gradient's energy
+    1.4e-1, a deployment's 5.0e-1, as if errors), not the Jacobi integral the model keeps,
+    and '?' for flips a scene did not ask for."""
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    orbit = compute(dz.SCENES["gravity-gradient"])
+    assert orbit.flip_times is None and orbit.drift.jacobi is not None
+    head, row, *legend = _table([orbit], 1.0).splitlines()
+    kept = row[head.index("drift of what the model keeps"):head.index("changed by the model")]
+    changed = row[head.index("changed by the model"):]
+    assert f"dJ/J {orbit.drift.jacobi:.1e}" in kept and f"d|q| {orbit.drift.q_norm:.1e}" in kept
+    assert "E/E" not in kept and "|L|/|L|" not in kept
+    assert f"ΔE/E {orbit.drift.energy:.1e}" in changed
+    assert f"Δ|L|/|L| {orbit.drift.momentum:.1e}" in changed
+    assert "?" not in row and row.split()[2] == "-"
+    assert any("flips -: not located" in line for line in legend)
 
 
 def test_a_failure_after_the_run_leaves_nothing_written(tmp_path, monkeypatch, capsys):
@@ -352,31 +378,141 @@ def processes_marked(mark: str) -> list[int]:
     return found
 
 
+class Child:
+    """A command run in its own process group, its stderr read line by line by a thread, so
+    that every wait on it has a timeout: one that runs out dumps the command's threads
+    (faulthandler, on SIGABRT), kills its group and fails the test with all it printed."""
+
+    def __init__(self, argv: list[str], env: dict[str, str]) -> None:
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "dzhanibekov", *argv], stderr=subprocess.PIPE,
+            stdout=subprocess.DEVNULL, text=True, env=dict(env, PYTHONFAULTHANDLER="1"),
+            start_new_session=True)
+        self.said: list[str] = []
+        self.lines: queue.Queue[str | None] = queue.Queue()
+        self.reader = threading.Thread(target=self._read, daemon=True)
+        self.reader.start()
+
+    def _read(self) -> None:
+        assert self.proc.stderr is not None
+        for line in self.proc.stderr:
+            self.lines.put(line)
+        self.lines.put(None)
+
+    def line(self, seconds: float, why: str) -> str | None:
+        """The next line on stderr (None: stderr closed); fails saying `why` after
+        `seconds`."""
+        try:
+            line = self.lines.get(timeout=max(0.0, seconds))
+        except queue.Empty:
+            line = ""  # a line read is never empty
+        if line == "":
+            self.fail(why)
+        if line is not None:
+            self.said.append(line)
+        return line
+
+    def end(self, seconds: float, why: str) -> tuple[int, str]:
+        """The exit code and the rest of stderr, within `seconds` (stderr closes when the
+        command and every process it started have ended)."""
+        deadline = time.monotonic() + seconds
+        start = len(self.said)
+        while self.line(deadline - time.monotonic(), why) is not None:
+            pass
+        try:
+            code = self.proc.wait(timeout=max(0.0, deadline - time.monotonic()))
+        except subprocess.TimeoutExpired:
+            code = None
+        if code is None:
+            self.fail(why)
+        return code, "".join(self.said[start:])
+
+    def fail(self, why: str) -> NoReturn:
+        with contextlib.suppress(OSError):
+            resource.prlimit(self.proc.pid, resource.RLIMIT_CORE, (0, 0))  # no core file
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(self.proc.pid, signal.SIGABRT)  # its threads' stacks, on stderr
+        with contextlib.suppress(subprocess.TimeoutExpired):
+            self.proc.wait(timeout=10)
+        self.kill()
+        with contextlib.suppress(queue.Empty):
+            while (line := self.lines.get(timeout=5)) is not None:
+                self.said.append(line)
+        pytest.fail(f"{why}; the command printed:\n{''.join(self.said)}")
+
+    def kill(self) -> None:
+        """Ends the command and every process it started."""
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(self.proc.pid, signal.SIGKILL)
+        self.proc.wait()
+        self.reader.join(timeout=10)  # at the end of stderr, now that its writers are dead
+        if not self.reader.is_alive():
+            assert self.proc.stderr is not None
+            self.proc.stderr.close()
+
+
 @pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs /proc")
 def test_ctrl_c_during_paper_ends_its_drawing_processes_and_writes_nothing(tmp_path):
-    import signal
-    import time
-
+    """Ctrl-C once the drawing processes are busy: exit code 130, one line, no output, and no
+    process left. Each wait has a timeout (the command once hung here for ever)."""
     out = tmp_path / "out"
-    mark = f"DZ_TEST_MARK={os.getpid()}-{time.monotonic_ns()}"
-    env = dict(os.environ, DZ_TEST_MARK=mark.split("=", 1)[1])
-    with subprocess.Popen([sys.executable, "-m", "dzhanibekov", "paper", "--out", str(out),
-                           "--no-progress", "--no-animation", "--jobs", "2"],
-                          stderr=subprocess.PIPE,
-                          stdout=subprocess.DEVNULL, text=True, env=env) as proc:
-        try:
-            assert proc.stderr is not None
-            first = proc.stderr.readline()  # the first drawing is done: the workers are busy
-            assert first.startswith("[ 1/"), first
-            assert len(processes_marked(mark)) >= 3  # this one and its two workers
-            proc.send_signal(signal.SIGINT)
-            rest = proc.stderr.read()
-            assert proc.wait(timeout=60) == 130, rest
-        finally:
-            proc.kill()
-    assert "dzhanibekov: interrupted; nothing written" in rest and "Traceback" not in rest
-    assert not out.exists()
-    deadline = time.monotonic() + 10
-    while processes_marked(mark) and time.monotonic() < deadline:
-        time.sleep(0.1)
-    assert processes_marked(mark) == []
+    mark = f"{os.getpid()}-{time.monotonic_ns()}"
+    child = Child(["paper", "--out", str(out), "--no-progress", "--no-animation", "--jobs",
+                   "2"], dict(os.environ, DZ_TEST_MARK=mark))
+    try:
+        first = child.line(300, "no drawing done in 300 s")  # now the workers are busy
+        assert first is not None and first.startswith("[ 1/"), first
+        assert len(processes_marked(f"DZ_TEST_MARK={mark}")) >= 3  # this one, two workers
+        child.proc.send_signal(signal.SIGINT)
+        code, rest = child.end(60, "still running 60 s after Ctrl-C")
+        assert code == 130, rest
+        assert "dzhanibekov: interrupted; nothing written" in rest and "Traceback" not in rest
+        assert not out.exists()
+        deadline = time.monotonic() + 10
+        while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+    finally:
+        child.kill()
+
+
+def drawing_processes(parent: int) -> list[int]:
+    """The worker processes `parent` spawned (not multiprocessing's resource tracker)."""
+    found = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                status = (entry / "status").read_text()
+                cmdline = (entry / "cmdline").read_bytes()
+            except OSError:
+                continue
+            if f"\nPPid:\t{parent}\n" in status and b"spawn_main" in cmdline:
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.mark.skipif(not Path("/proc/self/environ").exists(), reason="needs /proc")
+def test_a_drawing_process_killed_by_the_system_is_one_line_and_nothing_is_written(tmp_path):
+    """A worker killed from outside (the OOM killer, a user's kill -9) ends `paper` with one
+    line naming the signal, exit code 2, no output and no process left; it does not wait for
+    the lost drawing for ever."""
+    out = tmp_path / "out"
+    mark = f"{os.getpid()}-{time.monotonic_ns()}"
+    child = Child(["paper", "--out", str(out), "--no-progress", "--no-animation", "--jobs",
+                   "2"], dict(os.environ, DZ_TEST_MARK=mark))
+    try:
+        first = child.line(300, "no drawing done in 300 s")
+        assert first is not None and first.startswith("[ 1/"), first
+        workers = drawing_processes(child.proc.pid)
+        assert len(workers) == 2, workers
+        os.kill(workers[0], signal.SIGKILL)
+        code, rest = child.end(60, "still running 60 s after a worker was killed")
+        assert code == 2, rest
+        one_line_error(rest, "was killed by SIGKILL before it was done")
+        assert not out.exists()
+        deadline = time.monotonic() + 10
+        while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+    finally:
+        child.kill()

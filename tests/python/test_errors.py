@@ -154,3 +154,24 @@ def test_slices_of_a_batch_and_indices_of_a_sweep_keep_their_runs():
     assert row.shape == (2,) and row.flips.tolist() == grid.flips[1].tolist()
     np.testing.assert_array_equal(row.omega0, grid.omega0[1])
     assert grid[1, 0].shape == () and grid[1, 0].tilt == grid.tilt[1, 0]
+
+
+def test_the_sharper_messages_of_round_4(tmp_path):
+    """Issue 33: what a new user met."""
+    traj = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), t_end=1.0, frames=3)
+    # a run's file given as a scene says what it is, as the other readers do
+    dz.save(traj, tmp_path / "sat.nc")
+    with pytest.raises(dz.SceneError, match=r"it is an HDF5 file \(a netCDF-4 file, such as "
+                                            r"dz.save writes: read it with dz.load\)"):
+        dz.load_scene(tmp_path / "sat.nc")
+    # a table's repr shows its times as numbers, not as NumPy's reprs
+    table = dz.TabulatedTorque(np.array([1.0, 2.0]), [(0, 0, 0), (0, 0, 1)])
+    assert repr(table).startswith("TabulatedTorque(times=[1.0 … 2.0], knots=2")
+    # a torque function returning two numbers is told it returned two
+    two = dz.System(dz.Body((1, 2, 3)), torques=[dz.CallableTorque(lambda t, q, w: (1.0, 2.0))])
+    with pytest.raises(ValueError, match=r"must return three numbers .*, got a tuple of 2 at "):
+        dz.simulate(two, (0.1, 0.2, 0.3), t_end=1.0, frames=3, dt=0.1)
+    # an AEM file without its frame says which frame and why
+    with pytest.raises(TypeError, match=r"write_aem\(\) needs `ref_frame_a`: the inertial frame "
+                                        r"the run's world axes are \('EME2000', 'ICRF'"):
+        dz.io.write_aem(traj, tmp_path / "x.aem", "SAT", "2000-001A", "2026-01-01T00:00:00")

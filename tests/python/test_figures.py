@@ -224,7 +224,7 @@ def test_the_phases_say_what_each_thing_drawn_is(computed):
         "inertia ellipsoid", "box", "signal point's path", "signal point"]
     fig = plotting.phases_figure(computed["wing-nut"])
     assert [t.get_text() for t in fig.legends[0].get_texts()] == [
-        "body", "L (angular momentum)", "signal point's path", "signal point"]
+        "wing nut", "L (angular momentum)", "signal point's path", "signal point"]
     fig.canvas.draw()
     for ax in fig.axes:
         assert not fig.legends[0].get_window_extent().overlaps(ax.get_window_extent())
@@ -282,3 +282,53 @@ def test_the_curves_against_time_follow_the_motion(name):
         spread = np.ptp(ref, axis=0)
         error = np.abs(between - ref).max(axis=0) / np.where(spread > 0, spread, 1.0)
         assert error.max() < 0.02, (name, error)
+
+
+def test_the_invariants_figure_names_what_a_deployment_changes(computed):
+    # Issue 33: a deployment's energy, changed by its work, was drawn as a drift
+    result = computed["deployment"]
+    ax = plotting.invariants_figure(result).axes[0]
+    styles = {ln.get_label(): ln.get_linestyle() for ln in ax.lines}
+    changed = [k for k in styles if k.startswith("energy")]
+    assert changed == ["energy  |E/E₀ − 1| (changed by the model)"] and styles[changed[0]] == "--"
+    assert all(style == "-" for k, style in styles.items() if not k.startswith("energy"))
+    assert "change (dashed)" in ax.get_ylabel()
+
+
+def test_a_composite_is_drawn_as_its_parts_without_asking(tmp_path):
+    # Issue 33: a composite body needed `[draw] box = true` to be drawn at all, and the
+    # legend then said "box"
+    path = tmp_path / "dumbbell.toml"
+    path.write_text("""title = "A dumbbell"
+[body]
+parts = [{ sphere = 1.0, mass = 2.0, position = [-3.0, 0.0, 0.0] },
+         { sphere = 1.0, mass = 2.0, position = [3.0, 0.0, 0.0] }]
+[start]
+omega = [0.01, 1.0, 0.01]
+[run]
+t_end = 5.0
+frames = 11
+[draw]
+path = true
+figures = ["phases"]
+""", encoding="utf-8")
+    scene = dz.load_scene(path)
+    assert scene.draw.box
+    fig = plotting.phases_figure(scene)
+    assert [t.get_text() for t in fig.legends[0].get_texts()][0] == "composite body (2 parts)"
+    # the outline drawn is the parts' own: every vertex of both spheres
+    assert len(scene.drawn_shape.vertices) == 2 * len(dz.Body.sphere(1.0).shape.vertices)
+    # told not to, it is not drawn
+    text = path.read_text(encoding="utf-8").replace("path = true", "path = true\nbox = false")
+    path.write_text(text, encoding="utf-8")
+    assert not dz.load_scene(path).draw.box
+
+
+def test_titles_never_break_inside_a_tuple(computed):
+    # Issue 33: the deployment's figure titles broke "(1, 3, 2)" over two lines
+    result = computed["deployment"]
+    for figure in result.scene.draw.figures:
+        fig = plotting.FIGURE_FUNCTIONS[figure](result)
+        for ax in fig.axes:
+            for line in ax.get_title().splitlines():
+                assert line.count("(") == line.count(")"), (figure, ax.get_title())

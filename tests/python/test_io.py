@@ -185,7 +185,7 @@ def test_a_missing_extra_is_named(missing, traj, tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, missing, None)  # `import missing` now raises ImportError
     call = {"xarray": traj.to_xarray, "pandas": traj.to_dataframe,
             "h5netcdf": lambda: dz.save(traj, tmp_path / "x.nc")}[missing]
-    with pytest.raises(ImportError, match=rf"needs {missing}.*pip install \"\.\[io\]\""):
+    with pytest.raises(ImportError, match=rf"needs {missing}.*pip install \"dzhanibekov\[io\]\""):
         call()
 
 

@@ -166,6 +166,56 @@ def test_time_to_flat_spin_against_the_energy_sink_estimate():
     assert dz.flat_spin_estimate(body, dz.Damper(0.05, 0.0), omega0) == np.inf
 
 
+def _flat_reference(moments, damper, omega0, t_end, share=0.99):
+    """The first time the major axis carries `share` of |H|, by scipy's DOP853 (rtol 1e-12)
+    of the damper's equations as documented, I ω' = I ω × ω + c (σ − ω),
+    j σ' = j σ × ω − c (σ − ω), with an event on |H_major|² − share² |H|², H = I ω + j σ."""
+    i1, i2, i3 = (float(m) for m in moments)
+    j, c = damper.inertia, damper.damping
+    major = int(np.argmax(moments))
+
+    def rhs(_t, y):
+        # in plain floats: numpy's per-call overhead would dominate the reference
+        u, v, w, a, b, d = y
+        sx, sy, sz = c * (a - u), c * (b - v), c * (d - w)
+        return [((i2 - i3) * v * w + sx) / i1, ((i3 - i1) * w * u + sy) / i2,
+                ((i1 - i2) * u * v + sz) / i3,
+                b * w - d * v - sx / j, d * u - a * w - sy / j, a * v - b * u - sz / j]
+
+    def flat(_t, y):
+        h = np.array([i1 * y[0] + j * y[3], i2 * y[1] + j * y[4], i3 * y[2] + j * y[5]])
+        return h[major] ** 2 - share**2 * (h @ h)
+
+    flat.terminal, flat.direction = True, 1.0
+    sol = solve_ivp(rhs, (0.0, t_end), np.concatenate([omega0, omega0]), method="DOP853",
+                    rtol=1e-12, atol=1e-14, events=flat)
+    return float(sol.t_events[0][0])
+
+
+FLAT_CASE = ((1.0, 2.0, 3.0), dz.Damper(0.05, 0.05), (1.0, 0.01, 0.01))
+
+
+@pytest.fixture(scope="module")
+def flat_reference() -> float:
+    body, damper, omega0 = FLAT_CASE
+    return _flat_reference(body, damper, np.array(omega0), 1400.0)
+
+
+@pytest.mark.parametrize("frames, method", [(3, "rk4"), (301, "rk4"), (3, "dop853")])
+def test_the_flat_spin_time_is_located_in_the_run_whatever_the_frames(frames, method,
+                                                                      flat_reference):
+    # Issue 33: read off the frames, a (1, 2, 3) body with Damper(0.05, 0.05) went flat at
+    # 1258 with 3001 frames to t = 3000 and 1295 with 601 (the share's nutation crossed 0.99
+    # between frames); the core now locates it inside the step: 1257.843 with any frames
+    body, damper, omega0 = FLAT_CASE
+    run = {"dt": 1e-3} if method == "rk4" else {"rtol": 1e-11}
+    traj = dz.simulate(dz.System(body, parts=[damper]), omega0, t_end=1400.0, frames=frames,
+                       method=method, **run)
+    assert dz.flat_spin_time(traj) == pytest.approx(flat_reference, abs=1e-6)
+    # another share is read off the frames, as before
+    assert dz.flat_spin_time(traj, 0.5) in traj.t
+
+
 # every method the registry says runs the free body alone (the atlas's among them)
 @pytest.mark.parametrize("method", [m for m, info in dz.METHODS.items() if info.models == ("free",)])
 def test_constant_body_methods_refuse_the_models_by_name(method):

@@ -199,9 +199,15 @@ def test_figures_draw_the_runs_own_invariants(case):
     _, _, _, traj = case
     fig = dz.plotting.invariants_figure(traj)
     lines = {line.get_label(): line.get_ydata() for ax in fig.axes for line in ax.get_lines()}
+    styles = {line.get_label(): line.get_linestyle()
+              for ax in fig.axes for line in ax.get_lines()}
     if torques(traj):
-        # the torque changes E and L: the figure draws what the model keeps, not them
-        assert not any(label.startswith(("L in space", "energy")) for label in lines), lines
+        # the torque changes E and L: the figure draws them as changes (dashed, named so),
+        # what the model keeps as drifts
+        for label, style in styles.items():
+            change = label.startswith(("L in space", "energy", "|L|"))
+            named = label.endswith("(changed by the model)")
+            assert (style == "--") == change and named == change, label
         if traj.system.conserved == ("q_norm", "jacobi"):
             j = jacobi(traj, torques(traj)[0].orbit_rate)
             drawn = next(y for label, y in lines.items() if label.startswith("Jacobi"))

@@ -1,6 +1,8 @@
 """The step: RK4's silent dissipation predicted from |R(iy)|² and checked against runs, the
 StepSizeWarning guard, the step dt=None picks for an accuracy, and bad tolerances."""
 
+import warnings
+
 import numpy as np
 import pytest
 from reference import dop853
@@ -161,3 +163,29 @@ def test_adaptive_runs_honour_max_steps():
     with pytest.raises(ValueError, match="max_steps = 50"):
         dz.simulate(dz.Body(dz.PAPER_INERTIA), (0.01, 0.01, 1.0), t_end=1e3, dt=None,
                     method="dopri5", rtol=1e-12, max_steps=50)
+
+
+def test_a_tolerance_out_of_reach_at_the_runs_length_warns_and_names_who_reaches_it():
+    # Issue 33: over T = 10⁴ at rtol 1e-10 RK4 ended 7.6 rtol off (the round-off of its
+    # 1.2·10⁷ steps), silently. Now the planner counts the round-off: no RK4 step meets it,
+    # the run takes the step of least error and warns, naming the method that does
+    body, w0, run = dz.Body((1.0, 1.7, 2.3)), (0.4, -0.9, 0.6), dict(t_end=1e4, frames=11)
+    exact = dz.simulate(body, w0, method="exact", **run)
+    rate = np.sqrt(np.dot(body.inertia, np.square(w0)) / min(body.inertia))
+
+    def error(traj):  # ω in units of Ω, q absolute, as rtol means them
+        dq = np.minimum(np.abs(traj.q - exact.q), np.abs(traj.q + exact.q)).max()
+        return max(np.abs(traj.omega - exact.omega).max() / rate, dq)
+
+    with pytest.warns(dz.StepSizeWarning, match=r"rtol = 1e-10 is out of reach for 'rk4'.*"
+                      r"'splitting6' reaches it") as caught:
+        rk4 = dz.simulate(body, w0, dt=None, rtol=1e-10, flips=False, **run)
+    assert len(caught) == 1
+    assert error(rk4) > 1e-10  # measured 4.5e-10 (7.6e-10 with the truncation's step)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        named = dz.simulate(body, w0, method="splitting6", dt=None, rtol=1e-10, flips=False,
+                            **run)
+        # within reach: no warning, and the step is the one it was
+        dz.simulate(body, w0, dt=None, rtol=1e-10, t_end=1e3, frames=11, flips=False)
+    assert error(named) < 1e-10  # measured 1.6e-11

@@ -5,6 +5,9 @@ time slider, and its screenshot must not be blank. Without a browser the browser
 and say why; `.ci/run` installs chromium where apt is available.
 """
 
+import base64
+import gzip
+import json
 import os
 import re
 import shutil
@@ -48,11 +51,39 @@ def page(tmp_path_factory):
     return dz.viewer.write_html(traj, tmp_path_factory.mktemp("viewer") / "flip.html")
 
 
+def _payload(html: str, name: str) -> str:
+    """The page's packed `name` (PLOTLY or FIGURE), unpacked as the browser does."""
+    packed = re.search(rf'const {name} = "([A-Za-z0-9+/=]*)";', html)
+    assert packed is not None, name
+    return gzip.decompress(base64.b64decode(packed.group(1))).decode("utf-8")
+
+
 def test_the_page_is_self_contained(page):
     html = page.read_text(encoding="utf-8")
     assert "<script src=\"http" not in html and "cdn.plot.ly" not in html.split("</head>")[0]
     assert "Plotly.newPlot" in html or "Plotly.react" in html
-    assert len(html) > 3_000_000  # plotly's bundle is in the page itself
+    # plotly's bundle is in the page itself, packed
+    from plotly.offline import get_plotlyjs
+
+    assert _payload(html, "PLOTLY") == get_plotlyjs()
+
+
+def test_the_page_of_a_shipped_scene_is_at_most_3_mb_and_loses_nothing_visible(tmp_path):
+    # Issue 33: the example's page was 10 MB (plotly's 4.8 MB, every coordinate in full)
+    from dzhanibekov.viewer import RESOLUTION
+
+    scene = dz.SCENES["example"]
+    page = dz.viewer.write_html(scene, tmp_path / "example.html")
+    assert page.stat().st_size <= 3_000_000  # measured 2.49 MB
+    fig = dz.viewer.figure(scene)
+    shown = json.loads(_payload(page.read_text(encoding="utf-8"), "FIGURE"))
+    span = 2 * fig.layout.scene.xaxis.range[1]
+    assert len(shown["frames"]) == len(fig.frames)
+    for drawn, exact in zip(shown["frames"], fig.frames):
+        for a, b in zip(drawn["data"], exact.data):
+            for axis in "xyz":
+                off = np.abs(np.array(a[axis], dtype=float) - np.array(b[axis], dtype=float))
+                assert np.nanmax(off, initial=0.0) <= span / RESOLUTION / 2 + 1e-12 * span
 
 
 def test_the_figure_has_a_frame_per_frame_and_play_pause_and_a_slider(tmp_path):
@@ -71,7 +102,7 @@ def test_the_figure_has_a_frame_per_frame_and_play_pause_and_a_slider(tmp_path):
 
 def test_a_missing_plotly_is_named(monkeypatch, tmp_path):
     monkeypatch.setitem(sys.modules, "plotly.graph_objects", None)
-    with pytest.raises(ImportError, match=r"pip install \"\.\[viewer\]\""):
+    with pytest.raises(ImportError, match=r"pip install \"dzhanibekov\[viewer\]\""):
         dz.viewer.write_html(dz.SCENES["fig3a"], tmp_path / "x.html")
 
 

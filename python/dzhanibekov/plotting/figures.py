@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+import re
 import textwrap
 import warnings
 from collections.abc import Callable, Mapping, Sequence
@@ -41,6 +42,7 @@ from ..body import InertiaWarning, as_body
 from ..damper import axis_shares, flat_spin_time
 from ..geometry import box_edges
 from .. import _core
+from ..scenes.parse import drawn_label
 from ..scenes.plan import SceneResult, execute, make_plan, phase_frames
 from ..scenes.scene import Scene
 from ..scenes.staging import result_for
@@ -212,7 +214,7 @@ def draw_body(ax: Axes3D, result: SceneResult, frame: int, *, trail: bool = True
         edges = shape.edges if shape is not None else box_edges()
         artists["box"] = ax.add_collection3d(Line3DCollection(
             corners[edges], colors=COLORS["box"], linewidths=1.4 if len(edges) < 60 else 0.8,
-            label="body" if shape is not None and shape.faces is not None else "box"))
+            label=drawn_label(scene.body, scene.body_spec)))
     if "body_axes" in result.world:
         tips = result.at("body_axes", frame)
         segments = np.stack([np.zeros_like(tips), tips], axis=1)
@@ -330,7 +332,7 @@ class BodyView:
             self.artists["box"] = ax.add_collection3d(Line3DCollection(
                 pts["box"][0][self._edges], colors=COLORS["box"],
                 linewidths=1.4 if len(self._edges) < 60 else 0.8,
-                label="body" if self._faces is not None else "box"))
+                label=drawn_label(scene.body, scene.body_spec)))
         if "body_axes" in pts:
             self.artists["body_axes"] = ax.add_collection3d(Line3DCollection(
                 self._axis_segments(0), colors=COLORS["axes"], linewidths=1.0,
@@ -506,8 +508,20 @@ def _title(result: SceneResult, width: int = 0) -> str:
     if not width or len(title) <= width:
         return title
     # a line for the scene, a line for the verdict: no phrase broken in the middle
-    head = textwrap.fill(result.scene.title, width)
+    head = _wrap(result.scene.title, width)
     return f"{head} —\n{verdict}" if verdict else head
+
+
+_GROUPED = re.compile(r"\([^()]*\)|\[[^\[\]]*\]")
+"""A parenthesised or bracketed group, such as a tuple of moments: never broken."""
+
+
+def _wrap(text: str, width: int) -> str:
+    """`text` filled to `width`, breaking between words but never inside a group
+    ``(1, 2, 3)`` or ``[…]`` (a tuple broken over two lines reads as two numbers)."""
+    glue = "\u00a0"  # textwrap breaks at ASCII whitespace only
+    kept = _GROUPED.sub(lambda m: m.group(0).replace(" ", glue), text)
+    return textwrap.fill(kept, width, break_long_words=False).replace(glue, " ")
 
 
 def path_figure(scene: Drawable, *, ax: Axes3D | None = None, legend: bool = True,
@@ -656,10 +670,11 @@ def omega_figure(scene: Drawable, *, ax: Axes | None = None,
 def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
                       save: str | Path | None = None) -> Figure:
     """The drift of the invariants against time, log scale: relative energy and ``|L|``, the
-    space-frame angular momentum vector (relative to ``|L|``) and ``|q| − 1``. Under an
-    external torque the energy and angular momentum are the torque's to change, not kept:
-    the figure draws what the model keeps instead (``|q| − 1``, and in the gravity gradient
-    the Jacobi integral, relative to its largest term).
+    space-frame angular momentum vector (relative to ``|L|``), ``|q| − 1`` and, in the
+    gravity gradient, the Jacobi integral (relative to its largest term). What the run's
+    model keeps (``traj.drift.kept``) is drawn solid, its drift the integration's error;
+    what the model changes by its own law (a deployment's work and a damper's loss on the
+    energy, a torque's on the energy and angular momentum) dashed and named a change.
 
     Returns
     -------
@@ -673,27 +688,32 @@ def invariants_figure(scene: Drawable, *, ax: Axes | None = None,
     inv = traj.invariants()  # the run's own system's, as the run's drift measures them
     l_body = np.linalg.norm(inv["momentum_body"], axis=1)
     l0 = float(l_body[0])
-    series = {} if traj.system.torques else {
-        "energy  |E/E₀ − 1|": _relative(inv["energy"], float(inv["energy"][0])),
-        "|L|  ||L|/|L₀| − 1|": _relative(l_body, l0),
-        "L in space  |L − L₀|/|L₀|": np.linalg.norm(
-            inv["momentum_world"] - inv["momentum_world"][0], axis=1) / (l0 if l0 > 0 else 1.0),
+    series = {
+        "energy": ("energy  |E/E₀ − 1|", _relative(inv["energy"], float(inv["energy"][0]))),
+        "momentum": ("|L|  ||L|/|L₀| − 1|", _relative(l_body, l0)),
+        "momentum_world": ("L in space  |L − L₀|/|L₀|", np.linalg.norm(
+            inv["momentum_world"] - inv["momentum_world"][0], axis=1) / (l0 if l0 > 0 else 1.0)),
     }
     if "jacobi" in traj.system.conserved:
         j = jacobi_values(traj)
-        series["Jacobi integral  |J − J₀|/max|J|"] = np.abs(j - j[0]) / max(
-            float(np.abs(j).max()), np.finfo(float).tiny)
-    series["|q| − 1"] = np.abs(inv["q_norm"] - 1)
+        series["jacobi"] = ("Jacobi integral  |J − J₀|/max|J|", np.abs(j - j[0]) / max(
+            float(np.abs(j).max()), np.finfo(float).tiny))
+    series["q_norm"] = ("|q| − 1", np.abs(inv["q_norm"] - 1))
     if ax is None:
         fig = Figure(figsize=(7.0, 3.4), layout="constrained")
         ax = fig.add_subplot()
     fig = _figure_of(ax)
-    for label, values in series.items():
-        ax.plot(traj.t, np.where(values > 0, values, np.nan), lw=0.9, label=label)
+    kept = traj.drift.kept
+    for name, (label, values) in series.items():
+        change = name not in kept
+        ax.plot(traj.t, np.where(values > 0, values, np.nan), lw=0.9,
+                ls="--" if change else "-",
+                label=f"{label} (changed by the model)" if change else label)
     ax.set_yscale("log")
     units = units_of(result.scene)
     ax.set_xlabel(units.label("t", units.time))
-    ax.set_ylabel("drift (relative)")
+    ax.set_ylabel("drift (solid) or change (dashed), relative"
+                  if any(name not in kept for name in series) else "drift (relative)")
     ax.set_xlim(0, traj.t[-1])
     step = f"dt = {traj.dt:g}" if traj.n_steps > 0 else "no steps"
     ax.set_title(f"{result.scene.title}: invariants' drift ({traj.method}, {step})",

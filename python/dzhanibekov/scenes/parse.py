@@ -52,6 +52,7 @@ __all__ = [
     "EllipsoidStyle",
     "SceneError",
     "checked",
+    "drawn_label",
     "drawn_shape",
     "from_tables",
     "scene_body",
@@ -419,6 +420,9 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
         _drawable(src, "body.box", max(box))
     flips = _flag(src, "ask.flips", v["flips"])
     draw = _draw(src, v["draw"], run["t_end"])
+    if body.shape is not None and isinstance(v["draw"], Mapping) and "box" not in v["draw"]:
+        # a body of its own shape (a composite, a solid, a mesh) is drawn unless told not to
+        draw = dataclasses.replace(draw, box=True)
     ellipsoid = _ellipsoid(src, v["ellipsoid"])
     models = _models(src, v)
     given_system = v["given"]
@@ -583,6 +587,20 @@ def uniform_box(inertia: tuple[float, ...]) -> tuple[float, float, float] | None
         return None
     a, b, c = (float(np.sqrt(x)) for x in squares)
     return a, b, c
+
+
+def drawn_label(body: Body, spec: Mapping[str, Any] | None = None) -> str:
+    """What the legends call the body drawn: ``box`` for the box of a body given by its
+    moments, a preset's name (``wing nut``) for a scene's preset, ``composite body (N parts)``
+    for a composite drawn as its parts, ``body`` for a body drawn as its own shape (a solid,
+    a mesh)."""
+    if body.shape is None:
+        return "box"
+    if spec is not None and isinstance(spec.get("preset"), str):
+        return str(spec["preset"]).replace("-", " ")
+    if body.parts:
+        return f"composite body ({len(body.parts)} parts)"
+    return "body"
 
 
 def drawn_shape(body: Body, box: tuple[float, ...] | None,

@@ -21,7 +21,7 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     dt = 1e-3                              # or "none" (the default): the step for `rtol`
     method = "rk4"                         # one of dzhanibekov.METHODS
     # rtol = 1e-9                          # accuracy of dt = "none", or an adaptive method's
-    # atol = 1e-12                         # adaptive methods only
+    # atol = 1e-12                         # adaptive methods only (default rtol/1000)
 
     [ask]
     flips = true                           # flip times and the stability verdict
@@ -70,7 +70,7 @@ from typing import Any, TypeVar
 import numpy as np
 import tomli_w
 
-from .._files import ReadError, open_regular, write_text
+from .._files import ReadError, describe, open_regular, write_text
 from ..body import Body
 from ..damper import Damper
 from ..deployment import Deployment
@@ -193,8 +193,8 @@ class Scene(metaclass=_Parsed):
     """The accuracy `dt` = None is picked for, or an adaptive method's relative tolerance
     (default `dzhanibekov.accuracy.DEFAULT_RTOL`)."""
     atol: float | None = None
-    """An adaptive method's absolute tolerance (default
-    `dzhanibekov.accuracy.DEFAULT_ATOL`)."""
+    """An adaptive method's absolute tolerance (default ``rtol / 1000``:
+    `dzhanibekov.accuracy.DEFAULT_ATOL` at the default `rtol`)."""
     body_spec: Mapping[str, Any] | None = None
     """The body, when it is more than principal moments: the `[body]` table's keys that
     name it (``tensor``, ``cylinder``, ``sphere``, ``ellipsoid``, ``mesh``, ``parts`` or
@@ -447,13 +447,17 @@ def load_scene(path: str | Path) -> Scene:
                          f"or one of the shipped scenes: {shipped}")
     p = Path(path)
     try:
-        if not p.exists() and isinstance(path, str) and path in SCENES:
+        # a folder is never a scene file: `run NAME` writes into a folder NAME by default
+        if (not p.exists() or p.is_dir()) and isinstance(path, str) and path in SCENES:
             return SCENES[path]
         text = _read_scene_file(p)
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path, or not UTF-8
         why = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         if isinstance(exc, UnicodeDecodeError):
-            why = f"not UTF-8 text: {exc.reason} at byte {exc.start}"
+            kind = describe(exc.object[:64])  # a format it names, or just "binary data"
+            why = (f"it is {kind}, not a scene's TOML text"
+                   if kind not in ("text", "binary data") else
+                   f"not UTF-8 text: {exc.reason} at byte {exc.start}")
         raise SceneError(str(p), None, f"cannot be read ({why}); give a scene file or one of "
                          f"the shipped scenes: {shipped}") from None
     return Scene.from_toml(text, p.stem, str(p), base=p.parent)
