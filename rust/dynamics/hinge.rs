@@ -19,12 +19,41 @@
 //! ```
 //!
 //! `V = ½ k β²` (the spring is unloaded at rest), the dissipated power `c β̇²`.
+//!
+//! **Alone on its hub** ([`LoneHinge`]) the joint solve has a closed form. With `μ = m M_h/M`,
+//! `g₀ = e × s₀`, `q₁ = μℓ h × g₀`, `q₂ = μℓ h × s₀`, the coupling column is
+//! `b = μℓ r × g + I_b e = cos β q₁ − sin β q₂ + d e` (`s × g = e`), the panel's own entry
+//! `d = μℓ² + j_e` is constant, and eliminating `β̇ = (p − b·ω)/d`
+//!
+//! ```text
+//! S(β) ω = H − p b / d,   S(β) = I_h + μ(|r|² 𝟙 − r rᵀ) + I_b − b bᵀ / d
+//!                              = S₀ + cos β S_c + sin β S_s + cos 2β S_c2 + sin 2β S_s2
+//! ```
+//!
+//! a trigonometric polynomial of degree two whose five symmetric coefficients are constant
+//! (`r = h + ℓ s`, `s sᵀ`, `g gᵀ` and `b bᵀ` are of degree two in `cos β`, `sin β`); with
+//! `P = 𝟙 − e eᵀ`, `D = s₀s₀ᵀ − g₀g₀ᵀ`, `X = s₀g₀ᵀ + g₀s₀ᵀ`, `J± = (j_s ± j_g)/2`:
+//!
+//! ```text
+//! S₀   = I_h + μ(|h|² + ℓ²) 𝟙 − μ h hᵀ + (J₊ − μℓ²/2) P − μℓ² e eᵀ − (q₁q₁ᵀ + q₂q₂ᵀ)/2d
+//! S_c  = 2μℓ (h·s₀) 𝟙 − μℓ (h s₀ᵀ + s₀ hᵀ) − (q₁ eᵀ + e q₁ᵀ)
+//! S_s  = 2μℓ (h·g₀) 𝟙 − μℓ (h g₀ᵀ + g₀ hᵀ) + (q₂ eᵀ + e q₂ᵀ)
+//! S_c2 = (J₋ − μℓ²/2) D − (q₁q₁ᵀ − q₂q₂ᵀ)/2d
+//! S_s2 = (J₋ − μℓ²/2) X + (q₁q₂ᵀ + q₂q₁ᵀ)/2d
+//! ```
+//!
+//! and the momentum's rate, with `e · (I_b Ω × Ω) = (j_s − j_g)(ω·s)(ω·g)`,
+//!
+//! ```text
+//! p' = μℓ |ω|² (h·g) − (ω·g)(μℓ ω·h + (μℓ² − j_s + j_g) ω·s) − β̇ ω·(cos β q₂ + sin β q₁)
+//!      − k β − c β̇
+//! ```
 
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
 
-use super::multibody::Carried;
+use super::multibody::{Carried, Hub, Sym3};
 use super::spring_mass::{checked, point, unit};
 
 /// A hinged appendage (see the module doc).
@@ -209,5 +238,152 @@ impl Hinge {
     /// The power the damping takes, `c β̇²`.
     pub fn dissipation(&self, rate: f64) -> f64 {
         self.damping * rate * rate
+    }
+}
+
+/// A hinged appendage alone on its hub: the joint solve and the momentum's rate in closed
+/// form (see the module doc), the five coefficients of `S(β)` computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoneHinge {
+    part: Hinge,
+    /// `μℓ`, `μℓ² − j_s + j_g`.
+    moment: f64,
+    swing: f64,
+    /// `d` and `1/d`.
+    block: f64,
+    inv_block: f64,
+    /// `q₁`, `q₂`.
+    q1: Vector3<f64>,
+    q2: Vector3<f64>,
+    /// `h · g₀`, `h · s₀`.
+    hg: f64,
+    hs: f64,
+    /// `S₀`, `S_c`, `S_s`, `S_c2`, `S_s2`.
+    terms: [Sym3; 5],
+}
+
+impl LoneHinge {
+    /// `part` alone on `hub` (whose total mass counts the part's).
+    pub fn new(hub: &Hub, part: Hinge) -> Self {
+        let mu = hub.reduced_mass(part.mass);
+        let (l, h, e) = (part.length, part.hinge, part.axis);
+        let (s0, g0) = (part.arm, part.normal);
+        let [js, je, jg] = [part.moments.x, part.moments.y, part.moments.z];
+        let ml = mu * l;
+        let block = ml * l + je;
+        let (q1, q2) = (h.cross(&g0) * ml, h.cross(&s0) * ml);
+        let plane = Sym3::scalar(1.0) - Sym3::square(&e);
+        let twice = 0.5 / block;
+        let half = 0.5 * (js - jg) - 0.5 * ml * l;
+        let rest = Sym3::of(hub.inertia()) + Sym3::scalar(mu * (h.norm_squared() + l * l))
+            - Sym3::square(&h) * mu
+            + plane * (0.5 * (js + jg) - 0.5 * ml * l)
+            - Sym3::square(&e) * (ml * l)
+            - (Sym3::square(&q1) + Sym3::square(&q2)) * twice;
+        let cos =
+            Sym3::scalar(2.0 * ml * h.dot(&s0)) - Sym3::outer(&h, &s0) * ml - Sym3::outer(&q1, &e);
+        let sin =
+            Sym3::scalar(2.0 * ml * h.dot(&g0)) - Sym3::outer(&h, &g0) * ml + Sym3::outer(&q2, &e);
+        let cos2 = (Sym3::square(&s0) - Sym3::square(&g0)) * half
+            - (Sym3::square(&q1) - Sym3::square(&q2)) * twice;
+        let sin2 = Sym3::outer(&s0, &g0) * half + Sym3::outer(&q1, &q2) * twice;
+        Self {
+            part,
+            moment: ml,
+            swing: ml * l - js + jg,
+            block,
+            inv_block: 1.0 / block,
+            q1,
+            q2,
+            hg: h.dot(&g0),
+            hs: h.dot(&s0),
+            terms: [rest, cos, sin, cos2, sin2],
+        }
+    }
+
+    pub fn part(&self) -> &Hinge {
+        &self.part
+    }
+
+    /// `(ω, β̇, cos β, sin β)` from the angular momentum `h` (body axes), the angle `beta` and
+    /// its momentum `p`.
+    #[inline(always)]
+    pub fn rates(&self, h: &Vector3<f64>, beta: f64, p: f64) -> (Vector3<f64>, f64, f64, f64) {
+        let (sin, cos) = super::gravity::sin_cos(beta);
+        let [rest, c1, s1, c2, s2] = &self.terms;
+        let stiff = rest
+            .add_scaled(cos, c1)
+            .add_scaled(sin, s1)
+            .add_scaled(cos * cos - sin * sin, c2)
+            .add_scaled(2.0 * sin * cos, s2);
+        let b = self.q1 * cos - self.q2 * sin + self.part.axis * self.block;
+        let omega = stiff.solve(&(h - b * (p * self.inv_block)));
+        (omega, (p - b.dot(&omega)) * self.inv_block, cos, sin)
+    }
+
+    /// `p'` at angle `beta` (its `cos`, `sin` from [`LoneHinge::rates`]), its rate `rate` and
+    /// the body rates `omega`.
+    #[inline(always)]
+    pub fn momentum_rate(
+        &self,
+        beta: f64,
+        cos: f64,
+        sin: f64,
+        rate: f64,
+        omega: &Vector3<f64>,
+    ) -> f64 {
+        let p = &self.part;
+        let s = p.arm * cos + p.normal * sin;
+        let g = p.normal * cos - p.arm * sin;
+        let wg = omega.dot(&g);
+        let hg = self.hg * cos - self.hs * sin;
+        self.moment * omega.norm_squared() * hg
+            - wg * (self.moment * omega.dot(&p.hinge) + self.swing * omega.dot(&s))
+            - rate * omega.dot(&(self.q2 * cos + self.q1 * sin))
+            - p.stiffness * beta
+            - p.damping * rate
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::multibody::{motion, MassMatrix};
+
+    #[test]
+    fn alone_on_its_hub_the_closed_form_is_the_joint_solve() {
+        let part = Hinge::try_new(
+            0.25,
+            [0.01, 0.03, 0.035],
+            [0.8, 0.5, -0.2],
+            [0.1, 1.0, 0.3],
+            [1.0, -0.1, 0.2],
+            0.6,
+            0.7,
+            0.05,
+        )
+        .unwrap();
+        let i = Matrix3::new(3.0, -0.2, 0.1, -0.2, 4.0, 0.3, 0.1, 0.3, 5.0);
+        let hub = Hub::try_new(i, 4.0, part.mass()).unwrap();
+        let lone = LoneHinge::new(&hub, part);
+        for (beta, omega, v) in [
+            (0.0, [0.3, -0.7, 1.1], 0.2),
+            (0.9, [-1.2, 0.1, 0.4], -0.8),
+            (-2.5, [0.0, 0.0, 2.0], 0.0),
+            (4.0, [0.5, 0.5, -0.5], 1.5),
+        ] {
+            let omega = Vector3::from(omega);
+            let pose = part.pose(beta);
+            let carried = [part.carried(&pose)];
+            let (h, p) = MassMatrix::<1>::assemble(&hub, &carried).apply(&omega, &[v]);
+            let (w, rate, cos, sin) = lone.rates(&h, beta, p[0]);
+            assert!((w - omega).amax() < 1e-14, "{w} {omega}");
+            assert!((rate - v).abs() < 1e-14, "{rate} {v}");
+            let moved = motion(&hub, &carried, &h, &p);
+            let (velocity, spin) = moved.element(&carried[0], 0);
+            let general = part.momentum_rate(&pose, beta, v, &omega, &velocity, &spin);
+            let closed = lone.momentum_rate(beta, cos, sin, v, &omega);
+            assert!((closed - general).abs() < 1e-14, "{closed} {general}");
+        }
     }
 }

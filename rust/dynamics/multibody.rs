@@ -99,6 +99,17 @@ impl Hub {
     pub fn total_mass(&self) -> f64 {
         1.0 / self.inv_total
     }
+
+    /// `μ = m M_h / M` of the one part of mass `m` it carries: alone on the hub, a part moves
+    /// the system as a body of mass `μ` moving about the hub's mass centre would (the
+    /// two-body problem's reduced mass).
+    pub fn reduced_mass(&self, m: f64) -> f64 {
+        debug_assert!(
+            ((self.mass + m) * self.inv_total - 1.0).abs() < 1e-12,
+            "one part"
+        );
+        m * self.mass * self.inv_total
+    }
 }
 
 /// What a moving part carries at one configuration, as the kinetic energy sees it: a mass
@@ -371,24 +382,147 @@ impl<const K: usize> MassMatrix<K> {
     }
 }
 
-/// `x` with `s x = r` for a symmetric positive definite `s`, by Cramer's rule (its adjugate
-/// over its determinant: one division).
+/// `x` with `s x = r` for a symmetric positive definite `s`, by Cramer's rule.
 #[inline(always)]
 fn cramer(s: &Matrix3<f64>, r: &Vector3<f64>) -> Vector3<f64> {
-    let (a, b, c) = (s[(0, 0)], s[(1, 1)], s[(2, 2)]);
-    let (d, e, f) = (s[(0, 1)], s[(1, 2)], s[(0, 2)]);
-    let c00 = b * c - e * e;
-    let c01 = f * e - d * c;
-    let c02 = d * e - b * f;
-    let c11 = a * c - f * f;
-    let c12 = d * f - a * e;
-    let c22 = a * b - d * d;
-    let inv = 1.0 / (a * c00 + d * c01 + f * c02);
-    Vector3::new(
-        (c00 * r.x + c01 * r.y + c02 * r.z) * inv,
-        (c01 * r.x + c11 * r.y + c12 * r.z) * inv,
-        (c02 * r.x + c12 * r.y + c22 * r.z) * inv,
-    )
+    Sym3::of(s).solve(r)
+}
+
+/// A symmetric 3 × 3 matrix by its six entries: the closed-form solves of one part alone on
+/// its hub ([`super::LoneSpring`], [`super::LoneHinge`]) sum constant ones weighted by the
+/// part's coordinate and invert the sum, so that nothing is computed twice.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Sym3 {
+    pub xx: f64,
+    pub yy: f64,
+    pub zz: f64,
+    pub xy: f64,
+    pub yz: f64,
+    pub xz: f64,
+}
+
+impl Sym3 {
+    /// The symmetric part of `m`.
+    pub fn of(m: &Matrix3<f64>) -> Self {
+        Self {
+            xx: m[(0, 0)],
+            yy: m[(1, 1)],
+            zz: m[(2, 2)],
+            xy: 0.5 * (m[(0, 1)] + m[(1, 0)]),
+            yz: 0.5 * (m[(1, 2)] + m[(2, 1)]),
+            xz: 0.5 * (m[(0, 2)] + m[(2, 0)]),
+        }
+    }
+
+    /// `s 𝟙`.
+    pub fn scalar(s: f64) -> Self {
+        Self {
+            xx: s,
+            yy: s,
+            zz: s,
+            ..Self::default()
+        }
+    }
+
+    /// `a bᵀ + b aᵀ`.
+    pub fn outer(a: &Vector3<f64>, b: &Vector3<f64>) -> Self {
+        Self {
+            xx: 2.0 * a.x * b.x,
+            yy: 2.0 * a.y * b.y,
+            zz: 2.0 * a.z * b.z,
+            xy: a.x * b.y + b.x * a.y,
+            yz: a.y * b.z + b.y * a.z,
+            xz: a.x * b.z + b.x * a.z,
+        }
+    }
+
+    /// `a aᵀ`.
+    pub fn square(a: &Vector3<f64>) -> Self {
+        Self::outer(a, a) * 0.5
+    }
+
+    pub fn matrix(&self) -> Matrix3<f64> {
+        Matrix3::new(
+            self.xx, self.xy, self.xz, self.xy, self.yy, self.yz, self.xz, self.yz, self.zz,
+        )
+    }
+
+    /// `self + s b`, entry by entry (no `mul_add`: without FMA in the target it is a call).
+    #[inline(always)]
+    pub fn add_scaled(&self, s: f64, b: &Sym3) -> Self {
+        Self {
+            xx: self.xx + s * b.xx,
+            yy: self.yy + s * b.yy,
+            zz: self.zz + s * b.zz,
+            xy: self.xy + s * b.xy,
+            yz: self.yz + s * b.yz,
+            xz: self.xz + s * b.xz,
+        }
+    }
+
+    /// `self v`.
+    #[inline(always)]
+    pub fn apply(&self, v: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::new(
+            self.xx * v.x + self.xy * v.y + self.xz * v.z,
+            self.xy * v.x + self.yy * v.y + self.yz * v.z,
+            self.xz * v.x + self.yz * v.y + self.zz * v.z,
+        )
+    }
+
+    /// `x` with `self x = r`, `self` positive definite, by Cramer's rule (its adjugate over its
+    /// determinant: one division, no square root).
+    #[inline(always)]
+    pub fn solve(&self, r: &Vector3<f64>) -> Vector3<f64> {
+        let (a, b, c) = (self.xx, self.yy, self.zz);
+        let (d, e, f) = (self.xy, self.yz, self.xz);
+        let c00 = b * c - e * e;
+        let c01 = f * e - d * c;
+        let c02 = d * e - b * f;
+        let c11 = a * c - f * f;
+        let c12 = d * f - a * e;
+        let c22 = a * b - d * d;
+        let inv = 1.0 / (a * c00 + d * c01 + f * c02);
+        Vector3::new(
+            (c00 * r.x + c01 * r.y + c02 * r.z) * inv,
+            (c01 * r.x + c11 * r.y + c12 * r.z) * inv,
+            (c02 * r.x + c12 * r.y + c22 * r.z) * inv,
+        )
+    }
+
+    /// `self⁻¹` (positive definite).
+    pub fn inverse(&self) -> Self {
+        let cols = [Vector3::x(), Vector3::y(), Vector3::z()].map(|e| self.solve(&e));
+        Self {
+            xx: cols[0].x,
+            yy: cols[1].y,
+            zz: cols[2].z,
+            xy: 0.5 * (cols[1].x + cols[0].y),
+            yz: 0.5 * (cols[2].y + cols[1].z),
+            xz: 0.5 * (cols[2].x + cols[0].z),
+        }
+    }
+}
+
+impl std::ops::Add for Sym3 {
+    type Output = Sym3;
+    fn add(self, b: Sym3) -> Sym3 {
+        self.add_scaled(1.0, &b)
+    }
+}
+
+impl std::ops::Sub for Sym3 {
+    type Output = Sym3;
+    fn sub(self, b: Sym3) -> Sym3 {
+        self.add_scaled(-1.0, &b)
+    }
+}
+
+impl std::ops::Mul<f64> for Sym3 {
+    type Output = Sym3;
+    fn mul(self, s: f64) -> Sym3 {
+        Sym3::default().add_scaled(s, &self)
+    }
 }
 
 /// The rates `ω` and `v` from the momenta `h` and `p` (each part's in order), and the mass

@@ -24,12 +24,25 @@
 //! integration error in `|n|` or `π · n` (of the order of the method's, and measured) never
 //! feeds back into the motion. There is no spring: on a spinning body the centrifugal field is
 //! the pendulum's restoring force. `V = 0`, the dissipated power `c |ν|²`.
+//!
+//! **Alone on its hub** ([`LoneSlosh`]) no basis is needed. With `μ = m M_h/M` and
+//! `u = ω × r + ṙ` (the mass's velocity relative to the hub's mass centre), `π = lμ n × u`
+//! gives `u`'s part normal to the rod, `u⊥ = π × n/(lμ)`, and `u · n = −ω · w` with
+//! `w = n × r = n × p` (the rod is stiff along itself). Then `H = I_h ω + μ r × u` becomes
+//!
+//! ```text
+//! (I_h + μ w wᵀ) ω = H − π⊥ − p × (π × n)/l
+//! ```
+//!
+//! a rank-one update of the hub's tensor, solved by Sherman–Morrison with `I_h⁻¹` computed
+//! once; then `u = π × n/(lμ) − (ω·w) n`, `ν = n × (u − ω × r)/l`, and the equations above
+//! with `∂T/∂n = lμ u × (ω + ν)`.
 
 use nalgebra::Vector3;
 
 use crate::error::Result;
 
-use super::multibody::Carried;
+use super::multibody::{Carried, Hub, Sym3};
 use super::spring_mass::{checked, point};
 
 /// A slosh pendulum (see the module doc).
@@ -171,5 +184,129 @@ impl Slosh {
     /// The power the damping takes, `c |ν|²`.
     pub fn dissipation(&self, nu: &Vector3<f64>) -> f64 {
         self.damping * nu.norm_squared()
+    }
+}
+
+/// A slosh pendulum alone on its hub: the joint solve and the rates in closed form (see the
+/// module doc), the hub's inverse tensor computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoneSlosh {
+    part: Slosh,
+    /// `I_h⁻¹`.
+    inverse: Sym3,
+    /// `μ`, `lμ`, `1/(lμ)`, `1/l`.
+    reduced: f64,
+    moment: f64,
+    inv_moment: f64,
+    inv_length: f64,
+}
+
+/// The body's and the rod's rates of a [`LoneSlosh`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SloshRates {
+    /// `ω`, body axes.
+    pub omega: Vector3<f64>,
+    /// `ν`, the rod's angular velocity relative to the body.
+    pub nu: Vector3<f64>,
+    /// `n'`, `π'`.
+    pub direction: Vector3<f64>,
+    pub momentum: Vector3<f64>,
+}
+
+impl LoneSlosh {
+    /// `part` alone on `hub` (whose total mass counts the part's).
+    pub fn new(hub: &Hub, part: Slosh) -> Self {
+        let mu = hub.reduced_mass(part.mass);
+        let moment = part.length * mu;
+        Self {
+            part,
+            inverse: Sym3::of(hub.inertia()).inverse(),
+            reduced: mu,
+            moment,
+            inv_moment: 1.0 / moment,
+            inv_length: 1.0 / part.length,
+        }
+    }
+
+    pub fn part(&self) -> &Slosh {
+        &self.part
+    }
+
+    /// The rates from the angular momentum `h` (body axes), the stored direction `n` (any
+    /// length; its direction is read) and momentum `pi` (its part normal to the rod is read).
+    #[inline(always)]
+    pub fn rates(&self, h: &Vector3<f64>, n: &Vector3<f64>, pi: &Vector3<f64>) -> SloshRates {
+        let unit = n * (1.0 / n.norm());
+        let normal = pi - unit * unit.dot(pi);
+        let lead = normal.cross(&unit);
+        let pivot = &self.part.pivot;
+        let w = unit.cross(pivot);
+        let y = self
+            .inverse
+            .apply(&(h - normal - pivot.cross(&lead) * self.inv_length));
+        let z = self.inverse.apply(&w);
+        let omega = y - z * (self.reduced * w.dot(&y) / (1.0 + self.reduced * w.dot(&z)));
+        let u = lead * self.inv_moment - unit * omega.dot(&w);
+        let r = pivot + unit * self.part.length;
+        let nu = unit.cross(&(u - omega.cross(&r))) * self.inv_length;
+        let pull = u.cross(&(omega + nu)) * self.moment;
+        SloshRates {
+            omega,
+            nu,
+            direction: nu.cross(n),
+            momentum: nu.cross(&normal) + unit.cross(&pull) - nu * self.part.damping,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::multibody::{motion, MassMatrix};
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn alone_on_its_hub_the_closed_form_is_the_joint_solve() {
+        let part = Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04).unwrap();
+        let i = Matrix3::new(3.0, -0.2, 0.1, -0.2, 4.0, 0.3, 0.1, 0.3, 5.0);
+        let hub = Hub::try_new(i, 4.0, part.mass()).unwrap();
+        let lone = LoneSlosh::new(&hub, part);
+        for (n, omega, nu) in [
+            ([0.3, -0.8, 0.52], [0.3, -0.7, 1.1], [0.1, 0.2, 0.3]),
+            ([0.0, 0.0, -2.0], [-1.2, 0.1, 0.4], [0.5, -0.4, 0.0]),
+            ([1.0, 1e-3, 0.0], [0.0, 0.0, 2.0], [0.0, 0.0, 0.0]),
+        ] {
+            // a stored direction off unit length and a momentum off the normal plane: both
+            // are read as the equations read them
+            let n = Vector3::from(n) * 1.1;
+            let omega = Vector3::from(omega);
+            let rod = Rod::along(&n);
+            let nu = Vector3::from(nu);
+            let nu = nu - rod.direction * rod.direction.dot(&nu);
+            let carried = [part.carried(&rod)];
+            let v = rod.rates_of(&nu);
+            let (h, p) = MassMatrix::<2>::assemble(&hub, &carried).apply(&omega, &v);
+            let pi = rod.momentum_of(p) + rod.direction * 0.3;
+            let closed = lone.rates(&h, &n, &pi);
+            assert!(
+                (closed.omega - omega).amax() < 1e-14,
+                "{} {omega}",
+                closed.omega
+            );
+            assert!((closed.nu - nu).amax() < 1e-14, "{} {nu}", closed.nu);
+            let moved = motion(&hub, &carried, &h, &p);
+            let (velocity, _) = moved.element(&carried[0], 0);
+            let (dn, dpi) = part.rates(&n, &pi, &rod, &nu, &omega, &velocity);
+            assert!(
+                (closed.direction - dn).amax() < 1e-14,
+                "{} {dn}",
+                closed.direction
+            );
+            assert!(
+                (closed.momentum - dpi).amax() < 1e-14,
+                "{} {dpi}",
+                closed.momentum
+            );
+        }
     }
 }

@@ -14,12 +14,26 @@
 //! ```
 //!
 //! `V = ½ k x²`, the dissipated power `c ẋ²`.
+//!
+//! **Alone on its hub** ([`LoneSpring`]) the joint solve has a closed form. With `μ = m M_h/M`
+//! (the mass centre's motion folds into the reduced mass), `a⊥ = a − (a·d) d` and
+//! `s = x + a·d` (so `r = a⊥ + s d`), `𝕄 = [[I_h + μ[r×]ᵀ[r×], μ r × d], [μ (r × d)ᵀ, μ]]`
+//! and `r × d = a⊥ × d = w` is constant. Eliminating `ẋ = p/μ − w·ω`:
+//!
+//! ```text
+//! S(s) ω = H − p w,   S(s) = I_h + μ[r×]ᵀ(𝟙 − d dᵀ)[r×]
+//!                          = (I_h + μ|a⊥|² d dᵀ) − s μ (d a⊥ᵀ + a⊥ dᵀ) + s² μ (𝟙 − d dᵀ)
+//! p' = μ (s |ω × d|² − (ω·a⊥)(ω·d)) − k x − c ẋ
+//! ```
+//!
+//! (the mass is free along `d`, so only the part of its lever arm's motion normal to `d` is
+//! stiff): three constant symmetric matrices combined by `s`, one 3 × 3 solve by Cramer's rule.
 
 use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 
-use super::multibody::Carried;
+use super::multibody::{Carried, Hub, Sym3};
 
 /// A spring–mass damper (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -154,5 +168,106 @@ impl SpringMass {
     /// The power the damping takes, `c ẋ²`.
     pub fn dissipation(&self, rate: f64) -> f64 {
         self.damping * rate * rate
+    }
+}
+
+/// A spring–mass damper alone on its hub: the joint solve and the momentum's rate in closed
+/// form (see the module doc), what is constant computed once.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LoneSpring {
+    part: SpringMass,
+    /// `μ` and `1/μ`.
+    reduced: f64,
+    inv_reduced: f64,
+    /// `a⊥` and `a · d`.
+    normal: Vector3<f64>,
+    along: f64,
+    /// `w = a⊥ × d`.
+    lever: Vector3<f64>,
+    /// `S(s) = rest − s cross + s² free`.
+    rest: Sym3,
+    cross: Sym3,
+    free: Sym3,
+}
+
+impl LoneSpring {
+    /// `part` alone on `hub` (whose total mass counts the part's).
+    pub fn new(hub: &Hub, part: SpringMass) -> Self {
+        let mu = hub.reduced_mass(part.mass);
+        let d = part.direction;
+        let along = part.anchor.dot(&d);
+        let normal = part.anchor - d * along;
+        let dd = Sym3::square(&d);
+        Self {
+            part,
+            reduced: mu,
+            inv_reduced: 1.0 / mu,
+            normal,
+            along,
+            lever: normal.cross(&d),
+            rest: Sym3::of(hub.inertia()) + dd * (mu * normal.norm_squared()),
+            cross: Sym3::outer(&d, &normal) * mu,
+            free: (Sym3::scalar(1.0) - dd) * mu,
+        }
+    }
+
+    pub fn part(&self) -> &SpringMass {
+        &self.part
+    }
+
+    /// `(ω, ẋ)` from the angular momentum `h` (body axes), the displacement `x` and its
+    /// momentum `p`.
+    #[inline(always)]
+    pub fn rates(&self, h: &Vector3<f64>, x: f64, p: f64) -> (Vector3<f64>, f64) {
+        let s = x + self.along;
+        let stiff = self
+            .rest
+            .add_scaled(-s, &self.cross)
+            .add_scaled(s * s, &self.free);
+        let omega = stiff.solve(&(h - self.lever * p));
+        (omega, p * self.inv_reduced - self.lever.dot(&omega))
+    }
+
+    /// `p'` at displacement `x`, its rate `rate` and the body rates `omega`.
+    #[inline(always)]
+    pub fn momentum_rate(&self, x: f64, rate: f64, omega: &Vector3<f64>) -> f64 {
+        let s = x + self.along;
+        let wd = omega.dot(&self.part.direction);
+        let wa = omega.dot(&self.normal);
+        self.reduced * (s * (omega.norm_squared() - wd * wd) - wa * wd)
+            - self.part.stiffness * x
+            - self.part.damping * rate
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::multibody::{motion, MassMatrix};
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn alone_on_its_hub_the_closed_form_is_the_joint_solve() {
+        let part = SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15).unwrap();
+        let i = Matrix3::new(3.0, -0.2, 0.1, -0.2, 4.0, 0.3, 0.1, 0.3, 5.0);
+        let hub = Hub::try_new(i, 4.0, part.mass()).unwrap();
+        let lone = LoneSpring::new(&hub, part);
+        for (x, omega, v) in [
+            (0.0, [0.3, -0.7, 1.1], 0.2),
+            (0.35, [-1.2, 0.1, 0.4], -0.8),
+            (-2.0, [0.0, 0.0, 2.0], 0.0),
+        ] {
+            let omega = Vector3::from(omega);
+            let carried = [part.carried(x)];
+            let (h, p) = MassMatrix::<1>::assemble(&hub, &carried).apply(&omega, &[v]);
+            let (w, rate) = lone.rates(&h, x, p[0]);
+            assert!((w - omega).amax() < 1e-14, "{w} {omega}");
+            assert!((rate - v).abs() < 1e-14, "{rate} {v}");
+            let moved = motion(&hub, &carried, &h, &p);
+            let (velocity, _) = moved.element(&carried[0], 0);
+            let general = part.momentum_rate(x, v, &omega, &velocity);
+            let closed = lone.momentum_rate(x, v, &omega);
+            assert!((closed - general).abs() < 1e-14, "{closed} {general}");
+        }
     }
 }

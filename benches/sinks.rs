@@ -1,0 +1,218 @@
+//! Criterion benches of one evaluation of an energy sink's right-hand side on its hub, beside
+//! the free body's (`ω = I⁻¹H`, `H × ω`): `cargo bench --bench sinks` (`-- --quick` for a
+//! short pass). Each evaluation is chained into the next by an Euler step of `h = 10⁻⁶` (the
+//! state stays where it started), so the figure is the evaluation's latency, as in RK4, not
+//! the throughput of independent ones. Each part runs two ways: through the general joint
+//! solve of any parts (what a part carries, the mass matrix, its `LDLᵀ` and Schur complement,
+//! the element's velocity) and through its closed form alone on its hub (`LoneSpring`,
+//! `LoneHinge`, `LoneSlosh`). Timed twice: in CPU time of the thread
+//! (`/proc/thread-self/schedstat`, group `sinks_cpu`; wall time where it is absent) and in
+//! wall time (`sinks_wall`).
+
+use std::hint::black_box;
+
+use criterion::measurement::{Measurement, ValueFormatter, WallTime};
+use criterion::{criterion_group, criterion_main, Criterion};
+use nalgebra::{Matrix3, Vector3};
+
+use dzhanibekov::dynamics::multibody::{motion, Carried, Hub};
+use dzhanibekov::dynamics::{Hinge, LoneHinge, LoneSlosh, LoneSpring, Rod, Slosh, SpringMass};
+
+/// Nanoseconds of CPU time of this thread so far (wall time where Linux's schedstat is absent).
+fn thread_ns() -> f64 {
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse().ok())
+        .unwrap_or_else(|| {
+            let epoch = std::time::UNIX_EPOCH.elapsed().unwrap_or_default();
+            epoch.as_nanos() as f64
+        })
+}
+
+/// CPU time of the bench's thread.
+struct CpuTime;
+
+impl Measurement for CpuTime {
+    type Intermediate = f64;
+    type Value = f64;
+
+    fn start(&self) -> f64 {
+        thread_ns()
+    }
+
+    fn end(&self, start: f64) -> f64 {
+        thread_ns() - start
+    }
+
+    fn add(&self, a: &f64, b: &f64) -> f64 {
+        a + b
+    }
+
+    fn zero(&self) -> f64 {
+        0.0
+    }
+
+    fn to_f64(&self, value: &f64) -> f64 {
+        *value
+    }
+
+    fn formatter(&self) -> &dyn ValueFormatter {
+        // nanoseconds, as the wall clock's
+        let wall: &'static WallTime = &WallTime;
+        wall.formatter()
+    }
+}
+
+const H: f64 = 1e-6;
+
+/// The hub: the models bench's body (moments 1, 2, 3) with a mass of 5.
+fn hub(carried: f64) -> Hub {
+    Hub::try_new(
+        Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0)),
+        5.0,
+        carried,
+    )
+    .unwrap()
+}
+
+fn spring() -> SpringMass {
+    SpringMass::try_new(0.1, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0, 0.05).unwrap()
+}
+
+fn panel() -> Hinge {
+    Hinge::try_new(
+        0.1,
+        [0.0, 0.003, 0.003],
+        [0.5, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        0.3,
+        0.5,
+        0.01,
+    )
+    .unwrap()
+}
+
+fn tank() -> Slosh {
+    Slosh::try_new(0.1, [0.5, 0.0, 0.0], 0.3, 0.01).unwrap()
+}
+
+/// The start: `H` of a spin about the major axis, slightly off, and each part a little moved.
+const H0: [f64; 3] = [0.01, 0.02, 3.0];
+
+fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
+    let mut g = c.benchmark_group(group);
+    g.sample_size(20);
+
+    let inv = Vector3::new(1.0, 0.5, 1.0 / 3.0);
+    let mut h = Vector3::from(H0);
+    g.bench_function("free", |b| {
+        b.iter(|| {
+            let x = black_box(h);
+            let omega = x.component_mul(&inv);
+            h = x + x.cross(&omega) * H;
+        })
+    });
+
+    let part = spring();
+    let hub1 = hub(part.mass());
+    let mut state = (Vector3::from(H0), 0.01, 0.0);
+    g.bench_function("spring_mass/general", |b| {
+        b.iter(|| {
+            let (hm, x, p) = black_box(state);
+            let carried = [part.carried(x)];
+            let moved = motion::<1>(&hub1, &carried, &hm, &[p]);
+            let (velocity, _) = moved.element(&carried[0], 0);
+            let v = moved.rates[0];
+            let dp = part.momentum_rate(x, v, &moved.omega, &velocity);
+            state = (hm + hm.cross(&moved.omega) * H, x + v * H, p + dp * H);
+        })
+    });
+    let lone = LoneSpring::new(&hub1, part);
+    let mut state = (Vector3::from(H0), 0.01, 0.0);
+    g.bench_function("spring_mass/alone", |b| {
+        b.iter(|| {
+            let (hm, x, p) = black_box(state);
+            let (omega, v) = lone.rates(&hm, x, p);
+            let dp = lone.momentum_rate(x, v, &omega);
+            state = (hm + hm.cross(&omega) * H, x + v * H, p + dp * H);
+        })
+    });
+
+    let part = panel();
+    let hub1 = hub(part.mass());
+    let mut state = (Vector3::from(H0), 0.05, 0.0);
+    g.bench_function("hinge/general", |b| {
+        b.iter(|| {
+            let (hm, beta, p) = black_box(state);
+            let pose = part.pose(beta);
+            let carried = [part.carried(&pose)];
+            let moved = motion::<1>(&hub1, &carried, &hm, &[p]);
+            let (velocity, spin) = moved.element(&carried[0], 0);
+            let v = moved.rates[0];
+            let dp = part.momentum_rate(&pose, beta, v, &moved.omega, &velocity, &spin);
+            state = (hm + hm.cross(&moved.omega) * H, beta + v * H, p + dp * H);
+        })
+    });
+    let lone = LoneHinge::new(&hub1, part);
+    let mut state = (Vector3::from(H0), 0.05, 0.0);
+    g.bench_function("hinge/alone", |b| {
+        b.iter(|| {
+            let (hm, beta, p) = black_box(state);
+            let (omega, v, cos, sin) = lone.rates(&hm, beta, p);
+            let dp = lone.momentum_rate(beta, cos, sin, v, &omega);
+            state = (hm + hm.cross(&omega) * H, beta + v * H, p + dp * H);
+        })
+    });
+
+    let part = tank();
+    let hub1 = hub(part.mass());
+    let start = (
+        Vector3::from(H0),
+        Vector3::new(1.0, 0.1, 0.0),
+        Vector3::zeros(),
+    );
+    let mut state = start;
+    g.bench_function("slosh/general", |b| {
+        b.iter(|| {
+            let (hm, n, pi) = black_box(state);
+            let rod = Rod::along(&n);
+            let carried: [Carried; 1] = [part.carried(&rod)];
+            let moved = motion::<2>(&hub1, &carried, &hm, &part.momenta(&rod, &pi));
+            let (velocity, _) = moved.element(&carried[0], 0);
+            let nu = rod.spin([moved.rates[0], moved.rates[1]]);
+            let (dn, dpi) = part.rates(&n, &pi, &rod, &nu, &moved.omega, &velocity);
+            state = (hm + hm.cross(&moved.omega) * H, n + dn * H, pi + dpi * H);
+        })
+    });
+    let lone = LoneSlosh::new(&hub1, part);
+    let mut state = start;
+    g.bench_function("slosh/alone", |b| {
+        b.iter(|| {
+            let (hm, n, pi) = black_box(state);
+            let r = lone.rates(&hm, &n, &pi);
+            state = (
+                hm + hm.cross(&r.omega) * H,
+                n + r.direction * H,
+                pi + r.momentum * H,
+            );
+        })
+    });
+    g.finish();
+}
+
+fn cpu(c: &mut Criterion<CpuTime>) {
+    bench(c, "sinks_cpu");
+}
+
+fn wall(c: &mut Criterion) {
+    bench(c, "sinks_wall");
+}
+
+criterion_group! {
+    name = cpu_group;
+    config = Criterion::default().with_measurement(CpuTime);
+    targets = cpu
+}
+criterion_group!(wall_group, wall);
+criterion_main!(cpu_group, wall_group);
