@@ -7,7 +7,10 @@
 //! the element's velocity) and through its closed form alone on its hub (`LoneSpring`,
 //! `LoneHinge`, `LoneSlosh`). Timed twice: in CPU time of the thread
 //! (`/proc/thread-self/schedstat`, group `sinks_cpu`; wall time where it is absent) and in
-//! wall time (`sinks_wall`).
+//! wall time (`sinks_wall`). The groups `rk4_cpu` and `rk4_wall` take one RK4 step (`h =
+//! 10⁻³`) of the whole state — `H`, the part's, the attitude quaternion — with each closed
+//! form and with the free body's `ω = I⁻¹H`, by one plain RK4 written here for all four: the
+//! issue's ratio per RK4 step before the parts reach the run's models.
 
 use std::hint::black_box;
 
@@ -169,7 +172,7 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     let hub1 = hub(part.mass());
     let start = (
         Vector3::from(H0),
-        Vector3::new(1.0, 0.1, 0.0),
+        Vector3::new(1.0, 0.1, 0.0).normalize(),
         Vector3::zeros(),
     );
     let mut state = start;
@@ -201,12 +204,106 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     g.finish();
 }
 
+/// One RK4 step of `h` of `x' = f(x)`.
+#[inline(always)]
+fn rk4<const N: usize>(f: impl Fn(&[f64; N]) -> [f64; N], x: &[f64; N], h: f64) -> [f64; N] {
+    let at = |k: &[f64; N], s: f64| std::array::from_fn(|j| x[j] + s * k[j]);
+    let k1 = f(x);
+    let k2 = f(&at(&k1, 0.5 * h));
+    let k3 = f(&at(&k2, 0.5 * h));
+    let k4 = f(&at(&k3, h));
+    std::array::from_fn(|j| x[j] + h / 6.0 * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]))
+}
+
+/// `q' = ½ q ⊗ (0, ω)` (scalar first).
+#[inline(always)]
+fn attitude(q: &[f64], w: &Vector3<f64>) -> [f64; 4] {
+    [
+        -0.5 * (q[1] * w.x + q[2] * w.y + q[3] * w.z),
+        0.5 * (q[0] * w.x + q[2] * w.z - q[3] * w.y),
+        0.5 * (q[0] * w.y + q[3] * w.x - q[1] * w.z),
+        0.5 * (q[0] * w.z + q[1] * w.y - q[2] * w.x),
+    ]
+}
+
+fn v3(x: &[f64]) -> Vector3<f64> {
+    Vector3::new(x[0], x[1], x[2])
+}
+
+fn steps<M: Measurement>(c: &mut Criterion<M>, group: &str) {
+    let mut g = c.benchmark_group(group);
+    g.sample_size(20);
+    let h = 1e-3;
+    let q0 = [1.0, 0.0, 0.0, 0.0];
+
+    let inv = Vector3::new(1.0, 0.5, 1.0 / 3.0);
+    let free = |x: &[f64; 7]| {
+        let m = v3(x);
+        let omega = m.component_mul(&inv);
+        let dm = m.cross(&omega);
+        let dq = attitude(&x[3..], &omega);
+        [dm.x, dm.y, dm.z, dq[0], dq[1], dq[2], dq[3]]
+    };
+    let mut x = [H0[0], H0[1], H0[2], q0[0], q0[1], q0[2], q0[3]];
+    g.bench_function("free", |b| b.iter(|| x = rk4(free, &black_box(x), h)));
+
+    let part = spring();
+    let lone = LoneSpring::new(&hub(part.mass()), part);
+    let spring = |x: &[f64; 9]| {
+        let m = v3(x);
+        let (omega, v) = lone.rates(&m, x[3], x[4]);
+        let dp = lone.momentum_rate(x[3], v, &omega);
+        let dm = m.cross(&omega);
+        let dq = attitude(&x[5..], &omega);
+        [dm.x, dm.y, dm.z, v, dp, dq[0], dq[1], dq[2], dq[3]]
+    };
+    let mut x = [H0[0], H0[1], H0[2], 0.01, 0.0, q0[0], q0[1], q0[2], q0[3]];
+    g.bench_function("spring_mass", |b| {
+        b.iter(|| x = rk4(spring, &black_box(x), h))
+    });
+
+    let part = panel();
+    let lone = LoneHinge::new(&hub(part.mass()), part);
+    let hinge = |x: &[f64; 9]| {
+        let m = v3(x);
+        let (omega, v, cos, sin) = lone.rates(&m, x[3], x[4]);
+        let dp = lone.momentum_rate(x[3], cos, sin, v, &omega);
+        let dm = m.cross(&omega);
+        let dq = attitude(&x[5..], &omega);
+        [dm.x, dm.y, dm.z, v, dp, dq[0], dq[1], dq[2], dq[3]]
+    };
+    let mut x = [H0[0], H0[1], H0[2], 0.05, 0.0, q0[0], q0[1], q0[2], q0[3]];
+    g.bench_function("hinge", |b| b.iter(|| x = rk4(hinge, &black_box(x), h)));
+
+    let part = tank();
+    let lone = LoneSlosh::new(&hub(part.mass()), part);
+    let slosh = |x: &[f64; 13]| {
+        let m = v3(x);
+        let r = lone.rates(&m, &v3(&x[3..]), &v3(&x[6..]));
+        let dm = m.cross(&r.omega);
+        let dq = attitude(&x[9..], &r.omega);
+        let (dn, dp) = (r.direction, r.momentum);
+        [
+            dm.x, dm.y, dm.z, dn.x, dn.y, dn.z, dp.x, dp.y, dp.z, dq[0], dq[1], dq[2], dq[3],
+        ]
+    };
+    let mut x = [
+        H0[0], H0[1], H0[2], 1.0, 0.1, 0.0, 0.0, 0.0, 0.0, q0[0], q0[1], q0[2], q0[3],
+    ];
+    let norm = v3(&x[3..]).norm();
+    x[3..6].iter_mut().for_each(|c| *c /= norm);
+    g.bench_function("slosh", |b| b.iter(|| x = rk4(slosh, &black_box(x), h)));
+    g.finish();
+}
+
 fn cpu(c: &mut Criterion<CpuTime>) {
     bench(c, "sinks_cpu");
+    steps(c, "rk4_cpu");
 }
 
 fn wall(c: &mut Criterion) {
     bench(c, "sinks_wall");
+    steps(c, "rk4_wall");
 }
 
 criterion_group! {

@@ -337,11 +337,11 @@ impl LoneHinge {
         let g = p.normal * cos - p.arm * sin;
         let wg = omega.dot(&g);
         let hg = self.hg * cos - self.hs * sin;
-        self.moment * omega.norm_squared() * hg
-            - wg * (self.moment * omega.dot(&p.hinge) + self.swing * omega.dot(&s))
-            - rate * omega.dot(&(self.q2 * cos + self.q1 * sin))
-            - p.stiffness * beta
-            - p.damping * rate
+        // summed as a tree, each product's earlier factor first: what waits for ω is short
+        let centrifugal = self.moment * hg * omega.norm_squared();
+        let swing = wg * (self.moment * omega.dot(&p.hinge) + self.swing * omega.dot(&s));
+        let coriolis = rate * omega.dot(&(self.q2 * cos + self.q1 * sin));
+        (centrifugal - swing) - (coriolis + (p.stiffness * beta + p.damping * rate))
     }
 }
 

@@ -234,9 +234,10 @@ impl LoneSpring {
         let s = x + self.along;
         let wd = omega.dot(&self.part.direction);
         let wa = omega.dot(&self.normal);
-        self.reduced * (s * (omega.norm_squared() - wd * wd) - wa * wd)
-            - self.part.stiffness * x
-            - self.part.damping * rate
+        // summed as a tree, each product's earlier factor first: what waits for ω is short
+        let swing = self.reduced * s * (omega.norm_squared() - wd * wd);
+        let tilt = self.reduced * wa * wd;
+        (swing - tilt) - (self.part.stiffness * x + self.part.damping * rate)
     }
 }
 
