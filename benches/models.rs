@@ -10,7 +10,9 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use nalgebra::Matrix3;
 
 use dzhanibekov::body::Inertia;
-use dzhanibekov::dynamics::{Damper, Deployment, Frame, Part, System, SystemBody, Torque, Wheel};
+use dzhanibekov::dynamics::{
+    AnyPart, ConstantTorque, Damper, Deployment, Frame, GravityGradient, System, SystemBody, Wheel,
+};
 use dzhanibekov::run::{simulate, simulate_system, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
 
@@ -51,19 +53,14 @@ fn models(c: &mut Criterion) {
         vec![Matrix3::from_diagonal(&moments.into()), tilted],
     )
     .unwrap();
-    let damper = Part::Damper {
-        damper: Damper::try_new(0.05, 0.02).unwrap(),
-        sigma0: None,
-    };
+    let damper: AnyPart = Damper::try_new(0.05, 0.02).unwrap().into();
     let rigid = || SystemBody::Rigid(Inertia::from_principal(body));
-    let wheel = || Part::Wheel(Wheel::try_new([0.0, 1.0, 0.0], 0.5).unwrap());
-    let torqued = |parts: Vec<Part>, torque: Torque| {
-        System::try_new(rigid(), parts)
-            .unwrap()
-            .with_torques(vec![torque])
-            .unwrap()
+    let wheel = || AnyPart::from(Wheel::try_new([0.0, 1.0, 0.0], 0.5).unwrap());
+    let torqued = |mut parts: Vec<AnyPart>, torque: AnyPart| {
+        parts.push(torque);
+        System::try_new(rigid(), parts).unwrap()
     };
-    let gravity = Torque::gravity_gradient(0.1).unwrap();
+    let gravity: AnyPart = GravityGradient::try_new(0.1).unwrap().into();
     let systems = [
         ("wheel", System::try_new(rigid(), vec![wheel()]).unwrap()),
         ("gravity_gradient", torqued(vec![], gravity.clone())),
@@ -72,14 +69,18 @@ fn models(c: &mut Criterion) {
             "torque_body",
             torqued(
                 vec![],
-                Torque::constant([0.0, 0.0, 1e-4], Frame::Body).unwrap(),
+                ConstantTorque::try_new([0.0, 0.0, 1e-4], Frame::Body)
+                    .unwrap()
+                    .into(),
             ),
         ),
         (
             "torque_world",
             torqued(
                 vec![],
-                Torque::constant([0.0, 0.0, 1e-4], Frame::World).unwrap(),
+                ConstantTorque::try_new([0.0, 0.0, 1e-4], Frame::World)
+                    .unwrap()
+                    .into(),
             ),
         ),
         (

@@ -24,12 +24,13 @@ pub enum Error {
     /// (`t` is shown as Debug shows an `f64`: `1e-280`, not 280 zeros.)
     #[error("the run diverged (non-finite state) at t = {t:?}: {hint}")]
     Diverged { t: f64, hint: &'static str },
-    /// A model that only loses energy gained some beyond the run's error (at the first frame
-    /// `t` that showed it, by the factor `ratio`): the step is beyond the method's stability
-    /// limit for the model's dissipation.
+    /// A model whose parts only dissipate gained energy beyond the run's error, at the first
+    /// frame `t` that showed it, by the factor `ratio`: the step is beyond the method's
+    /// stability limit for the parts' dissipation.
     #[error(
         "the run diverged at t = {t:?}: the energy grew to {ratio:.4} times its start, and a \
-         damped body only loses energy: take a smaller dt (below the damper's stability limit)"
+         body whose parts only dissipate only loses energy: take a smaller dt (below the \
+         stability limit of its parts' dissipation)"
     )]
     EnergyGrew { t: f64, ratio: f64 },
     /// A method asked to run a model it cannot run.

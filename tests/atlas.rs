@@ -6,7 +6,7 @@
 
 use std::sync::atomic::AtomicBool;
 
-use dzhanibekov::dynamics::{Conserved, Kinds};
+use dzhanibekov::dynamics::{Conserved, Damper, Kinds};
 use dzhanibekov::exact::ExactMotion;
 use dzhanibekov::ode::Stepper;
 use dzhanibekov::rigid::{Dmv, DmvModified, ImplicitMidpoint};
@@ -252,7 +252,7 @@ fn the_new_methods_refuse_the_models_they_cannot_run_by_name() {
         Method::Rkmk4,
         Method::CrouchGrossman3,
     ] {
-        for (model, kind) in [("deployment", Kinds::DEPLOYMENT), ("damper", Kinds::DAMPER)] {
+        for (model, kind) in [("deployment", Kinds::DEPLOYMENT), ("damper", Damper::KIND)] {
             let err = method.for_kinds(kind).unwrap_err().to_string();
             let want = format!("method '{}' cannot run model '{model}'", method.name());
             assert!(err.starts_with(&want), "{err}");

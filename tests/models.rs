@@ -7,7 +7,7 @@ use std::sync::atomic::AtomicBool;
 use nalgebra::{Matrix3, Vector3};
 
 use dzhanibekov::body::Inertia;
-use dzhanibekov::dynamics::{Damper, Deployment, Kinds, Part, System, SystemBody};
+use dzhanibekov::dynamics::{Damper, Deployment, Kinds, System, SystemBody};
 use dzhanibekov::ode::controller::Adaptive;
 use dzhanibekov::run::{simulate, simulate_system, FrameGrid, Keep, Method, RunOutput};
 use dzhanibekov::RigidBody;
@@ -68,12 +68,12 @@ fn deployment(d: Deployment) -> System {
 }
 
 fn damped(tensor: Matrix3<f64>, sphere: f64, damping: f64, sigma0: Option<[f64; 3]>) -> System {
-    let part = Part::Damper {
-        damper: Damper::try_new(sphere, damping).unwrap(),
-        sigma0,
-    };
+    let mut damper = Damper::try_new(sphere, damping).unwrap();
+    if let Some(s) = sigma0 {
+        damper = damper.starting_at(s).unwrap();
+    }
     let body = SystemBody::Rigid(Inertia::try_new(tensor).unwrap());
-    System::try_new(body, vec![part]).unwrap()
+    System::try_new(body, vec![damper.into()]).unwrap()
 }
 
 fn diag(m: [f64; 3]) -> Matrix3<f64> {
@@ -231,7 +231,7 @@ fn a_damped_major_axis_spin_stays() {
 #[test]
 fn constant_body_methods_refuse_the_models_by_name() {
     for method in [Method::Exact, Method::Splitting, Method::Splitting4] {
-        for (model, kind) in [("deployment", Kinds::DEPLOYMENT), ("damper", Kinds::DAMPER)] {
+        for (model, kind) in [("deployment", Kinds::DEPLOYMENT), ("damper", Damper::KIND)] {
             let e = method.for_kinds(kind).unwrap_err().to_string();
             assert!(
                 e.contains(&format!("'{}'", method.name())) && e.contains(model),
@@ -242,7 +242,7 @@ fn constant_body_methods_refuse_the_models_by_name() {
     }
     for method in ["rk4", "rk4_projected", "dopri5", "dop853"] {
         let m: Method = method.parse().unwrap();
-        assert!(m.for_kinds(Kinds::DAMPER).is_ok());
+        assert!(m.for_kinds(Damper::KIND).is_ok());
     }
 }
 

@@ -1,14 +1,21 @@
-"""Bodies that change, end to end from Python: ns per RK4 step of a deployment and of a damped
-body beside the free body's, and the drift of what each keeps.
+"""Every model per RK4 step beside the free body's, in CPU time, end to end from Python:
 
-    python benches/python/bench_models.py              # 10⁷ steps per run
-    python benches/python/bench_models.py --steps 1e6
-    python benches/python/bench_models.py --batch 256  # a damper batch against single runs
+    python benches/python/bench_models.py                      # 10⁶ steps a run, 5 repeats
+    python benches/python/bench_models.py --steps 1e7 --repeat 7
+    python benches/python/bench_models.py --baseline /tmp/old  # beside another build
+    python benches/python/bench_models.py --batch 256          # a damper batch vs singles
 
-Every run: moments (1, 2, 3), ω₀ = (0.01, 0.01, 1), dt = 1e-3, 201 frames, `flips=False` for
-the free body (the models locate none). The deployment goes to (1, 3, 2) over t ∈ [100, 110]
-(diagonal knots) or to a tilted tensor; the damper is j = 0.05, c = 0.02. Times are medians
-of `--repeat` runs (the machine may be shared: compare ratios).
+Every run: moments (1, 2, 3), ω₀ = (0.01, 0.01, 1), dt = 1e-3, 201 frames, `flips=False`
+(RK4, one thread: the process's CPU time is the run's). The systems: a deployment to (1, 3, 2)
+over t ∈ [100, 110] (diagonal knots) or to a tilted tensor; a damper (j = 0.05, c = 0.02); a
+wheel (h = 0.5 along y); the gravity gradient (n = 0.1), with the wheel too; constant torques
+in body and world axes; a tabulated body torque and a wheel schedule of 101 knots over the
+run. Each figure is the median of `--repeat` runs of ns per step in CPU time (wall time
+beside it): CPU time holds on a loaded machine where wall time does not.
+
+With `--baseline DIR` (a directory holding another build's `dzhanibekov` package, say a copy
+of an installed one), each repeat runs both builds one after the other in fresh processes,
+so the two columns see the same load: compare the ratios to the free body, like with like.
 
 With `--batch M`: M damped bodies (moments (1, 10, 10), ω₀ = (2, ε, 0) with ε spread over
 [0.01, 0.1], the damper above) over `--steps` steps each, as one `dz.simulate` batch on all
@@ -19,14 +26,15 @@ runs first.
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import statistics
+import subprocess
+import sys
 import time
 from typing import Any
 
 import numpy as np
-
-import dzhanibekov as dz
 
 MOMENTS = (1.0, 2.0, 3.0)
 OMEGA0 = (0.01, 0.01, 1.0)
@@ -34,50 +42,104 @@ DT = 1e-3
 TILTED = np.array([[1.0, 0.1, 0.0], [0.1, 3.0, -0.2], [0.0, -0.2, 2.0]])
 
 
+def systems(dz: Any, t_end: float) -> dict[str, Any]:
+    """The systems timed, by name (built with the public API every build has)."""
+    body = dz.Body(MOMENTS)
+    knots = np.linspace(0.0, t_end, 101)
+    vectors = np.column_stack([np.zeros(101), np.zeros(101), 1e-4 * np.sin(knots)])
+    wheel = dz.Wheel((0.0, 1.0, 0.0), 0.5)
+    gravity = dz.GravityGradient(0.1)
+    return {
+        "free": body,
+        "deployment_diagonal": dz.Deployment([100.0, 110.0], [MOMENTS, (1.0, 3.0, 2.0)]),
+        "deployment_tensor": dz.Deployment([100.0, 110.0], [MOMENTS, TILTED]),
+        "damper": dz.System(body, parts=[dz.Damper(0.05, 0.02)]),
+        "wheel": dz.System(body, parts=[wheel]),
+        "gravity_gradient": dz.System(body, torques=[gravity]),
+        "wheel_gravity_gradient": dz.System(body, parts=[wheel], torques=[gravity]),
+        "torque_body": dz.System(body, torques=[dz.ConstantTorque((0, 0, 1e-4), "body")]),
+        "torque_world": dz.System(body, torques=[dz.ConstantTorque((0, 0, 1e-4), "world")]),
+        "tabulated_torque": dz.System(body, torques=[dz.TabulatedTorque(knots, vectors)]),
+        "wheel_schedule": dz.System(body, parts=[
+            dz.Wheel((0.0, 1.0, 0.0), (knots, 0.5 + 0.1 * np.sin(knots)))]),
+    }
+
+
+def measure(steps: int) -> dict[str, tuple[float, float]]:
+    """ns per step (CPU, wall) of one run of each system, in this process."""
+    import dzhanibekov as dz
+
+    t_end = steps * DT
+    out = {}
+    for name, system in systems(dz, t_end).items():
+        dz.simulate(system, OMEGA0, t_end=10 * DT, frames=2, dt=DT, flips=False)  # warm up
+        cpu, wall = time.process_time(), time.perf_counter()
+        traj = dz.simulate(system, OMEGA0, t_end=t_end, frames=201, dt=DT, flips=False)
+        cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+        out[name] = (cpu / traj.n_steps * 1e9, wall / traj.n_steps * 1e9)
+    return out
+
+
+def in_process(path: str | None, steps: int) -> dict[str, tuple[float, float]]:
+    """`measure` in a fresh process importing the build at `path` (None: this one)."""
+    env = dict(os.environ)
+    if path is not None:
+        env["PYTHONPATH"] = path
+    code = f"import json, sys; sys.path.insert(0, {os.path.dirname(__file__)!r}); " \
+           f"import bench_models as b; print(json.dumps(b.measure({steps})))"
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True)
+    return {k: tuple(v) for k, v in json.loads(run.stdout.strip().splitlines()[-1]).items()}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=float, default=1e7)
-    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--steps", type=float, default=1e6)
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--baseline", help="a directory with another build's package")
     parser.add_argument("--batch", type=int, default=0, help="runs of a damper batch")
     args = parser.parse_args()
     if args.batch:
         damper_batch(args.batch, int(args.steps), args.repeat)
         return
     steps = int(args.steps)
-    t_end = steps * DT
-    cases: dict[str, tuple[Any, dict[str, Any]]] = {
-        "free": (MOMENTS, dict(flips=False)),
-        "deployment (diagonal)": (dz.Deployment([100.0, 110.0], [MOMENTS, (1.0, 3.0, 2.0)]), {}),
-        "deployment (tensor)": (dz.Deployment([100.0, 110.0], [MOMENTS, TILTED]), {}),
-        "damper": (MOMENTS, dict(damper=dz.Damper(0.05, 0.02))),
-    }
-    print(f"{steps:.0e} RK4 steps of dt = {DT}, t_end = {t_end:g}")
-    print(f"{'model':24s} {'ns/step':>8s} {'× free':>7s} {'L_world':>9s} {'|q|':>9s}")
-    baseline = None
-    for name, (body, kwargs) in cases.items():
-        times = []
-        for _ in range(args.repeat):
-            start = time.perf_counter()
-            traj = dz.simulate(body, OMEGA0, t_end=t_end, frames=201, dt=DT, **kwargs)
-            times.append(time.perf_counter() - start)
-        ns = statistics.median(times) / traj.n_steps * 1e9
-        baseline = baseline or ns
-        print(f"{name:24s} {ns:8.2f} {ns / baseline:7.2f} {traj.drift.momentum_world:9.1e} "
-              f"{traj.drift.q_norm:9.1e}")
+    builds: dict[str, str | None] = {"this": None}
+    if args.baseline:
+        builds = {"baseline": args.baseline, "this": None}
+    runs: dict[str, list[dict[str, tuple[float, float]]]] = {b: [] for b in builds}
+    load = os.getloadavg()
+    for _ in range(args.repeat):
+        for build, path in builds.items():
+            runs[build].append(in_process(path, steps))
+    names = list(runs["this"][0])
+    print(f"{steps:.0e} RK4 steps of dt = {DT} a run, medians of {args.repeat}; load average "
+          f"{load[0]:.1f} before, {os.getloadavg()[0]:.1f} after")
+    head = "".join(f" {b + ' ns/step':>22s} {'× free':>7s}" for b in builds)
+    print(f"{'model':24s}{head}")
+    for name in names:
+        line = f"{name:24s}"
+        for build in builds:
+            cpu = statistics.median(r[name][0] for r in runs[build])
+            wall = statistics.median(r[name][1] for r in runs[build])
+            free = statistics.median(r["free"][0] for r in runs[build])
+            line += f" {cpu:9.2f} cpu {wall:7.2f} wall {cpu / free:7.2f}"
+        print(line)
 
 
 def damper_batch(m: int, steps: int, repeat: int) -> None:
     """A batch of `m` damped runs against `m` single runs: median seconds, and the ratio."""
-    body, damper = (1.0, 10.0, 10.0), dz.Damper(0.05, 0.02)
+    import dzhanibekov as dz
+
+    system = dz.System(dz.Body((1.0, 10.0, 10.0)), parts=[dz.Damper(0.05, 0.02)])
     omega0 = np.column_stack([np.full(m, 2.0), np.linspace(0.01, 0.1, m), np.zeros(m)])
-    run: dict[str, Any] = dict(t_end=steps * DT, frames=201, dt=DT, damper=damper)
-    batch = dz.simulate(body, omega0, **run)
+    run: dict[str, Any] = dict(t_end=steps * DT, frames=201, dt=DT)
+    batch = dz.simulate(system, omega0, **run)
     for i in (0, m // 2, m - 1):
-        single = dz.simulate(body, omega0[i], **run)
+        single = dz.simulate(system, omega0[i], **run)
         assert np.array_equal(batch[i].omega, single.omega), i
-        assert np.array_equal(batch[i].sigma, single.sigma), i
-    timed = {"batch": lambda: dz.simulate(body, omega0, **run),
-             "singles": lambda: [dz.simulate(body, w, **run) for w in omega0]}
+        assert np.array_equal(batch[i].parts["damper"], single.parts["damper"]), i
+    timed = {"batch": lambda: dz.simulate(system, omega0, **run),
+             "singles": lambda: [dz.simulate(system, w, **run) for w in omega0]}
     seconds = {}
     for name, call in timed.items():
         times = []

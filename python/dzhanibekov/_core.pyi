@@ -13,14 +13,16 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
-    "Damper",
     "Deployment",
     "ENERGY_GROWTH_TOL",
     "FLAT_SHARE",
     "MAX_MOMENT_RATIO",
     "METHODS",
+    "MODELS",
+    "ModelInfo",
     "NEAR_SYMMETRY",
     "MethodInfo",
+    "Part",
     "RUN_STATUSES",
     "RigidBody",
     "RunColumns",
@@ -29,8 +31,6 @@ __all__ = [
     "SYMMETRY_TOLERANCE",
     "SweepResult",
     "System",
-    "Torque",
-    "Wheel",
     "TRIANGLE_SLACK",
     "__version__",
     "_finalizing",
@@ -40,7 +40,7 @@ __all__ = [
     "flip_period",
     "instruction_sets",
     "method_info",
-    "models",
+    "model_info",
     "observe",
     "plan",
     "rotate",
@@ -50,6 +50,7 @@ __all__ = [
 ]
 __version__: str
 METHODS: tuple[MethodInfo, ...]
+MODELS: tuple[ModelInfo, ...]
 DEFAULT_METHOD: str
 DEFAULT_RTOL: float
 DEFAULT_ATOL: float
@@ -101,46 +102,16 @@ class Deployment:
     def tensors(self) -> npt.NDArray[np.float64]: ...
 
 @final
-class Damper:
-    def __new__(cls, inertia: float, damping: float) -> Damper: ...
-    def slip_rate(self, least: float) -> float: ...
-
-@final
-class Wheel:
-    def __new__(cls, axis: tuple[float, float, float], momentum: float) -> Wheel: ...
-    @staticmethod
-    def scheduled(
-        axis: tuple[float, float, float],
-        times: npt.NDArray[np.float64],
-        values: npt.NDArray[np.float64],
-    ) -> Wheel: ...
-    @property
-    def axis(self) -> tuple[float, float, float]: ...
-
-@final
-class Torque:
-    @staticmethod
-    def gravity_gradient(orbit_rate: float) -> Torque: ...
-    @staticmethod
-    def constant(vector: tuple[float, float, float], frame: str) -> Torque: ...
-    @staticmethod
-    def callable(func: Any) -> Torque: ...
-    @staticmethod
-    def tabulated(
-        times: npt.NDArray[np.float64], vectors: npt.NDArray[np.float64], frame: str, outside: str
-    ) -> Torque: ...
+class Part:
+    def __new__(cls, kind: str, fields: dict[str, Any]) -> Part: ...
     @property
     def kind(self) -> str: ...
+    @property
+    def width(self) -> int: ...
 
 @final
 class System:
-    def __new__(
-        cls,
-        body: RigidBody | Deployment,
-        dampers: list[tuple[Damper, tuple[float, float, float] | None]],
-        wheels: list[Wheel] = ...,
-        torques: list[Torque] = ...,
-    ) -> System: ...
+    def __new__(cls, body: RigidBody | Deployment, parts: list[Part] = ...) -> System: ...
     @property
     def kinds(self) -> tuple[str, ...]: ...
     @property
@@ -208,7 +179,36 @@ class MethodInfo:
     def __reduce__(self) -> tuple[Any, tuple[str]]: ...
 
 def method_info(name: str) -> MethodInfo: ...
-def models() -> list[tuple[str, list[str], str]]: ...
+
+@final
+class ModelInfo:
+    @property
+    def name(self) -> str: ...
+    @property
+    def about(self) -> str: ...
+    @property
+    def law(self) -> bool: ...
+    @property
+    def params(self) -> list[tuple[str, str, bool, str, list[str]]]: ...
+    @property
+    def state(self) -> list[tuple[str, int, bool, str]]: ...
+    @property
+    def keeps(self) -> list[str]: ...
+    @property
+    def defines(self) -> list[str]: ...
+    @property
+    def energy(self) -> str: ...
+    @property
+    def external(self) -> bool: ...
+    @property
+    def unique(self) -> bool: ...
+    @property
+    def traits(self) -> list[str]: ...
+    @property
+    def methods(self) -> list[str]: ...
+    def __reduce__(self) -> tuple[Any, tuple[str]]: ...
+
+def model_info(name: str) -> ModelInfo: ...
 
 @final
 class StepPlan:

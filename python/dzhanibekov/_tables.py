@@ -38,11 +38,15 @@ from .torques import TabulatedTorque
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
            "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
            "system_vars", "knot_vars", "wheel_vars", "torque_vars", "unstorable", "DRIFTS",
+           "OPTIONAL_DRIFTS",
            "QUATERNION", "AXIS", "TORQUE_KINDS", "TORQUE_FRAMES", "TORQUE_OUTSIDE"]
 
 AXIS = ("x", "y", "z")
 QUATERNION = ("Q", "U", "V", "W")
 DRIFTS = ("energy", "momentum", "momentum_world", "q_norm")
+OPTIONAL_DRIFTS = ("jacobi", "energy_balance")
+"""The drift's measures a model may have (an orbit's Jacobi integral, the energy balance of
+a system whose parts dissipate): stored only when the run has them."""
 PARAMETERS = (("u0", "omega0", 0), ("v0", "omega0", 1), ("w0", "omega0", 2),
               ("Ix", "inertia", 0), ("Iy", "inertia", 1), ("Iz", "inertia", 2))
 """Sweep parameters a grid axis may vary: name, attribute, component."""
@@ -298,8 +302,9 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
 def _drift_attrs(drift: Any) -> dict[str, Any]:
     out: dict[str, Any] = {f"drift_{k}": float(getattr(drift, k)) for k in DRIFTS}
     out["drift_kept"] = list(drift.kept)
-    if drift.jacobi is not None:
-        out["drift_jacobi"] = float(drift.jacobi)
+    for name in OPTIONAL_DRIFTS:
+        if getattr(drift, name) is not None:
+            out[f"drift_{name}"] = float(getattr(drift, name))
     return out
 
 
@@ -331,8 +336,9 @@ def batch_dataset(batch: Any) -> Any:
         data[name] = ("run", np.asarray(getattr(batch, name)))
     for name, values in zip(DRIFTS, batch.drift):
         data[f"drift_{name}"] = ("run", np.asarray(values))
-    if batch.drift.jacobi is not None:
-        data["drift_jacobi"] = ("run", np.asarray(batch.drift.jacobi))
+    for name in OPTIONAL_DRIFTS:
+        if getattr(batch.drift, name) is not None:
+            data[f"drift_{name}"] = ("run", np.asarray(getattr(batch.drift, name)))
     padded = batch.flip_times_padded
     if padded is not None:
         counts = np.asarray(batch.flips)

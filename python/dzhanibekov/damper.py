@@ -71,7 +71,8 @@ class Damper:
         else:
             s = as_array("sigma0", sigma0, "(3,)", last=3, ndim=(1,))
             self.sigma0 = (float(s[0]), float(s[1]), float(s[2]))
-        self._core = _core.Damper(self.inertia, self.damping)
+        self._core = _core.Part("damper", {"inertia": self.inertia, "damping": self.damping,
+                                           "sigma0": self.sigma0})
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (Damper, (self.inertia, self.damping, self.sigma0))
@@ -147,7 +148,9 @@ def damper_rate(body: Any, damper: Damper) -> float:
     if not isinstance(damper, Damper):
         raise TypeError(f"`damper` must be a dz.Damper, got {type(damper).__name__}")
     least = min(as_body(body).inertia)
-    rate = float(damper._core.slip_rate(least))  # c/j + c/I_min: no 1/j that overflows
+    with np.errstate(over="ignore"):  # c/j + c/I_min: no 1/j that overflows
+        rate = float(np.float64(damper.damping) / damper.inertia
+                     + np.float64(damper.damping) / least)
     if not math.isfinite(rate):
         raise ValueError(f"the damper's rate c(1/j + 1/I_min) for `body` (I_min = {least!r}) "
                          f"and `damper` ({damper!r}) exceeds float64's "

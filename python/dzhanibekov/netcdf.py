@@ -327,7 +327,7 @@ _SCHEDULE_VARS = ("wheel_times", "wheel_values")
 _TORQUE_VARS = ("torque_kind", "torque_orbit_rate", "torque_vector", "torque_frame")
 _TABLE_VARS = ("torque_outside", "torque_times", "torque_vectors")
 _DERIVED = ("energy", "momentum_body", "momentum_world")
-_KEPT = (*_tables.DRIFTS, "jacobi")
+_KEPT = (*_tables.DRIFTS, *_tables.OPTIONAL_DRIFTS)
 
 
 def _runs(d: Loaded) -> int | None:
@@ -568,12 +568,17 @@ def _moments(system: System) -> np.ndarray:
 
 
 def _drift_of(d: Loaded, runs: bool) -> BatchDrift:
-    jacobi = d["drift_jacobi"] if "drift_jacobi" in d else None
+    def optional(name: str) -> np.ndarray | None:
+        if f"drift_{name}" not in d:
+            return None
+        value = d[f"drift_{name}"]
+        return value if runs else np.asarray([float(value)])
+
     if runs:
-        return BatchDrift.of(lambda k: d[f"drift_{k}"], jacobi, tuple(d["drift_kept"]))
-    return BatchDrift.of(lambda k: np.asarray([float(d[f"drift_{k}"])]),
-                         None if jacobi is None else np.asarray([float(jacobi)]),
-                         tuple(d["drift_kept"]))
+        return BatchDrift.of(lambda k: d[f"drift_{k}"], optional("jacobi"),
+                             tuple(d["drift_kept"]), optional("energy_balance"))
+    return BatchDrift.of(lambda k: np.asarray([float(d[f"drift_{k}"])]), optional("jacobi"),
+                         tuple(d["drift_kept"]), optional("energy_balance"))
 
 
 def build_trajectory(d: Loaded) -> Trajectory:
@@ -835,7 +840,8 @@ LAYOUTS: Mapping[str, Layout] = {
             "n_steps": _COUNT, "nfev": _COUNT, "n_rejected": _COUNT,
             "flips_located": Attr("i", (flag,)),
             **{f"drift_{k}": Attr("f", (finite, non_negative)) for k in _tables.DRIFTS},
-            "drift_jacobi": Attr("f", (finite, non_negative), optional=True),
+            **{f"drift_{k}": Attr("f", (finite, non_negative), optional=True)
+               for k in _tables.OPTIONAL_DRIFTS},
             "drift_kept": _KEPT_NAMES,
             "parts": _PARTS,
         },
@@ -858,7 +864,8 @@ LAYOUTS: Mapping[str, Layout] = {
             "n_rejected": Var(("run",), "i", (non_negative,)),
             **{f"drift_{k}": Var(("run",), "f", (finite, non_negative))
                for k in _tables.DRIFTS},
-            "drift_jacobi": Var(("run",), "f", (finite_or_nan, non_negative), optional=True),
+            **{f"drift_{k}": Var(("run",), "f", (finite_or_nan, non_negative), optional=True)
+               for k in _tables.OPTIONAL_DRIFTS},
             "flips": Var(("run",), "i", (non_negative,), optional=True),
             "flip_times": Var(("run", "flip"), "f", (finite_or_nan,), optional=True),
             **_system_vars(("run",)),

@@ -65,7 +65,7 @@ class GravityGradient:
 
     def __init__(self, orbit_rate: Any) -> None:
         self.orbit_rate = as_float("orbit_rate", orbit_rate, positive=True)
-        self._core = _core.Torque.gravity_gradient(self.orbit_rate)
+        self._core = _core.Part("gravity_gradient", {"orbit_rate": self.orbit_rate})
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (GravityGradient, (self.orbit_rate,))
@@ -123,7 +123,7 @@ class ConstantTorque:
             raise ValueError(f"`frame` must be 'body' or 'world', got {frame!r}")
         self.vector = (float(v[0]), float(v[1]), float(v[2]))
         self.frame = frame
-        self._core = _core.Torque.constant(self.vector, frame)
+        self._core = _core.Part("constant_torque", {"vector": self.vector, "frame": frame})
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (ConstantTorque, (self.vector, self.frame))
@@ -209,13 +209,14 @@ class Wheel:
             t = knot_times(momentum[0], "momentum times")
             v = as_array("momentum", momentum[1], "(K,)", last=len(t), ndim=(1,))
             self.momentum = (tuple(float(x) for x in t), tuple(float(x) for x in v))
-            self._core = _core.Wheel.scheduled(self.axis, t, np.array(v, dtype=np.float64))
+            self._core = _core.Part("wheel_schedule", {
+                "axis": self.axis, "times": t, "values": np.array(v, dtype=np.float64)})
         else:
             if isinstance(momentum, np.ndarray) and momentum.ndim > 0:
                 raise TypeError("`momentum` must be a number or a schedule (times, values), "
                                 f"got an array of shape {momentum.shape}")
             self.momentum = as_float("momentum", momentum)
-            self._core = _core.Wheel(self.axis, self.momentum)
+            self._core = _core.Part("wheel", {"axis": self.axis, "momentum": self.momentum})
 
     @property
     def is_scheduled(self) -> bool:

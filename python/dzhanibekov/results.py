@@ -64,17 +64,22 @@ class Drift:
     """Relative change of the Jacobi integral, for a model that has one; None otherwise."""
     kept: tuple[str, ...] = _FREE_KEEPS
     """What the model keeps, by the names of the fields above."""
+    energy_balance: float | None = None
+    """Relative change of the energy balance (the energy plus the work the parts dissipated),
+    for a system whose parts dissipate; None otherwise."""
 
     def __iter__(self) -> Iterator[float]:
         yield from (self.energy, self.momentum, self.momentum_world, self.q_norm)
         if self.jacobi is not None:
             yield self.jacobi
+        if self.energy_balance is not None:
+            yield self.energy_balance
 
     def __getitem__(self, i: Any) -> Any:
         return tuple(self)[i]
 
     def __len__(self) -> int:
-        return 4 + (self.jacobi is not None)
+        return 4 + (self.jacobi is not None) + (self.energy_balance is not None)
 
 
 def observe(system: System, t: np.ndarray, omega: np.ndarray, q: np.ndarray,
@@ -334,29 +339,36 @@ class BatchDrift:
     no run's model has one."""
     kept: tuple[str, ...] = _FREE_KEEPS
     """What the runs' model keeps."""
+    energy_balance: np.ndarray | None = None
+    """Relative change of the energy balance (NaN for a run whose model has none); None when
+    no run's model has one."""
 
     def __iter__(self) -> Iterator[np.ndarray]:
         yield from (self.energy, self.momentum, self.momentum_world, self.q_norm)
         if self.jacobi is not None:
             yield self.jacobi
+        if self.energy_balance is not None:
+            yield self.energy_balance
 
     def __getitem__(self, i: Any) -> Any:
         return tuple(self)[i]
 
     def __len__(self) -> int:
-        return 4 + (self.jacobi is not None)
+        return 4 + (self.jacobi is not None) + (self.energy_balance is not None)
 
     @classmethod
     def of(cls, measure: Callable[[str], np.ndarray], jacobi: np.ndarray | None = None,
-           kept: tuple[str, ...] = _FREE_KEEPS) -> BatchDrift:
+           kept: tuple[str, ...] = _FREE_KEEPS,
+           energy_balance: np.ndarray | None = None) -> BatchDrift:
         """The drift whose four always-present measures `measure(name)` gives."""
         return cls(measure("energy"), measure("momentum"), measure("momentum_world"),
-                   measure("q_norm"), jacobi, kept)
+                   measure("q_norm"), jacobi, kept, energy_balance)
 
     def _map(self, f: Callable[[np.ndarray], np.ndarray]) -> BatchDrift:
         """`f` applied to every measure."""
         return BatchDrift.of(lambda k: f(getattr(self, k)),
-                             None if self.jacobi is None else f(self.jacobi), self.kept)
+                             None if self.jacobi is None else f(self.jacobi), self.kept,
+                             None if self.energy_balance is None else f(self.energy_balance))
 
     def reshape(self, shape: tuple[int, ...]) -> BatchDrift:
         """The same values in `shape`."""
@@ -368,19 +380,24 @@ class BatchDrift:
 
     def row(self, i: int) -> Drift:
         """Run `i`'s drift."""
-        jacobi = None if self.jacobi is None or np.isnan(self.jacobi[i]) else \
-            float(self.jacobi[i])
+        def optional(a: np.ndarray | None) -> float | None:
+            return None if a is None or np.isnan(a[i]) else float(a[i])
+
         return Drift(float(self.energy[i]), float(self.momentum[i]),
-                     float(self.momentum_world[i]), float(self.q_norm[i]), jacobi, self.kept)
+                     float(self.momentum_world[i]), float(self.q_norm[i]),
+                     optional(self.jacobi), self.kept, optional(self.energy_balance))
 
 
 def batch_drift(columns: Any) -> BatchDrift:
     """The core's per-run drift columns as a :class:`BatchDrift`."""
-    energy, momentum, momentum_world, q_norm, jacobi = columns.drift
+    energy, momentum, momentum_world, q_norm, jacobi, balance = columns.drift
     kept = tuple(columns.kept) or _FREE_KEEPS
-    has_jacobi = "jacobi" in kept or not np.isnan(jacobi).all()
-    return BatchDrift(energy, momentum, momentum_world, q_norm,
-                      jacobi if has_jacobi else None, kept)
+
+    def optional(name: str, a: np.ndarray) -> np.ndarray | None:
+        return a if name in kept or not np.isnan(a).all() else None
+
+    return BatchDrift(energy, momentum, momentum_world, q_norm, optional("jacobi", jacobi),
+                      kept, optional("energy_balance", balance))
 
 
 @dataclass(frozen=True, eq=False)

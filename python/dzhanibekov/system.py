@@ -9,7 +9,7 @@ and says what the model keeps, which the drift, the projection and the registry 
 >>> import dzhanibekov as dz
 >>> explorer = dz.System(dz.Body((1.0, 10.0, 10.0)), parts=[dz.Damper(0.05, 0.02)])
 >>> explorer.kinds, explorer.conserved
-(('damper',), ('momentum', 'momentum_world', 'q_norm'))
+(('damper',), ('momentum', 'momentum_world', 'q_norm', 'energy_balance'))
 """
 
 from __future__ import annotations
@@ -96,9 +96,7 @@ class System:
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)
         object.__setattr__(self, "_core", _core.System(
-            body._core, [(p._core, p.sigma0) for p in parts_ if isinstance(p, Damper)],
-            [p._core for p in parts_ if isinstance(p, Wheel)],
-            [t._core for t in torques_]))
+            body._core, [p._core for p in parts_] + [t._core for t in torques_]))
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise AttributeError("a System is immutable")

@@ -131,7 +131,9 @@ class TabulatedTorque:
         self.vectors = np.array(v, dtype=np.float64)
         self.times.flags.writeable = False
         self.vectors.flags.writeable = False
-        self._core = _core.Torque.tabulated(self.times, self.vectors, self.frame, self.outside)
+        self._core = _core.Part("tabulated_torque", {
+            "times": self.times, "vectors": self.vectors, "frame": self.frame,
+            "outside": self.outside})
 
     def torque_at(self, t: float) -> np.ndarray:
         """The tabulated vector at time `t`, shape (3,), in `frame`'s axes (a convenience for
@@ -216,7 +218,7 @@ class CallableTorque:
             raise TypeError(f"`func` must be callable as func(t, q, omega), got "
                             f"{type(func).__name__}")
         self.func = func
-        self._core = _core.Torque.callable(func)
+        self._core = _core.Part("callable_torque", {"func": func})
 
     def __reduce__(self) -> tuple[Any, ...]:
         return (CallableTorque, (self.func,))

@@ -24,7 +24,10 @@
 use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
-use crate::float::RateScale;
+use crate::float::{ldexp, RateScale};
+
+use super::kinds::{Conserved, Traits};
+use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
 
 /// A spherical viscous damper (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -35,10 +38,13 @@ pub struct Damper {
     damping: f64,
     /// `c / j`.
     rate: f64,
+    /// The sphere's rates at the start (body axes); co-rotating with the body if `None`.
+    sigma0: Option<[f64; 3]>,
 }
 
 impl Damper {
-    /// A sphere of moment `sphere` with damping coefficient `damping`.
+    /// A sphere of moment `sphere` with damping coefficient `damping`, co-rotating with the
+    /// body at the start.
     ///
     /// # Errors
     /// `sphere` positive and finite, `damping` non-negative and finite, their ratio finite.
@@ -52,8 +58,8 @@ impl Damper {
     pub fn try_new(sphere: f64, damping: f64) -> Result<Self> {
         if !(sphere.is_finite() && sphere > 0.0) {
             return Err(Error::invalid(
-                "damper inertia",
-                "must be positive and finite",
+                "inertia",
+                "(the damper sphere's moment) must be positive and finite",
                 sphere,
             ));
         }
@@ -76,6 +82,25 @@ impl Damper {
             sphere,
             damping,
             rate,
+            sigma0: None,
+        })
+    }
+
+    /// The same damper with its sphere's rates `sigma0` at the start (body axes).
+    ///
+    /// # Errors
+    /// Rates that are not finite.
+    pub fn starting_at(self, sigma0: [f64; 3]) -> Result<Self> {
+        if !sigma0.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid(
+                "sigma0",
+                "must be three finite rates",
+                sigma0,
+            ));
+        }
+        Ok(Self {
+            sigma0: Some(sigma0),
+            ..self
         })
     }
 
@@ -85,6 +110,11 @@ impl Damper {
 
     pub fn damping(&self) -> f64 {
         self.damping
+    }
+
+    /// The sphere's rates at the start, if given (else co-rotating).
+    pub fn sigma0(&self) -> Option<[f64; 3]> {
+        self.sigma0
     }
 
     /// `σ'` at rates `omega` of the body and `sigma` of the sphere.
@@ -98,18 +128,114 @@ impl Damper {
     pub fn slip_rate(&self, least: f64) -> f64 {
         self.damping / self.sphere + self.damping / least
     }
+}
 
-    /// The same damper with moments over `2^m` (see [`crate::float`]).
-    pub fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        Self::try_new(
-            crate::float::ldexp(self.sphere, -m),
-            crate::float::ldexp(self.damping, -m),
-        )
+#[inline(always)]
+fn sigma(x: &[f64]) -> Vector3<f64> {
+    Vector3::new(x[0], x[1], x[2])
+}
+
+impl Part for Damper {
+    const INFO: ModelInfo = ModelInfo {
+        name: "damper",
+        about: "a spherical viscous nutation damper (energy never rising; the energy balance \
+                kept)",
+        law: false,
+        params: &[
+            Param::new(
+                "inertia",
+                ParamKind::Scalar,
+                "the sphere's moment of inertia j about its centre (positive)",
+            ),
+            Param::new(
+                "damping",
+                ParamKind::Scalar,
+                "the viscous coefficient c: torque per unit relative rate (non-negative)",
+            ),
+            Param::new(
+                "sigma0",
+                ParamKind::Vector,
+                "the sphere's rates at the start, body axes (co-rotating with the body if left \
+                 out)",
+            )
+            .optional(),
+        ],
+        state: &[Field {
+            name: "sigma",
+            width: 3,
+            body_vector: true,
+            dim: Dim::RATE,
+            about: "the sphere's absolute angular velocity, body axes",
+        }],
+        keeps: Conserved::MOMENTA.union(Conserved::ENERGY_BALANCE),
+        defines: Conserved::NONE,
+        energy: EnergyRole::Dissipates,
+        external: false,
+        unique: false,
+        traits: Traits::PART_STATE.union(Traits::STORED_MOMENTUM),
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        let damper = Self::try_new(fields.number("inertia")?, fields.number("damping")?)?;
+        match fields.optional_vector("sigma0")? {
+            Some(s) => damper.starting_at(s),
+            None => Ok(damper),
+        }
     }
 
-    /// The same damper with times in the units of `scale`: the torque `c (σ − ω)` is over
-    /// `2^(2e)` in the run's units and the rates over `2^e`, so `c` is over `2^e`.
-    pub(crate) fn in_units(&self, scale: RateScale) -> Result<Self> {
-        Self::try_new(self.sphere, scale.rate_to_unit(self.damping))
+    /// `j σ`.
+    #[inline(always)]
+    fn momentum(&self, _t: f64, x: &[f64]) -> Vector3<f64> {
+        sigma(x) * self.sphere
+    }
+
+    #[inline(always)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
+        let d = self.sigma_rate(&c.omega, &sigma(x));
+        dx[..3].copy_from_slice(d.as_slice());
+    }
+
+    /// `σ₀`, or co-rotating: `ω₀`.
+    fn start(&self, omega0: &Vector3<f64>, x: &mut [f64]) {
+        let s = self.sigma0.unwrap_or((*omega0).into());
+        x[..3].copy_from_slice(&s);
+    }
+
+    /// `½ j |σ|²`.
+    fn energy(&self, _t: f64, x: &[f64]) -> f64 {
+        0.5 * self.sphere * sigma(x).norm_squared()
+    }
+
+    /// `c |σ − ω|²`.
+    #[inline(always)]
+    fn dissipation(&self, c: &Ctx<'_>, x: &[f64]) -> f64 {
+        (sigma(x) - c.omega).norm_squared() * self.damping
+    }
+
+    fn stiffness(&self, least: f64) -> f64 {
+        self.slip_rate(least)
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        Self {
+            sigma0: self.sigma0.map(to_axes),
+            ..*self
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            sigma0: self.sigma0,
+            ..Self::try_new(ldexp(self.sphere, -m), ldexp(self.damping, -m))?
+        })
+    }
+
+    /// The torque `c (σ − ω)` is over `2^(2e)` in the run's units and the rates over `2^e`,
+    /// so `c` is over `2^e`.
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        Ok(Self {
+            sigma0: self.sigma0.map(|s| s.map(|v| scale.rate_to_unit(v))),
+            ..Self::try_new(self.sphere, scale.rate_to_unit(self.damping))?
+        })
     }
 }

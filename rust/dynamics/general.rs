@@ -1,38 +1,45 @@
 //! The general model: a body whose inertia is constant or prescribed ([`Deployment`]), with
-//! internal parts ([`Damper`], [`super::Wheel`]s) and external torques ([`Torques`]), in the total
-//! angular momentum.
+//! its parts in the user's order ([`AnyPart`]: dampers, wheels, external torques, …), in the
+//! total angular momentum. Each part contributes what it declares (see [`super::Part`]); the
+//! model adds them up, folding what is constant over a run once before it.
 //!
-//! **State** `[H (3), σ (3, with a damper), q (4)]`: `H` the total angular momentum in body
-//! axes, `σ` a damper's sphere rates, `q` the attitude. With `I(t)` the body's tensor (a
-//! damper's mass counted as a point at its centre) and `j` the sphere's moment,
+//! **State** `[H (3), the parts' states…, padding, W (1, if a part dissipates), q (4)]`: `H`
+//! the total angular momentum in body axes, each part's own state in the parts' order, zeros
+//! up to the state size `N` the run was given (see [`crate::run::simulate_system`]: a few
+//! sizes are compiled), `W` the work the parts dissipated since the start, `q` the attitude.
+//! With `I(t)` the body's tensor (a part's mass counted as the body's),
 //!
 //! ```text
-//! ω  = I(t)⁻¹ (H − j σ − Σ h a)          the body's own momentum, solved for its rates
-//! H' = H × ω + τ_b(t, q)                 without torques H is fixed in space
-//! σ' = σ × ω − (c / j) (σ − ω)           the damper (see [`Damper`])
+//! ω  = I(t)⁻¹ (H − Σ h_k)              h_k the momentum part k stores (a wheel's h a, j σ)
+//! H' = H × ω + Σ τ_k                   τ_k part k's external torque, body axes
+//! x_k' = part k's rates                (a damper: σ' = σ × ω − (c / j) (σ − ω))
+//! W' = Σ P_k                           P_k ≥ 0 the power part k dissipates
 //! q' = ½ q ⊗ (0, ω)
 //! ```
 //!
-//! A deployment alone is `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone
-//! is Hughes's spherical damper; wheels of constant momentum `h` along axes `a` make a
-//! gyrostat (see [`super::Wheel`]); `τ_b` is the sum of the external torques in body axes (see
-//! [`Torques`]: the gravity gradient of a circular orbit, constant torques). Without torques
-//! every such model keeps `|H|` and `H` in space exactly; a deployment or a damper does not
-//! keep the energy (internal work, loss). With the gravity gradient alone (and constant
-//! wheels) the Jacobi integral is kept ([`Model::jacobi`]).
+//! `ω` is made in one place ([`GeneralModel::omega_body`]): a part whose mass moves in the
+//! body would solve it jointly with its own rates there. A deployment alone is
+//! `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone is Hughes's spherical
+//! damper; constant wheels make a gyrostat. Without external torques every such model keeps
+//! `|H|` and `H` in space exactly; with a gravity gradient alone (and constant wheels) the
+//! Jacobi integral ([`Model::jacobi`]). The energy `E = ½ ωᵀ I ω + Σ E_k` of a system whose
+//! parts only dissipate falls by exactly `W`: its energy balance `E + W` is kept, and its drift
+//! measures the run's error as the free body's energy drift does.
 
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
 use crate::float::RateScale;
+use crate::kinematics::world_to_body;
 use crate::ode::OdeSystem;
 
-use super::kinds::Kinds;
+use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
-    attitude, mid_axis_of, quaternion_increment, set_attitude, Conserved, MidAxis, Model,
-    MomentumProjection,
+    attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
-use super::{Damper, Deployment, Table, Torques};
+use super::part::{Ctx, Dim, EnergyRole, Frame};
+use super::registry::{kinds_of, AnyPart, Columns};
+use super::Deployment;
 
 /// A constant tensor, its inverse, and what the runs read of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -148,143 +155,280 @@ impl InertiaLaw {
     }
 }
 
-/// The general model (see the module doc); `N` is 7, or 10 with a damper.
+/// The state sizes the general model is compiled for: a run takes the least that holds its
+/// parts' state (and the dissipated work), the rest padded with zeros whose rates are 0 (the
+/// adaptive error norm and the drift read the model's own numbers alone). Each size compiles
+/// the drivers, methods and observers once more.
+pub const STATE_SIZES: [usize; 7] = [7, 8, 10, 12, 14, 16, 24];
+
+/// The most numbers of state a system's parts may have together (with the dissipated work).
+pub const MAX_PARTS_STATE: usize = STATE_SIZES[STATE_SIZES.len() - 1] - 7;
+
+/// A part placed in the state: where its own state starts, and how many numbers it has.
 #[derive(Debug, Clone, PartialEq)]
-pub struct GeneralModel<const N: usize> {
+struct Placed {
+    part: AnyPart,
+    at: usize,
+    width: usize,
+}
+
+impl Placed {
+    #[inline(always)]
+    fn of<'x>(&self, x: &'x [f64]) -> &'x [f64] {
+        &x[self.at..self.at + self.width]
+    }
+}
+
+/// The parts as the right-hand side evaluates them. Its arrays are indexed at fixed places
+/// only, so that the compiler keeps a step's states in registers (an index known at run time
+/// would keep them in memory, and cost a system without parts as much as one with them): the
+/// parts without state and the first part with state (its state starts at index 3) inline,
+/// one monomorphic loop per kind ([`Columns`]); the other parts with state out of line on a
+/// copy of the state.
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Hot {
+    /// Parts evaluated inline: without state and with a changing stored momentum or torque,
+    /// and the first part with state.
+    columns: Columns,
+    /// Whether the inline parts store momentum, give a torque, have state.
+    stores: bool,
+    torques: bool,
+    states: bool,
+    /// The other parts with state.
+    rest: Vec<Placed>,
+}
+
+impl Hot {
+    fn of(parts: &[Placed]) -> Self {
+        let mut hot = Self::default();
+        for p in parts {
+            let info = p.part.info();
+            let stores = info.traits.contains(Traits::STORED_MOMENTUM)
+                && p.part.constant_momentum().is_none();
+            let torques = info.external && p.part.constant_torque().is_none();
+            let inline = match p.width {
+                0 => stores || torques,
+                _ => !hot.states,
+            };
+            if !inline {
+                if p.width > 0 {
+                    hot.rest.push(p.clone());
+                }
+                continue;
+            }
+            hot.columns.push(&p.part);
+            hot.stores |= stores;
+            hot.torques |= torques;
+            hot.states |= p.width > 0;
+        }
+        hot
+    }
+}
+
+/// The general model (see the module doc); `N` is the state size, at least `7 +` the parts'
+/// state (and one for the dissipated work). `HOT = false` is the model of a system whose parts
+/// are all folded (constant wheels and torques, or none: a deployment): its right-hand side is
+/// compiled without any part's code (see [`GeneralModel::is_lean`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     inertia: InertiaLaw,
-    /// The damper, when `N` is 10 (a placeholder otherwise, never read).
-    damper: Damper,
-    /// The wheels' total momentum `Σ h a` in body axes, if there are wheels.
-    wheels: Option<Vector3<f64>>,
-    /// The scheduled wheels' `h(t) a` in body axes (see [`super::WheelSchedule`]).
-    schedules: Vec<Table>,
-    torques: Torques,
+    /// Every part, in the user's order (in the run's axes and units).
+    parts: Vec<AnyPart>,
+    /// The constant stored momenta, summed (constant wheels' `Σ h a`).
+    stored: Option<Vector3<f64>>,
+    /// The constant torques fixed in body axes, and in space, each summed.
+    body_torque: Option<Vector3<f64>>,
+    world_torque: Option<Vector3<f64>>,
+    /// The parts whose stored momentum changes, whose torque is not constant, that have a
+    /// state, that dissipate, that are sampled: what the right-hand side loops over.
+    stores: Vec<Placed>,
+    torques: Vec<Placed>,
+    states: Vec<Placed>,
+    dissipators: Vec<Placed>,
+    sampled: Vec<Placed>,
+    /// The right-hand side's view of the same (see [`Hot`]).
+    hot: Hot,
+    /// Whether there is any external torque.
+    torqued: bool,
+    /// The parts' state: how many numbers, and the dimension of each.
+    width: usize,
+    dims: Vec<Dim>,
+    /// Where the dissipated work `W` is, if a part dissipates.
+    balance: Option<usize>,
     kinds: Kinds,
-    /// Where the right-hand side has a kink or a jump (tabulated laws): every step ends there.
+    /// Whether the energy can only fall: a part dissipates, none (nor the body) does work.
+    only_loses: bool,
+    /// Where the right-hand side has a kink or a jump (tabulated laws, sample times): every
+    /// step ends there.
     kinks: Vec<f64>,
     /// Where it is not smooth: the kinks and a deployment's knots (adaptive steps end there).
     knots: Vec<f64>,
+    /// The sample times over the run, each with the index of its part in `sampled`.
+    samples: Vec<(f64, usize)>,
+    /// The run's end: sample times are laid out up to it.
+    horizon: f64,
 }
 
 /// # Construction
-impl<const N: usize> GeneralModel<N> {
-    /// A body of inertia `inertia` with `damper`, if any (then `N` must be 10, else 7).
+impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+    /// A body of inertia `inertia` with `parts` (in the run's axes and units), in the user's
+    /// order.
     ///
     /// # Errors
-    /// A state size that does not fit the parts (a bug in the caller).
-    pub fn try_new(inertia: InertiaLaw, damper: Option<Damper>) -> Result<Self> {
-        if N != 7 + 3 * usize::from(damper.is_some()) {
+    /// A state size `N` the parts do not fit (a bug in the caller).
+    pub fn try_new(inertia: InertiaLaw, parts: Vec<AnyPart>) -> Result<Self> {
+        let mut at = 3;
+        let (mut stores, mut torques, mut states) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut dissipators, mut sampled, mut dims) = (Vec::new(), Vec::new(), Vec::new());
+        let (mut stored, mut body_torque, mut world_torque) = (None, None, None);
+        let mut torqued = false;
+        let mut placed_all = Vec::new();
+        for part in &parts {
+            let info = part.info();
+            let width = info.width();
+            let placed = Placed {
+                part: part.clone(),
+                at,
+                width,
+            };
+            if info.traits.contains(Traits::STORED_MOMENTUM) {
+                match part.constant_momentum() {
+                    Some(h) => stored = Some(stored.unwrap_or_else(Vector3::zeros) + h),
+                    None => stores.push(placed.clone()),
+                }
+            }
+            if info.external {
+                torqued = true;
+                match part.constant_torque() {
+                    Some((v, Frame::Body)) => {
+                        body_torque = Some(body_torque.unwrap_or_else(Vector3::zeros) + v)
+                    }
+                    Some((v, Frame::World)) => {
+                        world_torque = Some(world_torque.unwrap_or_else(Vector3::zeros) + v)
+                    }
+                    None => torques.push(placed.clone()),
+                }
+            }
+            if info.energy == EnergyRole::Dissipates {
+                dissipators.push(placed.clone());
+            }
+            if part.sampling().is_some() {
+                sampled.push(placed.clone());
+            }
+            for field in info.state {
+                dims.extend(std::iter::repeat_n(field.dim, field.width));
+            }
+            if width > 0 {
+                states.push(placed.clone());
+            }
+            placed_all.push(placed);
+            at += width;
+        }
+        let width = at - 3;
+        // the dissipated work just before `q`, at a place fixed by `N` (see [`Hot`])
+        let balance = (!dissipators.is_empty()).then_some(N - 5);
+        let used = at + usize::from(balance.is_some()) + 4;
+        if used > N {
             return Err(Error::invalid(
                 "parts",
-                "must fit the model's state (at most one damper)",
-                N,
+                format!("must fit a state of {N} numbers (a bug: the run picks the size)"),
+                used,
             ));
         }
-        let mut kinds = match inertia {
-            InertiaLaw::Constant(_) => Kinds::NONE,
-            InertiaLaw::Schedule(_) => Kinds::DEPLOYMENT,
-        };
-        if damper.is_some() {
-            kinds = kinds.union(Kinds::DAMPER);
+        let hot = Hot::of(&placed_all);
+        let lean = hot.columns.is_empty() && hot.rest.is_empty();
+        if !(HOT || lean) {
+            return Err(Error::invalid(
+                "parts",
+                "must all be folded for a lean model (a bug: the run picks the model)",
+                parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
+            ));
         }
-        if kinds == Kinds::NONE {
-            kinds = Kinds::FREE;
-        }
-        Ok(Self {
+        let changing = matches!(inertia, InertiaLaw::Schedule(_));
+        let kinds = kinds_of(changing, &parts);
+        let works = kinds.models().any(|m| m.energy == EnergyRole::DoesWork);
+        let mut model = Self {
             inertia,
-            damper: damper.unwrap_or(Damper::try_new(1.0, 0.0)?),
-            wheels: None,
-            schedules: Vec::new(),
-            torques: Torques::default(),
+            parts,
+            stored,
+            body_torque,
+            world_torque,
+            stores,
+            torques,
+            states,
+            only_loses: !dissipators.is_empty() && !works,
+            dissipators,
+            sampled,
+            hot,
+            torqued,
+            width,
+            dims,
+            balance,
             kinds,
             kinks: Vec::new(),
             knots: Vec::new(),
-        }
-        .with_kinds())
-    }
-
-    /// The same model with wheels of total momentum `wheels` (`Σ h a`, body axes), if any.
-    pub fn with_wheels(mut self, wheels: Option<Vector3<f64>>) -> Self {
-        self.wheels = wheels;
-        self.with_kinds()
-    }
-
-    /// The same model with wheels of scheduled momentum, each `h(t) a` in body axes.
-    pub fn with_schedules(mut self, schedules: Vec<Table>) -> Self {
-        self.schedules = schedules;
-        self.with_kinds()
-    }
-
-    /// The same model with the external torques `torques`.
-    pub fn with_torques(mut self, torques: Torques) -> Self {
-        self.torques = torques;
-        self.with_kinds()
-    }
-
-    fn with_kinds(mut self) -> Self {
-        let mut kinds = match self.inertia {
-            InertiaLaw::Constant(_) => Kinds::NONE,
-            InertiaLaw::Schedule(_) => Kinds::DEPLOYMENT,
+            samples: Vec::new(),
+            horizon: 0.0,
         };
-        if self.has_damper() {
-            kinds = kinds.union(Kinds::DAMPER);
-        }
-        if self.wheels.is_some() {
-            kinds = kinds.union(Kinds::WHEEL);
-        }
-        if !self.schedules.is_empty() {
-            kinds = kinds.union(Kinds::WHEEL_SCHEDULE);
-        }
-        kinds = kinds.union(self.torques.kinds());
-        self.kinds = match kinds == Kinds::NONE {
-            true => Kinds::FREE,
-            false => kinds,
-        };
-        self.with_knots()
+        model.lay_out();
+        Ok(model)
     }
 
-    /// The kinks and knots of the model's laws (see the fields).
-    fn with_knots(mut self) -> Self {
-        let mut kinks = self.torques.kinks();
-        for s in &self.schedules {
-            kinks.extend_from_slice(s.times());
+    /// The same model with its sample times laid out over `[0, t_end]`.
+    pub fn until(mut self, t_end: f64) -> Self {
+        self.horizon = t_end;
+        self.lay_out();
+        self
+    }
+
+    /// The kinks (the parts' and the sample times up to the horizon) and the knots (with a
+    /// deployment's).
+    fn lay_out(&mut self) {
+        let mut kinks: Vec<f64> = self.parts.iter().flat_map(AnyPart::kinks).collect();
+        self.samples.clear();
+        for (k, p) in self.sampled.iter().enumerate() {
+            let Some(s) = p.part.sampling() else { continue };
+            if !(s.period > 0.0 && s.period.is_finite()) {
+                continue;
+            }
+            let mut i = 0.0_f64;
+            loop {
+                let t = s.phase + i * s.period;
+                if t.is_nan() || t > self.horizon {
+                    break;
+                }
+                if t >= 0.0 {
+                    self.samples.push((t, k));
+                }
+                i += 1.0;
+            }
         }
+        self.samples.sort_by(|a, b| a.0.total_cmp(&b.0));
+        kinks.extend(self.samples.iter().map(|s| s.0));
         kinks.sort_by(f64::total_cmp);
         kinks.dedup();
-        self.kinks = kinks;
-        let mut knots = self.kinks.clone();
+        let mut knots = kinks.clone();
         if let InertiaLaw::Schedule(d) = &self.inertia {
             knots.extend_from_slice(d.times());
         }
         knots.sort_by(f64::total_cmp);
         knots.dedup();
-        self.knots = knots;
-        self
+        (self.kinks, self.knots) = (kinks, knots);
     }
 
-    /// The state at `t0` from the body rates `omega0`, the damper's rates `sigma0` and the
-    /// attitude `q0`.
-    pub fn state_from(
-        &self,
-        t0: f64,
-        omega0: [f64; 3],
-        sigma0: [f64; 3],
-        q0: [f64; 4],
-    ) -> [f64; N] {
+    /// The state at `t0` from the body rates `omega0` and the attitude `q0`: each part's state
+    /// from its start ([`super::Part::start`]), `H` the total momentum.
+    pub fn state_from(&self, t0: f64, omega0: [f64; 3], q0: [f64; 4]) -> [f64; N] {
         let omega = Vector3::from(omega0);
-        let sigma = Vector3::from(sigma0);
-        let mut h = self.inertia.tensor_at(t0) * omega + self.wheels.unwrap_or_default();
-        for s in &self.schedules {
-            h += s.at(t0);
-        }
-        if self.has_damper() {
-            h += sigma * self.damper.sphere();
-        }
         let mut x = [0.0; N];
-        x[..3].copy_from_slice(h.as_slice());
-        if self.has_damper() {
-            x[3..6].copy_from_slice(&sigma0);
+        for p in &self.states {
+            p.part.start(&omega, &mut x[p.at..p.at + p.width]);
         }
+        let mut h = self.inertia.tensor_at(t0) * omega + self.stored.unwrap_or_default();
+        for p in &self.stores {
+            h += p.part.momentum(t0, p.of(&x));
+        }
+        x[..3].copy_from_slice(h.as_slice());
         x[N - 4..].copy_from_slice(&q0);
         x
     }
@@ -294,81 +438,160 @@ impl<const N: usize> GeneralModel<N> {
         &self.inertia
     }
 
-    /// The damper, if any.
-    pub fn damper(&self) -> Option<&Damper> {
-        self.has_damper().then_some(&self.damper)
+    /// The parts, in the user's order.
+    pub fn parts(&self) -> &[AnyPart] {
+        &self.parts
     }
 
-    /// Whether it has wheels (constant or scheduled).
-    pub fn has_wheels(&self) -> bool {
-        self.wheels.is_some() || !self.schedules.is_empty()
-    }
-
-    #[inline(always)]
-    const fn has_damper(&self) -> bool {
-        N == 10
+    /// Whether every part is folded once before the run (constant wheels and torques, or no
+    /// part): the model then runs as `GeneralModel<N, false>`, whose right-hand side holds no
+    /// part's code at all (the compiler lays out a smaller loop).
+    pub fn is_lean(parts: &[AnyPart]) -> bool {
+        parts.iter().all(|p| {
+            let info = p.info();
+            let stores =
+                info.traits.contains(Traits::STORED_MOMENTUM) && p.constant_momentum().is_none();
+            let torques = info.external && p.constant_torque().is_none();
+            info.width() == 0 && !stores && !torques
+        })
     }
 }
 
-/// # The parts of a state
-impl<const N: usize> GeneralModel<N> {
+/// # Evaluation
+impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+    /// What the parts see at `(t, x)` with body rates `omega`.
     #[inline(always)]
-    fn sigma(x: &[f64; N]) -> Vector3<f64> {
-        Vector3::new(x[3], x[4], x[5])
+    fn ctx(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Ctx<'_> {
+        Ctx {
+            t,
+            q: attitude(x),
+            omega,
+            inertia: &self.inertia,
+        }
     }
 
-    /// The body's own angular momentum `H − j σ − Σ h a` at `t`.
+    /// The body's own angular momentum `H − Σ h_k` at `t`.
     #[inline(always)]
     fn body_momentum(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
         let mut h = Vector3::new(x[0], x[1], x[2]);
-        if let Some(w) = self.wheels {
-            h -= w;
+        if let Some(c) = self.stored {
+            h -= c;
         }
-        for s in &self.schedules {
-            h -= s.at(t);
+        if HOT && self.hot.stores {
+            h = self.hot.columns.less_momentum(t, x, h);
         }
-        match self.has_damper() {
-            true => h - Self::sigma(x) * self.damper.sphere(),
-            false => h,
+        if HOT && !self.hot.rest.is_empty() {
+            h -= self.rest_momenta(t, *x);
         }
+        h
     }
 
-    /// The external torque in body axes at `(t, x)`.
+    /// The momenta the parts with state after the first store, evaluated out of line on a
+    /// copy of the state (see [`Hot`]).
+    #[inline(never)]
+    fn rest_momenta(&self, t: f64, x: [f64; N]) -> Vector3<f64> {
+        (self.hot.rest.iter()).fold(Vector3::zeros(), |h, p| h + p.part.momentum(t, p.of(&x)))
+    }
+
+    /// The torques of the parts with state after the first (as above).
+    #[inline(never)]
+    fn rest_torques(&self, t: f64, x: [f64; N], omega: Vector3<f64>) -> Vector3<f64> {
+        let c = self.ctx(t, &x, omega);
+        (self.hot.rest.iter()).fold(Vector3::zeros(), |tau, p| tau + p.part.torque(&c, p.of(&x)))
+    }
+
+    /// The rates, times `s`, of the parts with state after the first, in a state's places,
+    /// and the power they dissipate (as above).
+    #[inline(never)]
+    fn rest_rates(&self, t: f64, x: [f64; N], omega: Vector3<f64>, s: f64) -> ([f64; N], f64) {
+        let c = self.ctx(t, &x, omega);
+        let mut dx = [0.0; N];
+        let mut power = 0.0;
+        for p in &self.hot.rest {
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(&c, p.of(&x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+            power += p.part.dissipation(&c, p.of(&x));
+        }
+        (dx, power)
+    }
+
+    /// The external torque in body axes at `(t, x)`, the body turning at `omega`.
+    #[inline(always)]
+    fn torque_at(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Vector3<f64> {
+        let mut tau = self.body_torque.unwrap_or_default();
+        if let Some(v) = self.world_torque {
+            tau += world_to_body(&attitude(x), &v);
+        }
+        if HOT && self.hot.torques {
+            tau = self.hot.columns.plus_torque(&self.ctx(t, x, omega), x, tau);
+        }
+        if HOT && !self.hot.rest.is_empty() {
+            tau += self.rest_torques(t, *x, omega);
+        }
+        tau
+    }
+
+    /// The external torque in body axes at `(t, x)` (the splittings' kicks).
     #[inline(always)]
     pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        let tau = self
-            .torques
-            .torque_body(t, &attitude(x), |v| self.inertia.apply(t, v));
-        match self.torques.has_callables() {
-            false => tau,
-            true => tau + (self.torques).callables_body(t, &attitude(x), &self.omega_body(t, x)),
-        }
+        self.torque_at(t, x, self.omega_body(t, x))
+    }
+
+    /// Whether the system has parts with state, or parts storing momentum.
+    pub fn has_parts_inside(&self) -> bool {
+        self.kinds.traits().contains(Traits::STORED_MOMENTUM) || self.width > 0
     }
 }
 
-impl<const N: usize> OdeSystem<N> for GeneralModel<N> {
+impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
         let h = Vector3::new(x[0], x[1], x[2]);
-        let omega = self.inertia.omega_from(t, &self.body_momentum(t, x));
+        let omega = self.omega_body(t, x);
         let mut dh = h.cross(&omega);
-        if !self.torques.is_empty() {
-            dh += self.torque(t, x);
+        if self.torqued {
+            dh += self.torque_at(t, x, omega);
         }
         let dh = dh * s;
         let mut dx = [0.0; N];
         dx[..3].copy_from_slice(dh.as_slice());
-        if self.has_damper() {
-            let dsigma = self.damper.sigma_rate(&omega, &Self::sigma(x)) * s;
-            dx[3..6].copy_from_slice(dsigma.as_slice());
+        if HOT && self.hot.states {
+            let mut power = self
+                .hot
+                .columns
+                .rates(&self.ctx(t, x, omega), x, s, &mut dx);
+            if !self.hot.rest.is_empty() {
+                let (rates, more) = self.rest_rates(t, *x, omega, s);
+                for k in 3..N - 4 {
+                    dx[k] += rates[k];
+                }
+                power += more;
+            }
+            if self.balance.is_some() {
+                dx[N - 5] = power * s;
+            }
         }
         let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
         dx[N - 4..].copy_from_slice(&dq);
         dx
     }
+
+    fn is_sampled(&self) -> bool {
+        !self.samples.is_empty()
+    }
+
+    /// Each part sampled at `t` updates the state (see [`super::Part::sample`]).
+    fn sample(&self, t: f64, x: &mut [f64; N]) {
+        let from = self.samples.partition_point(|s| s.0 < t);
+        for &(_, k) in self.samples[from..].iter().take_while(|s| s.0 == t) {
+            let p = &self.sampled[k];
+            p.part.sample(t, p.at, x);
+        }
+    }
 }
 
-impl<const N: usize> Model<N> for GeneralModel<N> {
+impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `|H|` and `H` in space at the start.
     type Kept = MomentumProjection;
 
@@ -380,6 +603,7 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
         self.kinds
     }
 
+    /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
         self.inertia.omega_from(t, &self.body_momentum(t, x))
@@ -393,69 +617,79 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
     /// `H' = H × ω + τ_b`.
     #[inline(always)]
     fn momentum_rate(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        let h = self.momentum_body(t, x).cross(&self.omega_body(t, x));
-        match self.torques.is_empty() {
-            true => h,
-            false => h + self.torque(t, x),
+        let omega = self.omega_body(t, x);
+        let h = self.momentum_body(t, x).cross(&omega);
+        match self.torqued {
+            false => h,
+            true => h + self.torque_at(t, x, omega),
         }
     }
 
-    /// With a gravity gradient: `J = T − n ẑ_b · H + (3/2) n² r̂_bᵀ I r̂_b` (see [`Torques`]).
+    /// The integral a part brings (the Jacobi integral of an orbit, see
+    /// [`super::GravityGradient`]).
     fn jacobi(&self, t: f64, x: &[f64; N]) -> Option<f64> {
-        self.torques.jacobi(
-            t,
-            &attitude(x),
-            &self.inertia.tensor_at(t),
-            self.energy(t, x),
-            &self.momentum_body(t, x),
-        )
+        let (q, tensor) = (attitude(x), self.inertia.tensor_at(t));
+        let (energy, h) = (self.energy(t, x), self.momentum_body(t, x));
+        self.parts
+            .iter()
+            .find_map(|p| p.integral(t, &q, &tensor, energy, &h))
     }
 
+    /// `½ lᵀ I⁻¹ l` of the body's own momentum `l`, plus the parts' own energies.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(t, x);
         let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
-        match self.has_damper() {
-            true => body + 0.5 * self.damper.sphere() * Self::sigma(x).norm_squared(),
-            false => body,
-        }
+        (self.states.iter()).fold(body, |e, p| e + p.part.energy(t, p.of(x)))
     }
 
-    /// `(|H| + |Σ h a|) / λ_min` without a damper (`|ω| = |I⁻¹ (H − Σ h a)|`);
-    /// `√(2T / λ_min)` with one (the total energy `T ≥ ½ ωᵀ I ω` never rises). The sphere's
-    /// rates turn at the body's; its slip decays at the damper's own rate, the model's
-    /// [`Model::stiffness`]. With a gravity gradient, the larger of that and the bound the
-    /// Jacobi integral gives ([`Torques::rate_bound`]). A constant torque spins the body up
-    /// without bound: the bound is the start's, and a long run under one wants an adaptive
-    /// method or a `dt` of its own.
+    /// The energy plus the dissipated work, for a system whose parts dissipate.
+    fn balance(&self, t: f64, x: &[f64; N]) -> Option<f64> {
+        self.balance.map(|k| self.energy(t, x) + x[k])
+    }
+
+    /// `(|H| + Σ |h_k|) / λ_min` (`|ω| = |I⁻¹ (H − Σ h_k)|`); `√(2E / λ_min)` when a part
+    /// dissipates (its energy `E ≥ ½ ωᵀ I ω` never rises, its parts' rates turn at the
+    /// body's; their own decay is the model's [`Model::stiffness`]). With a part bringing an
+    /// integral (the gravity gradient's Jacobi integral), the larger of that and its bound. A
+    /// constant torque spins the body up without bound: the bound is the start's, and a long
+    /// run under one wants an adaptive method or a `dt` of its own.
     fn rate_bound(&self, x0: &[f64; N]) -> f64 {
         let least = self.inertia.least();
-        // a schedule's |h a| is largest at one of its knots (linear between them)
-        let scheduled: f64 = (self.schedules.iter())
-            .map(|s| s.values().iter().fold(0.0, |m: f64, v| m.max(v.norm())))
-            .sum();
-        let wheels = self.wheels.map_or(0.0, |w| w.norm()) + scheduled;
-        let free = match self.has_damper() {
-            true => (2.0 * self.energy(0.0, x0) / least).sqrt(),
-            false => (self.momentum_body(0.0, x0).norm() + wheels) / least,
+        let stored = self.stored.map_or(0.0, |h| h.norm())
+            + (self.stores.iter())
+                .map(|p| p.part.largest_momentum())
+                .sum::<f64>();
+        let free = match self.dissipators.is_empty() {
+            false => (2.0 * self.energy(0.0, x0) / least).sqrt(),
+            true => (self.momentum_body(0.0, x0).norm() + stored) / least,
         };
-        let orbit = self.jacobi(0.0, x0).and_then(|j| {
+        let bound = self.jacobi(0.0, x0).and_then(|j| {
             let largest = self.inertia.tensor_at(0.0).symmetric_eigenvalues().max();
-            self.torques.rate_bound(least, largest, j, wheels)
+            (self.parts.iter()).find_map(|p| p.rate_bound(least, largest, j, stored))
         });
-        free.max(orbit.unwrap_or(0.0))
+        free.max(bound.unwrap_or(0.0))
+    }
+
+    /// The size of `H` over the run (and of rate-like parts' state): the absolute tolerance's
+    /// unit.
+    fn state_size(&self, x0: &[f64; N]) -> f64 {
+        let parts = x0[3..3 + self.width].iter().zip(&self.dims);
+        (parts.filter(|(_, d)| d.rate == 1)).fold(
+            x0[..3].iter().fold(0.0_f64, |m, v| m.max(v.abs())),
+            |m, (v, _)| m.max(v.abs()),
+        )
     }
 
     fn stiffness(&self) -> f64 {
-        match self.has_damper() {
-            true => self.damper.slip_rate(self.inertia.least()),
-            false => 0.0,
-        }
+        let least = self.inertia.least();
+        self.parts
+            .iter()
+            .fold(0.0, |m, p| m.max(p.stiffness(least)))
     }
 
-    /// A damper only takes energy (`T' = −c |σ − ω|²`); a deployment's internal forces can
-    /// give it.
+    /// A part dissipates and nothing (no part, no deployment) does work.
     fn energy_never_grows(&self) -> bool {
-        self.has_damper() && matches!(self.inertia, InertiaLaw::Constant(_))
+        self.only_loses
     }
 
     fn intermediate_axis(&self, t: f64) -> MidAxis {
@@ -473,17 +707,59 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
         &self.kinks
     }
 
+    fn parts_width(&self) -> usize {
+        self.width
+    }
+
+    fn parts_dims(&self) -> &[Dim] {
+        &self.dims
+    }
+
+    fn rate_power(&self, k: usize) -> i32 {
+        match k {
+            0..=2 => 1,
+            k if k < 3 + self.width => self.dims[k - 3].rate,
+            k if Some(k) == self.balance => Dim::TORQUE.rate,
+            _ => 0,
+        }
+    }
+
+    fn dimension(&self) -> usize {
+        7 + self.width + usize::from(self.balance.is_some())
+    }
+
+    /// The state's rates and momenta (and the parts' state, by its dimension) over `2^e`.
+    fn state_in_units(&self, x: &[f64; N], scale: RateScale) -> [f64; N] {
+        let mut out = *x;
+        let by = |v: f64, rate: i32| (0..rate).fold(v, |v, _| scale.rate_to_unit(v));
+        for v in &mut out[..3] {
+            *v = by(*v, 1);
+        }
+        for (v, d) in out[3..3 + self.width].iter_mut().zip(&self.dims) {
+            *v = by(*v, d.rate);
+        }
+        if let Some(k) = self.balance {
+            out[k] = by(out[k], Dim::TORQUE.rate);
+        }
+        out
+    }
+
     fn kept(&self, t0: f64, x0: &[f64; N]) -> MomentumProjection {
         MomentumProjection::new(self.momentum_body(t0, x0), &attitude(x0))
     }
 
-    /// `H` (and the damper's rates with it) scaled back to `|H₀|`, `q` normalised and turned
-    /// so that `H` in space has its initial direction.
+    /// `H` (and the parts' rates with it) scaled back to `|H₀|`, `q` normalised and turned so
+    /// that `H` in space has its initial direction.
     #[inline]
     fn project(&self, kept: &MomentumProjection, t: f64, x: &mut [f64; N]) {
         let (factor, q) = kept.restore(&self.momentum_body(t, x), &attitude(x));
-        for v in &mut x[..N - 4] {
+        for v in &mut x[..3] {
             *v *= factor;
+        }
+        for (v, d) in x[3..3 + self.width].iter_mut().zip(&self.dims) {
+            if d.rate == 1 {
+                *v *= factor;
+            }
         }
         set_attitude(x, &q);
     }
@@ -493,26 +769,18 @@ impl<const N: usize> Model<N> for GeneralModel<N> {
             InertiaLaw::Constant(c) => InertiaLaw::Constant(*c),
             InertiaLaw::Schedule(d) => InertiaLaw::Schedule(d.in_units(scale)?),
         };
-        let damper = match self.has_damper() {
-            true => Some(self.damper.in_units(scale)?),
-            false => None,
-        };
-        let wheels = self.wheels.map(|w| w.map(|v| scale.rate_to_unit(v)));
-        let to_unit = |v: Vector3<f64>| v.map(|c| scale.rate_to_unit(c));
-        let schedules = (self.schedules.iter())
-            .map(|s| s.in_units(scale, to_unit, "momentum"))
+        let parts = (self.parts.iter())
+            .map(|p| p.in_units(scale))
             .collect::<Result<Vec<_>>>()?;
-        // the knots follow the laws' times, rebuilt in the run's units
-        Ok(Self::try_new(inertia, damper)?
-            .with_wheels(wheels)
-            .with_schedules(schedules)
-            .with_torques(self.torques.in_units(scale)?))
+        // the kinks and sample times follow the laws' times, rebuilt in the run's units
+        Ok(Self::try_new(inertia, parts)?.until(scale.time_to_unit(self.horizon)))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamics::{ConstantTorque, Damper, GravityGradient, Wheel};
     use approx::assert_relative_eq;
 
     fn tilted() -> Deployment {
@@ -521,13 +789,17 @@ mod tests {
         Deployment::try_new(vec![1.0, 3.0], vec![a, b]).unwrap()
     }
 
-    fn damped() -> GeneralModel<10> {
+    fn constant() -> InertiaLaw {
         let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
-        GeneralModel::try_new(
-            InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
-            Some(Damper::try_new(0.2, 0.05).unwrap()),
-        )
-        .unwrap()
+        InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap())
+    }
+
+    fn damper() -> AnyPart {
+        Damper::try_new(0.2, 0.05)
+            .unwrap()
+            .starting_at([0.2, 0.1, 0.9])
+            .unwrap()
+            .into()
     }
 
     /// The state advanced by `±h` along the right-hand side (a central difference's ends).
@@ -538,8 +810,8 @@ mod tests {
 
     #[test]
     fn a_deployments_energy_changes_at_minus_half_omega_idot_omega() {
-        let m = GeneralModel::<7>::try_new(InertiaLaw::Schedule(tilted()), None).unwrap();
-        let x = m.state_from(2.2, [0.3, -0.7, 1.1], [0.0; 3], [0.5, -0.1, 0.7, 0.2]);
+        let m = GeneralModel::<7>::try_new(InertiaLaw::Schedule(tilted()), vec![]).unwrap();
+        let x = m.state_from(2.2, [0.3, -0.7, 1.1], [0.5, -0.1, 0.7, 0.2]);
         let h = 1e-6;
         let numeric = (m.energy(2.2 + h, &along(&m, 2.2, &x, h))
             - m.energy(2.2 - h, &along(&m, 2.2, &x, -h)))
@@ -551,37 +823,59 @@ mod tests {
             -0.5 * omega.dot(&(idot * omega)),
             max_relative = 1e-7
         );
+        assert!(!m.energy_never_grows());
     }
 
     #[test]
-    fn a_dampers_energy_falls_at_c_times_the_slip_squared() {
-        let m = damped();
-        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.2, 0.1, 0.9], [1.0, 0.0, 0.0, 0.0]);
+    fn a_dampers_energy_falls_at_c_times_the_slip_squared_and_the_balance_holds() {
+        let m = GeneralModel::<11>::try_new(constant(), vec![damper()]).unwrap();
+        assert_eq!(m.dimension(), 11);
+        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [1.0, 0.0, 0.0, 0.0]);
         let h = 1e-6;
-        let numeric = (m.energy(0.0, &along(&m, 0.0, &x, h))
-            - m.energy(0.0, &along(&m, 0.0, &x, -h)))
-            / (2.0 * h);
+        let rate = |f: &dyn Fn(&[f64; 11]) -> f64| {
+            (f(&along(&m, 0.0, &x, h)) - f(&along(&m, 0.0, &x, -h))) / (2.0 * h)
+        };
         let slip = Vector3::new(0.2, 0.1, 0.9) - Vector3::new(0.3, -0.7, 1.1);
-        assert_relative_eq!(numeric, -0.05 * slip.norm_squared(), max_relative = 1e-7);
-    }
-
-    #[test]
-    fn the_rates_are_those_the_state_was_built_from() {
-        let m = damped();
-        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.2, 0.1, 0.9], [1.0, 0.0, 0.0, 0.0]);
+        assert_relative_eq!(
+            rate(&|x| m.energy(0.0, x)),
+            -0.05 * slip.norm_squared(),
+            max_relative = 1e-7
+        );
+        // E + W stationary, the dissipated work rising by the loss
+        assert!(rate(&|x| m.balance(0.0, x).unwrap()).abs() < 1e-9);
+        assert_eq!(
+            m.conserved().names(),
+            ["momentum", "momentum_world", "q_norm", "energy_balance"]
+        );
+        assert!(m.energy_never_grows());
         let omega = m.omega_body(0.0, &x);
         assert!((omega - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
     }
 
-    fn orbiting(wheels: Option<Vector3<f64>>, torques: &[super::super::Torque]) -> GeneralModel<7> {
-        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
-        GeneralModel::try_new(
-            InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
-            None,
-        )
-        .unwrap()
-        .with_wheels(wheels)
-        .with_torques(Torques::of(torques).unwrap())
+    #[test]
+    fn a_state_too_small_for_the_parts_is_refused() {
+        assert!(GeneralModel::<10>::try_new(constant(), vec![damper()]).is_err());
+        // a larger one is padded: the padding stays zero, the rates the same
+        let m = GeneralModel::<13>::try_new(constant(), vec![damper()]).unwrap();
+        let n = GeneralModel::<11>::try_new(constant(), vec![damper()]).unwrap();
+        let (x, y) = (
+            m.state_from(0.0, [0.3, -0.7, 1.1], [1.0, 0.0, 0.0, 0.0]),
+            n.state_from(0.0, [0.3, -0.7, 1.1], [1.0, 0.0, 0.0, 0.0]),
+        );
+        let (dx, dy) = (m.rhs(0.0, &x), n.rhs(0.0, &y));
+        // [H, σ, padding, W, q] against [H, σ, W, q]
+        assert_eq!(dx[..6], dy[..6]);
+        assert_eq!(dx[6..8], [0.0, 0.0]);
+        assert_eq!(dx[8..], dy[6..]);
+        assert_eq!(m.dimension(), 11);
+    }
+
+    fn gravity(n: f64) -> AnyPart {
+        GravityGradient::try_new(n).unwrap().into()
+    }
+
+    fn wheel() -> AnyPart {
+        Wheel::try_new([0.3, -0.5, 0.7], 0.911).unwrap().into()
     }
 
     /// `dJ/dt` along the right-hand side by a central difference.
@@ -593,28 +887,25 @@ mod tests {
 
     #[test]
     fn the_jacobi_integral_is_stationary_in_the_gravity_gradient_with_wheels() {
-        let gg = super::super::Torque::gravity_gradient(0.8).unwrap();
-        let m = orbiting(
-            Some(Vector3::new(0.3, -0.5, 0.7)),
-            std::slice::from_ref(&gg),
-        );
+        let m = GeneralModel::<7>::try_new(constant(), vec![wheel(), gravity(0.8)]).unwrap();
         assert_eq!(m.conserved().names(), ["q_norm", "jacobi"]);
         let q = [0.6, -0.2, 0.7, 0.3];
         let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
-        let x = m.state_from(1.3, [0.3, -0.7, 1.1], [0.0; 3], q.map(|v| v / n));
+        let x = m.state_from(1.3, [0.3, -0.7, 1.1], q.map(|v| v / n));
         let j = m.jacobi(1.3, &x).unwrap();
         assert!(jacobi_rate(&m, 1.3, &x).abs() < 1e-8 * j.abs().max(1.0));
         // a constant torque breaks it, and the model no longer declares it
-        let push = super::super::Torque::constant([0.0, 0.2, 0.1], super::super::Frame::Body);
-        let pushed = orbiting(None, &[gg, push.unwrap()]);
+        let push = ConstantTorque::try_new([0.0, 0.2, 0.1], Frame::Body).unwrap();
+        let pushed = GeneralModel::<7>::try_new(constant(), vec![gravity(0.8), push.into()]);
+        let pushed = pushed.unwrap();
         assert!(jacobi_rate(&pushed, 1.3, &x).abs() > 1e-3);
         assert_eq!(pushed.conserved().names(), ["q_norm"]);
     }
 
     #[test]
     fn wheels_keep_the_momentum_in_space_and_the_bodys_energy() {
-        let m = orbiting(Some(Vector3::new(0.3, -0.5, 0.7)), &[]);
-        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let m = GeneralModel::<7>::try_new(constant(), vec![wheel()]).unwrap();
+        let x = m.state_from(0.0, [0.3, -0.7, 1.1], [1.0, 0.0, 0.0, 0.0]);
         let h = 1e-6;
         let e = |s: f64| m.energy(s, &along(&m, 0.0, &x, s));
         assert!(((e(h) - e(-h)) / (2.0 * h)).abs() < 1e-9);
@@ -625,8 +916,27 @@ mod tests {
     }
 
     #[test]
-    fn a_state_size_that_does_not_fit_the_parts_is_refused() {
-        let i = ConstantInertia::try_new(Matrix3::identity()).unwrap();
-        assert!(GeneralModel::<10>::try_new(InertiaLaw::Constant(i), None).is_err());
+    fn a_damper_with_anything_that_does_work_is_not_watched_for_growth() {
+        for other in [
+            gravity(0.3),
+            ConstantTorque::try_new([0.0, 0.0, 0.1], Frame::World)
+                .unwrap()
+                .into(),
+            crate::dynamics::WheelSchedule::try_new(
+                [0.0, 0.0, 1.0],
+                vec![0.0, 1.0],
+                vec![1.0, 0.0],
+            )
+            .unwrap()
+            .into(),
+        ] {
+            let m = GeneralModel::<11>::try_new(constant(), vec![damper(), other]).unwrap();
+            assert!(!m.energy_never_grows(), "{:?}", m.kinds().names());
+            assert!(!m.conserved().contains(Conserved::ENERGY_BALANCE));
+        }
+        let m = GeneralModel::<11>::try_new(constant(), vec![damper(), wheel()]).unwrap();
+        assert!(m.energy_never_grows());
+        let m = GeneralModel::<11>::try_new(InertiaLaw::Schedule(tilted()), vec![damper()]);
+        assert!(!m.unwrap().energy_never_grows());
     }
 }

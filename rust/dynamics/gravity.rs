@@ -1,8 +1,38 @@
-//! The gravity gradient's torque (see [`super::Torques`] for the law), evaluated at core speed:
-//! a right-hand side of a body in orbit is the free body's plus this, so that an RK4 step
-//! under the gravity gradient costs at most about twice the free body's (issue 21's bar).
+//! The gravity gradient of a circular orbit, a part of a system ([`GravityGradient`]), and
+//! its torque evaluated at core speed.
 //!
-//! What makes it cheap, each at round-off from the plain formula:
+//! **Law.** The body's centre moves on a circular orbit in the world `x–y` plane at rate `n`:
+//! the direction to it from the planet is `r̂(t) = (cos nt, sin nt, 0)` (world axes, `t = 0` at
+//! `+x`; the orbit normal is world `+z`). With `r̂_b = M(q)ᵀ r̂` the same direction in body axes
+//! (`q` world-from-body) and `I` the body's tensor, the torque is
+//!
+//! ```text
+//! τ_b = 3 n² r̂_b × (I r̂_b)            (n² = μ / R³)
+//! ```
+//!
+//! the first term of the expansion of the field over the body (Hughes, *Spacecraft Attitude
+//! Dynamics*, 1986, §8.2; Kane, Likins & Levinson, *Spacecraft Dynamics*, 1983, §2.5). It
+//! derives from the potential `V = (3/2) n² r̂_bᵀ I r̂_b` (the constant `−μm/R` dropped).
+//!
+//! **Jacobi integral.** The field turns with the orbit at the constant rate `n` about world
+//! `z`, so the energy measured in the orbiting frame is kept (the Jacobi integral of the
+//! restricted problem; Hughes §9.1, Beletsky, *Motion of an Artificial Satellite about its
+//! Center of Mass*, 1966, ch. 2): with `T` the kinetic energy, `H` the total angular momentum
+//! and `ẑ_b` the orbit normal in body axes,
+//!
+//! ```text
+//! J = T − n ẑ_b · H + (3/2) n² r̂_bᵀ I r̂_b
+//!   = ½ (ω − n ẑ_b)ᵀ I (ω − n ẑ_b) − ½ n² ẑ_bᵀ I ẑ_b + (3/2) n² r̂_bᵀ I r̂_b   (no wheels)
+//! ```
+//!
+//! Proof that it is kept: `T' = ω·τ` (with constant wheels `ω·(H × ω) = 0`), `(ẑ_b·H)' = ẑ_b·τ`
+//! (world `z` of `H` changes by the torque's), and `r̂_b' = r̂_b × ω + n ẑ_b × r̂_b` gives
+//! `V' = −ω·τ + n ẑ_b·τ`; the three sum to zero. A constant body with constant wheels keeps
+//! it; a deployment (its work), a damper (its loss) or another torque do not.
+//!
+//! **Speed.** A right-hand side of a body in orbit is the free body's plus this torque, so that
+//! an RK4 step under the gravity gradient costs at most about twice the free body's (issue
+//! 21's bar). What makes it cheap, each at round-off from the plain formula:
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
 //!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
@@ -14,7 +44,14 @@
 // the constants as fdlibm prints them (the float64 nearest each is what counts)
 #![allow(clippy::excessive_precision)]
 
-use nalgebra::{Quaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, Vector3};
+
+use crate::error::{Error, Result};
+use crate::float::RateScale;
+use crate::kinematics::rotation_matrix;
+
+use super::kinds::{Conserved, Traits};
+use super::part::{Ctx, EnergyRole, Fields, ModelInfo, Param, ParamKind, Part};
 
 /// `2/π`.
 const FRAC_2_PI: f64 = std::f64::consts::FRAC_2_PI;
@@ -115,6 +152,102 @@ pub fn gravity_gradient_torque(
     );
     let scale = 3.0 * n * n / (norm2 * norm2);
     r.cross(&inertia(&r)) * scale
+}
+
+/// The gravity gradient of a circular orbit of rate `orbit_rate` in the world `x–y` plane
+/// (see the module doc): an external torque.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GravityGradient {
+    orbit_rate: f64,
+}
+
+impl GravityGradient {
+    /// The gravity gradient of a circular orbit of rate `orbit_rate` (radians per unit time).
+    ///
+    /// # Errors
+    /// `orbit_rate` not positive and finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::GravityGradient;
+    /// assert!(GravityGradient::try_new(1e-3).is_ok());
+    /// assert!(GravityGradient::try_new(-1.0).is_err());
+    /// ```
+    pub fn try_new(orbit_rate: f64) -> Result<Self> {
+        if !(orbit_rate.is_finite() && orbit_rate > 0.0) {
+            return Err(Error::invalid(
+                "orbit_rate",
+                "must be positive and finite",
+                orbit_rate,
+            ));
+        }
+        Ok(Self { orbit_rate })
+    }
+
+    pub fn orbit_rate(&self) -> f64 {
+        self.orbit_rate
+    }
+}
+
+impl Part for GravityGradient {
+    const INFO: ModelInfo = ModelInfo {
+        name: "gravity_gradient",
+        about: "the gravity gradient of a circular orbit in the world x–y plane (τ = 3 n² r̂_b × \
+                I r̂_b; the Jacobi integral kept)",
+        law: false,
+        params: &[Param::new(
+            "orbit_rate",
+            ParamKind::Scalar,
+            "the orbit's rate n = √(μ / R³), radians per unit time (positive)",
+        )],
+        state: &[],
+        keeps: Conserved::JACOBI.union(Conserved::Q_NORM),
+        defines: Conserved::JACOBI,
+        energy: EnergyRole::DoesWork,
+        external: true,
+        unique: true,
+        traits: Traits::EXTERNAL_TORQUE,
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        Self::try_new(fields.number("orbit_rate")?)
+    }
+
+    #[inline(always)]
+    fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
+        gravity_gradient_torque(self.orbit_rate, c.t, &c.q, |v| c.inertia_times(v))
+    }
+
+    /// The Jacobi integral `J = T − n ẑ_b · H + (3/2) n² r̂_bᵀ I r̂_b` (see the module doc).
+    fn integral(
+        &self,
+        t: f64,
+        q: &Quaternion<f64>,
+        tensor: &Matrix3<f64>,
+        energy: f64,
+        momentum: &Vector3<f64>,
+    ) -> Option<f64> {
+        let n = self.orbit_rate;
+        let to_body = rotation_matrix(q).transpose();
+        let (s, c) = (n * t).sin_cos();
+        let r = to_body * Vector3::new(c, s, 0.0);
+        let normal = to_body * Vector3::z();
+        Some(energy - n * normal.dot(momentum) + 1.5 * n * n * r.dot(&(tensor * r)))
+    }
+
+    /// From `J ≥ ½ λ_min |ω − n ẑ_b|² − ½ n² λ_max − n |h|`,
+    /// `|ω| ≤ √(2 (J + ½ n² λ_max + n |h|) / λ_min) + n`, for stored momenta of at most
+    /// `stored` (a norm).
+    fn rate_bound(&self, least: f64, largest: f64, integral: f64, stored: f64) -> Option<f64> {
+        let n = self.orbit_rate;
+        let room = integral + 0.5 * n * n * largest + n * stored;
+        Some((2.0 * room.max(0.0) / least).sqrt() + n)
+    }
+
+    /// The orbit's rate over `2^e`.
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        Self::try_new(scale.rate_to_unit(self.orbit_rate))
+    }
 }
 
 #[cfg(test)]

@@ -1,8 +1,6 @@
-//! The registry of models ([`MODELS`]): each model's name and what a system made of it keeps.
-//! A set of models ([`Kinds`]) is what a system is made of, or what a method runs; a set of
-//! invariants ([`Conserved`]) what a model keeps, or a method of it.
-
-use crate::error::Result;
+//! Sets the registry reads: what a model keeps ([`Conserved`]), which models a system is made of
+//! ([`Kinds`]), and what a model asks of a method ([`Traits`]). The models themselves, and the
+//! one place a system's sets are computed, are in [`super::registry`].
 
 /// A set of the invariants a run's drift measures (see [`crate::observe::Drift`]): what a
 /// model's exact motion keeps, or what a method keeps of it.
@@ -23,18 +21,24 @@ impl Conserved {
     /// The Jacobi integral of a body in a circular orbit (kinetic energy relative to the
     /// orbiting frame plus the gravity-gradient potential).
     pub const JACOBI: Self = Self(16);
+    /// The energy balance of a system whose parts dissipate: the energy plus the work its
+    /// parts dissipated since the start (see [`super::GeneralModel`]).
+    pub const ENERGY_BALANCE: Self = Self(32);
     /// What the constant free body keeps: energy, `|L|`, `L_world` and `|q|`.
     pub const FREE: Self = Self(1 | 2 | 4 | 8);
     /// What every torque-free model keeps: `|L|`, `L_world` and `|q|`.
     pub const MOMENTA: Self = Self(2 | 4 | 8);
+    /// Every invariant a model may keep.
+    pub const ALL: Self = Self(63);
 
     /// The names in [`crate::observe::Drift`]'s order, one per member.
-    pub const NAMES: [(Self, &'static str); 5] = [
+    pub const NAMES: [(Self, &'static str); 6] = [
         (Self::ENERGY, "energy"),
         (Self::MOMENTUM, "momentum"),
         (Self::MOMENTUM_WORLD, "momentum_world"),
         (Self::Q_NORM, "q_norm"),
         (Self::JACOBI, "jacobi"),
+        (Self::ENERGY_BALANCE, "energy_balance"),
     ];
 
     pub const fn union(self, other: Self) -> Self {
@@ -61,49 +65,25 @@ impl Conserved {
             .map(|(_, name)| *name)
             .collect()
     }
-
-    /// The set of the named invariants.
-    ///
-    /// # Errors
-    /// An unknown name.
-    pub fn from_names(names: &[&str]) -> Result<Self> {
-        names.iter().try_fold(Self::NONE, |set, name| {
-            match Self::NAMES.iter().find(|(_, n)| n == name) {
-                Some((c, _)) => Ok(set.union(*c)),
-                None => Err(crate::error::Error::invalid(
-                    "keeps",
-                    "must name energy, momentum, momentum_world, q_norm or jacobi",
-                    name,
-                )),
-            }
-        })
-    }
 }
 
-/// A set of the registry's models ([`MODELS`]): what a system is made of, or what a method runs.
+/// A set of the registry's models ([`super::MODELS`]): what a system is made of. Bit `k` is
+/// the `k`-th model of [`super::MODELS`]: the inertia laws first, then the parts in the
+/// registry's order.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub struct Kinds(u16);
+pub struct Kinds(pub(crate) u64);
 
 impl Kinds {
     pub const NONE: Self = Self(0);
     /// The constant free body.
     pub const FREE: Self = Self(1);
-    /// A prescribed, smooth `I(t)` ([`Deployment`]).
+    /// A prescribed, smooth `I(t)` ([`super::Deployment`]).
     pub const DEPLOYMENT: Self = Self(2);
-    /// A spherical viscous damper ([`Damper`]).
-    pub const DAMPER: Self = Self(4);
-    /// Momentum wheels of constant relative momentum ([`super::Wheel`]).
-    pub const WHEEL: Self = Self(8);
-    /// The gravity gradient of a circular orbit ([`super::Torque::GravityGradient`]).
-    pub const GRAVITY_GRADIENT: Self = Self(16);
-    /// A constant external torque ([`super::Torque::Constant`]).
-    pub const TORQUE: Self = Self(32);
-    /// A torque tabulated at knots ([`super::TabulatedTorque`]).
-    pub const TABULATED_TORQUE: Self = Self(64);
-    /// Momentum wheels whose momentum follows a schedule ([`super::WheelSchedule`]).
-    pub const WHEEL_SCHEDULE: Self = Self(128);
-    /// A torque computed by the user's code ([`super::CallableTorque`]).
-    pub const CALLABLE_TORQUE: Self = Self(256);
+
+    /// The model at index `k` of [`super::MODELS`].
+    pub const fn at(k: usize) -> Self {
+        Self(1 << k)
+    }
 
     pub const fn union(self, other: Self) -> Self {
         Self(self.0 | other.0)
@@ -113,114 +93,108 @@ impl Kinds {
         self.0 & other.0 == other.0
     }
 
-    /// The names of the models in the set, in [`MODELS`]' order.
-    pub fn names(self) -> Vec<&'static str> {
-        MODELS
+    /// The models of the set, in [`super::MODELS`]' order.
+    pub fn models(self) -> impl Iterator<Item = &'static super::ModelInfo> {
+        super::MODELS
             .iter()
-            .filter(|m| self.contains(m.kind))
-            .map(|m| m.name)
+            .enumerate()
+            .filter(move |(k, _)| self.contains(Self::at(*k)))
+            .map(|(_, m)| *m)
+    }
+
+    /// The names of the models in the set, in [`super::MODELS`]' order.
+    pub fn names(self) -> Vec<&'static str> {
+        self.models().map(|m| m.name).collect()
+    }
+
+    /// The model called `name`.
+    pub fn named(name: &str) -> Option<Self> {
+        super::MODELS
+            .iter()
+            .position(|m| m.name == name)
+            .map(Self::at)
+    }
+
+    /// What a system made of these models keeps: what each of them keeps, an invariant a
+    /// model defines (the Jacobi integral of an orbit) only where such a model is there, the
+    /// energy balance only where a part dissipates (then the energy alone is not kept).
+    pub fn conserved(self) -> Conserved {
+        let mut kept = Conserved::ALL;
+        let mut defined = Conserved::FREE;
+        let mut dissipates = false;
+        for m in self.models() {
+            kept = kept.intersection(m.keeps);
+            defined = defined.union(m.defines);
+            dissipates |= m.energy == super::EnergyRole::Dissipates;
+        }
+        if dissipates {
+            defined = defined.union(Conserved::ENERGY_BALANCE);
+        }
+        kept.intersection(defined)
+    }
+
+    /// What the models ask of a method: the union of their traits.
+    pub fn traits(self) -> Traits {
+        self.models().fold(Traits::NONE, |t, m| t.union(m.traits))
+    }
+}
+
+/// What a model asks of a method that runs it, read from the models' declarations: a method
+/// says which of these it handles ([`crate::run::MethodInfo::handles`]), and runs every model
+/// whose traits it handles, the models of parts added later included.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct Traits(u16);
+
+impl Traits {
+    /// Nothing: the constant free body.
+    pub const NONE: Self = Self(0);
+    /// The body's inertia changes over the run (a deployment).
+    pub const CHANGING_BODY: Self = Self(1);
+    /// Parts with state of their own (a damper's sphere).
+    pub const PART_STATE: Self = Self(2);
+    /// Parts storing angular momentum (a wheel's `h a`): the body's rates are not `I⁻¹ H`.
+    pub const STORED_MOMENTUM: Self = Self(4);
+    /// An external torque: `L` is not kept in space.
+    pub const EXTERNAL_TORQUE: Self = Self(8);
+    /// A torque depending on the body rates (not a function of time and attitude alone).
+    pub const RATE_TORQUE: Self = Self(16);
+    /// A law with kinks or jumps at given times: every step ends on them.
+    pub const KINKS: Self = Self(32);
+    /// A part evaluated at sample times of its own (a controller): every step ends on them,
+    /// and the run calls the part there.
+    pub const SAMPLED: Self = Self(64);
+    /// Every trait: what a method that runs any model handles.
+    pub const ALL: Self = Self(127);
+
+    /// The names of the traits, for users.
+    pub const NAMES: [(Self, &'static str); 7] = [
+        (Self::CHANGING_BODY, "changing body"),
+        (Self::PART_STATE, "part state"),
+        (Self::STORED_MOMENTUM, "stored momentum"),
+        (Self::EXTERNAL_TORQUE, "external torque"),
+        (Self::RATE_TORQUE, "rate-dependent torque"),
+        (Self::KINKS, "kinks"),
+        (Self::SAMPLED, "sample times"),
+    ];
+
+    pub const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+
+    pub const fn without(self, other: Self) -> Self {
+        Self(self.0 & !other.0)
+    }
+
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+
+    /// The names of the members, in [`Traits::NAMES`]' order.
+    pub fn names(self) -> Vec<&'static str> {
+        Self::NAMES
+            .iter()
+            .filter(|(c, _)| self.contains(*c))
+            .map(|(_, name)| *name)
             .collect()
     }
-
-    /// What a system made of these models keeps: what each of them keeps, the Jacobi integral
-    /// only where there is an orbit to measure it in.
-    pub fn conserved(self) -> Conserved {
-        let kept = MODELS
-            .iter()
-            .filter(|m| self.contains(m.kind))
-            .fold(Conserved::FREE.union(Conserved::JACOBI), |c, m| {
-                c.intersection(m.keeps)
-            });
-        match self.contains(Self::GRAVITY_GRADIENT) {
-            true => kept,
-            false => kept.without(Conserved::JACOBI),
-        }
-    }
-
-    /// The first model of `self` that `runner` does not hold.
-    pub fn first_missing(self, runner: Self) -> Option<&'static str> {
-        MODELS
-            .iter()
-            .find(|m| self.contains(m.kind) && !runner.contains(m.kind))
-            .map(|m| m.name)
-    }
 }
-
-/// What is known about a model before it runs.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ModelInfo {
-    pub kind: Kinds,
-    /// The name users and the registry use.
-    pub name: &'static str,
-    /// What a system made of it (and the free body) keeps; a system keeps what each of its
-    /// models keeps.
-    pub keeps: Conserved,
-    /// One line for users.
-    pub about: &'static str,
-}
-
-/// The models, in the order users see them.
-pub const MODELS: [ModelInfo; 9] = [
-    ModelInfo {
-        kind: Kinds::FREE,
-        name: "free",
-        keeps: Conserved::FREE,
-        about: "the constant free rigid body (eq. 1)",
-    },
-    ModelInfo {
-        kind: Kinds::DEPLOYMENT,
-        name: "deployment",
-        keeps: Conserved::MOMENTA,
-        about: "a prescribed, smooth inertia tensor I(t) (dL/dt = L × ω, ω = I(t)⁻¹ L)",
-    },
-    ModelInfo {
-        kind: Kinds::DAMPER,
-        name: "damper",
-        keeps: Conserved::MOMENTA,
-        about: "a spherical viscous nutation damper (energy never rising)",
-    },
-    ModelInfo {
-        kind: Kinds::WHEEL,
-        name: "wheel",
-        // with a gravity gradient too, the Jacobi integral stays kept (see `torques`)
-        keeps: Conserved::MOMENTA.union(Conserved::JACOBI),
-        about: "momentum wheels of constant relative momentum (a gyrostat: \
-                I ω' = (I ω + Σ h a) × ω)",
-    },
-    ModelInfo {
-        kind: Kinds::GRAVITY_GRADIENT,
-        name: "gravity_gradient",
-        keeps: Conserved::JACOBI.union(Conserved::Q_NORM),
-        about: "the gravity gradient of a circular orbit in the world x–y plane \
-                (τ = 3 n² r̂_b × I r̂_b; the Jacobi integral kept)",
-    },
-    ModelInfo {
-        kind: Kinds::TORQUE,
-        name: "torque",
-        keeps: Conserved::Q_NORM,
-        about: "a constant external torque in body or world axes (nothing kept but |q|)",
-    },
-    ModelInfo {
-        kind: Kinds::TABULATED_TORQUE,
-        name: "tabulated_torque",
-        keeps: Conserved::Q_NORM,
-        about: "a torque tabulated at knots in body or world axes, linear between them, zero \
-                or held outside (nothing kept but |q|; every step ends on a knot)",
-    },
-    ModelInfo {
-        kind: Kinds::WHEEL_SCHEDULE,
-        name: "wheel_schedule",
-        // the wheels' work changes the energy (and, in an orbit, the Jacobi integral)
-        keeps: Conserved::MOMENTA,
-        about: "momentum wheels whose momentum follows a schedule, linear between knots \
-                (I ω' = (I ω + Σ h a) × ω − Σ ḣ a; |L| and L in space kept, the energy \
-                changed by the wheels' work; every step ends on a knot)",
-    },
-    ModelInfo {
-        kind: Kinds::CALLABLE_TORQUE,
-        name: "callable_torque",
-        keeps: Conserved::Q_NORM,
-        about: "a torque computed by the user's function f(t, q, ω) in body axes, called at \
-                each evaluation (Python speed; nothing kept but |q|)",
-    },
-];

@@ -1,9 +1,11 @@
 //! The models: the right-hand sides a run integrates. The constant free body
-//! ([`FreeRigidBody`], eq. 1) and the general model ([`GeneralModel`]: a constant or
-//! scheduled body with parts) implement one trait ([`Model`]); what a user describes is a
-//! [`System`] (a body, its parts — dampers, wheels — and its external torques), which the run turns into one of them. Each model the registry knows has an
-//! entry in [`MODELS`]; the registry of methods ([`crate::run::registry`]) says which methods
-//! run which.
+//! ([`FreeRigidBody`], eq. 1) and the general model ([`GeneralModel`]: an inertia law with its
+//! parts) implement one trait ([`Model`]); what a user describes is a [`System`] (a body and
+//! its parts in order: dampers, wheels, external torques, …), which the run turns into one of
+//! them. Every part implements one trait ([`Part`]) and declares itself once
+//! ([`ModelInfo`]); the registry ([`registry`]) lists them, one line each, and makes the enum
+//! the hot loop matches on ([`AnyPart`]) and the table [`MODELS`] the methods' registry
+//! ([`crate::run::registry`]), the binding, files and scenes read.
 
 mod callable;
 mod damper;
@@ -15,26 +17,36 @@ mod hinge;
 mod kinds;
 pub mod model;
 pub mod multibody;
+pub mod part;
+pub mod registry;
 mod slosh;
 mod spring_mass;
 mod system;
 mod tabulated;
 mod torques;
+#[cfg(test)]
+pub(crate) mod toy;
 mod wheel;
 mod wheel_schedule;
 
-pub use callable::{CallableTorque, TorqueFunction};
+pub use callable::CallableTorque;
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;
-pub use general::{ConstantInertia, GeneralModel, InertiaLaw};
+pub use general::{ConstantInertia, GeneralModel, InertiaLaw, MAX_PARTS_STATE, STATE_SIZES};
+pub use gravity::GravityGradient;
 pub use hinge::{Hinge, LoneHinge, Pose};
-pub use kinds::{Kinds, ModelInfo, MODELS};
-pub use model::{Conserved, MidAxis, Model};
+pub use kinds::{Conserved, Kinds, Traits};
+pub use model::{MidAxis, Model};
+pub use part::{
+    Arg, Ctx, Dim, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part,
+    Sampling, Value,
+};
+pub use registry::{AnyPart, MODELS};
 pub use slosh::{LoneSlosh, Rod, Slosh, SloshRates};
 pub use spring_mass::{LoneSpring, SpringMass};
-pub use system::{Part, System, SystemBody};
+pub use system::{System, SystemBody};
 pub use tabulated::{Outside, Table, TabulatedTorque};
-pub use torques::{Frame, Torque, Torques};
+pub use torques::ConstantTorque;
 pub use wheel::Wheel;
 pub use wheel_schedule::WheelSchedule;

@@ -5,14 +5,16 @@
 //!
 //! **State layout**, the same for every model: three components of rates or momenta (the
 //! free body's `ω`, a general system's total angular momentum `H`), then each part's own
-//! state (a damper's `σ`), then the body-to-world quaternion `(Q, U, V, W)`, scalar first,
-//! obeying the body-frame law `q' = ½ q ⊗ (0, ω)`.
+//! state (a damper's `σ`) and what the model adds (see [`super::GeneralModel`]), then the
+//! body-to-world quaternion `(Q, U, V, W)`, scalar first, obeying the body-frame law
+//! `q' = ½ q ⊗ (0, ω)`.
 
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::error::Result;
 
 pub use super::kinds::Conserved;
+use super::part::Dim;
 use crate::float::RateScale;
 use crate::kinematics::rotation_matrix;
 use crate::ode::OdeSystem;
@@ -101,11 +103,49 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync + Sized {
         0.0
     }
 
-    /// Whether the exact motion can only lose energy (a damped body with no deployment and
-    /// no torque): a run whose energy grows beyond its error has then diverged (see
+    /// Whether the exact motion can only lose energy (its parts declare that they dissipate
+    /// and nothing does work: no torque, no deployment, no wheel spun up): a run whose energy
+    /// grows beyond its error has then diverged (see
     /// [`crate::observe::DriftMonitor::watching_growth`]).
     fn energy_never_grows(&self) -> bool {
         false
+    }
+
+    /// The energy plus the work the parts dissipated since the start, for a model whose parts
+    /// dissipate: kept by the exact motion when nothing does work.
+    fn balance(&self, _t: f64, _x: &[f64; N]) -> Option<f64> {
+        None
+    }
+
+    /// How many numbers of the parts' state follow the first three: what a run's frames keep
+    /// of each state.
+    fn parts_width(&self) -> usize {
+        N - 7
+    }
+
+    /// The power of a rate in the dimension of the state's `k`-th number (`k < N − 4`): 1 for
+    /// rates and momenta, 2 for an energy, 0 for an angle. The adaptive error control measures
+    /// each number against a unit of that dimension, so that a run keeps its steps under
+    /// `(ω, t) → (s ω, t / s)`.
+    fn rate_power(&self, _k: usize) -> i32 {
+        1
+    }
+
+    /// The physical dimension of each number of the parts' state (see [`Dim`]).
+    fn parts_dims(&self) -> &[Dim] {
+        &[]
+    }
+
+    /// How many numbers of the state are the model's (the rest, before `q`, is padding of a
+    /// state size shared by several models): what the adaptive error norm averages over.
+    fn dimension(&self) -> usize {
+        N
+    }
+
+    /// The state `x` in the units of `scale` (see [`crate::float`]): its rates and momenta over
+    /// `2^e`, its parts' state by its dimension, its attitude as it is.
+    fn state_in_units(&self, x: &[f64; N], scale: RateScale) -> [f64; N] {
+        state_to_unit(x, scale)
     }
 
     /// The intermediate principal axis at `t`.
@@ -155,8 +195,8 @@ pub fn set_attitude<const N: usize>(x: &mut [f64; N], q: &Quaternion<f64>) {
     x[N - 1] = q.k;
 }
 
-/// A model's state in the units of `scale`: its rates or momenta and its parts' state over
-/// `2^e`, its attitude as it is.
+/// A state whose first `N − 4` numbers are rates in the units of `scale`: over `2^e`, its
+/// attitude as it is.
 pub fn state_to_unit<const N: usize>(x: &[f64; N], scale: RateScale) -> [f64; N] {
     std::array::from_fn(|k| match k < N - 4 {
         true => scale.rate_to_unit(x[k]),

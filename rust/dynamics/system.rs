@@ -1,7 +1,10 @@
 //! What is simulated, as the user describes it: a body (a constant tensor, or a deployment's
-//! schedule) with its internal parts and external torques, in the user's own axes. A run turns it into a model
+//! schedule) with its parts in the user's order — internal parts and external torques alike
+//! ([`AnyPart`]) — in the user's own axes. A run turns it into a model
 //! ([`super::FreeRigidBody`] or [`super::GeneralModel`]), in principal axes where the body is
 //! constant ([`crate::run::simulate_system`]).
+
+use std::sync::Arc;
 
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
@@ -9,8 +12,11 @@ use crate::body::Inertia;
 use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
-use super::kinds::Kinds;
-use super::{Conserved, Damper, Deployment, Torque, Torques, Wheel, WheelSchedule};
+use super::general::MAX_PARTS_STATE;
+use super::kinds::{Conserved, Kinds};
+use super::part::{block, Dim, EnergyRole, Function};
+use super::registry::{kinds_of, AnyPart};
+use super::Deployment;
 
 /// A system's body.
 #[derive(Debug, Clone, PartialEq)]
@@ -21,90 +27,59 @@ pub enum SystemBody {
     Deployment(Deployment),
 }
 
-/// An internal part, with what its state starts from.
-#[derive(Debug, Clone, PartialEq)]
-pub enum Part {
-    /// A spherical viscous damper; its sphere's rates start at `sigma0` (body axes), or
-    /// co-rotating with the body (`None`).
-    Damper {
-        damper: Damper,
-        sigma0: Option<[f64; 3]>,
-    },
-    /// A momentum wheel of constant relative momentum (no state of its own).
-    Wheel(Wheel),
-    /// A momentum wheel whose relative momentum follows a schedule (no state of its own).
-    ScheduledWheel(WheelSchedule),
-}
-
-impl Part {
-    /// The part's name, as results show its state.
-    pub fn name(&self) -> &'static str {
-        match self {
-            Part::Damper { .. } => "damper",
-            Part::Wheel(_) => "wheel",
-            Part::ScheduledWheel(_) => "wheel_schedule",
-        }
-    }
-
-    /// How many numbers of state it has.
-    pub fn width(&self) -> usize {
-        match self {
-            Part::Damper { .. } => 3,
-            Part::Wheel(_) | Part::ScheduledWheel(_) => 0,
-        }
-    }
-}
-
-/// A body with its parts (see the module doc).
+/// A body with its parts (see the module doc), and the seed its parts draw noise from.
 #[derive(Debug, Clone, PartialEq)]
 pub struct System {
     body: SystemBody,
-    parts: Vec<Part>,
-    torques: Vec<Torque>,
+    parts: Vec<AnyPart>,
+    seed: u64,
 }
 
 impl System {
-    /// `body` with `parts`.
+    /// `body` with `parts`, in the user's order.
     ///
     /// # Errors
-    /// More than one damper; a damper's start that is not finite.
-    pub fn try_new(body: SystemBody, parts: Vec<Part>) -> Result<Self> {
-        let dampers = parts
-            .iter()
-            .filter(|p| matches!(p, Part::Damper { .. }))
-            .count();
-        if dampers > 1 {
-            return Err(Error::invalid(
-                "parts",
-                "must hold at most one damper",
-                dampers,
-            ));
-        }
-        for part in &parts {
-            if let Part::Damper {
-                sigma0: Some(s), ..
-            } = part
-            {
-                if !s.iter().all(|v| v.is_finite()) {
-                    return Err(Error::invalid("sigma0", "must be three finite rates", s));
-                }
+    /// Two parts of a kind a system holds at most one of (one orbit), naming it; parts with
+    /// more state together than a run holds ([`MAX_PARTS_STATE`]).
+    pub fn try_new(body: SystemBody, parts: Vec<AnyPart>) -> Result<Self> {
+        for (k, part) in parts.iter().enumerate() {
+            let info = part.info();
+            if info.unique && parts[..k].iter().any(|p| p.name() == info.name) {
+                return Err(Error::invalid(
+                    "parts",
+                    format!("must hold at most one {} (one per system)", info.name),
+                    parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
+                ));
             }
         }
-        Ok(Self {
+        let system = Self {
             body,
             parts,
-            torques: Vec::new(),
-        })
+            seed: 0,
+        };
+        match system.state_width() <= MAX_PARTS_STATE {
+            true => Ok(system),
+            false => Err(Self::too_much_state(system.state_width())),
+        }
     }
 
-    /// The same system under the external `torques`.
-    ///
-    /// # Errors
-    /// More than one gravity gradient.
-    pub fn with_torques(mut self, torques: Vec<Torque>) -> Result<Self> {
-        Torques::of(&torques)?;
-        self.torques = torques;
-        Ok(self)
+    /// The numbers of state a run of the system adds to the body's: its parts' and, if a part
+    /// dissipates, the work dissipated.
+    pub fn state_width(&self) -> usize {
+        let dissipates = (self.kinds().models()).any(|m| m.energy == EnergyRole::Dissipates);
+        self.parts_width() + usize::from(dissipates)
+    }
+
+    /// The error for parts with `width` numbers of state together.
+    pub(crate) fn too_much_state(width: usize) -> Error {
+        Error::invalid(
+            "parts",
+            format!(
+                "must have at most {MAX_PARTS_STATE} numbers of state together (with the \
+                 dissipated work, if a part dissipates)"
+            ),
+            width,
+        )
     }
 
     /// A constant body alone.
@@ -112,49 +87,33 @@ impl System {
         Self {
             body: SystemBody::Rigid(inertia),
             parts: Vec::new(),
-            torques: Vec::new(),
+            seed: 0,
         }
+    }
+
+    /// The same system for the run of seed `seed` (its parts' noise: a study's sample `k`
+    /// draws the same whatever the threads or chunks).
+    pub fn with_seed(mut self, seed: u64) -> Self {
+        self.seed = seed;
+        self
     }
 
     pub fn body(&self) -> &SystemBody {
         &self.body
     }
 
-    pub fn parts(&self) -> &[Part] {
+    /// The parts, in the user's order.
+    pub fn parts(&self) -> &[AnyPart] {
         &self.parts
     }
 
-    pub fn torques(&self) -> &[Torque] {
-        &self.torques
-    }
-
-    /// The wheels' total momentum `Σ h a` in the user's body axes, if there are wheels.
-    pub fn wheels_momentum(&self) -> Option<Vector3<f64>> {
-        self.parts.iter().fold(None, |sum, p| match p {
-            Part::Wheel(w) => Some(sum.unwrap_or_default() + w.momentum_body()),
-            _ => sum,
-        })
-    }
-
-    /// The wheels of scheduled momentum, in the user's body axes.
-    pub fn wheel_schedules(&self) -> impl Iterator<Item = &WheelSchedule> {
-        self.parts.iter().filter_map(|p| match p {
-            Part::ScheduledWheel(w) => Some(w),
-            _ => None,
-        })
-    }
-
-    /// The damper and its start, if there is one.
-    pub fn damper(&self) -> Option<(Damper, Option<[f64; 3]>)> {
-        self.parts.iter().find_map(|p| match p {
-            Part::Damper { damper, sigma0 } => Some((*damper, *sigma0)),
-            _ => None,
-        })
+    pub fn seed(&self) -> u64 {
+        self.seed
     }
 
     /// The constant body alone, if the system is nothing else: the free body.
     pub fn as_free(&self) -> Option<&Inertia> {
-        match (&self.body, self.parts.is_empty() && self.torques.is_empty()) {
+        match (&self.body, self.parts.is_empty()) {
             (SystemBody::Rigid(inertia), true) => Some(inertia),
             _ => None,
         }
@@ -162,24 +121,7 @@ impl System {
 
     /// The registry's models it is made of.
     pub fn kinds(&self) -> Kinds {
-        let mut kinds = match self.body {
-            SystemBody::Rigid(_) => Kinds::NONE,
-            SystemBody::Deployment(_) => Kinds::DEPLOYMENT,
-        };
-        for part in &self.parts {
-            kinds = kinds.union(match part {
-                Part::Damper { .. } => Kinds::DAMPER,
-                Part::Wheel(_) => Kinds::WHEEL,
-                Part::ScheduledWheel(_) => Kinds::WHEEL_SCHEDULE,
-            });
-        }
-        for torque in &self.torques {
-            kinds = kinds.union(torque.kind());
-        }
-        match kinds == Kinds::NONE {
-            true => Kinds::FREE,
-            false => kinds,
-        }
+        kinds_of(matches!(self.body, SystemBody::Deployment(_)), &self.parts)
     }
 
     /// What its exact motion keeps: what each of its models keeps.
@@ -191,26 +133,65 @@ impl System {
     /// deployment's knots), with the allocator's headers: what a batch of one system per row
     /// adds for each row.
     pub fn heap_bytes(&self) -> usize {
-        let block = |bytes: usize| if bytes == 0 { 0 } else { bytes.max(16) + 16 };
         let knots = match &self.body {
             SystemBody::Rigid(_) => 0,
             SystemBody::Deployment(d) => {
-                block(std::mem::size_of_val(d.times())) + block(std::mem::size_of_val(d.tensors()))
+                block::<f64>(d.times().len()) + block::<Matrix3<f64>>(d.tensors().len())
             }
         };
-        let schedules: usize = self
-            .wheel_schedules()
-            .map(|w| {
-                block(std::mem::size_of_val(w.table().times()))
-                    + block(std::mem::size_of_val(w.table().values()))
-            })
-            .sum();
-        knots + block(std::mem::size_of_val(self.parts.as_slice())) + schedules
+        let parts: usize = self.parts.iter().map(AnyPart::heap_bytes).sum();
+        knots + block::<AnyPart>(self.parts.len()) + parts
     }
 
     /// The numbers of state of every part, in order.
     pub fn parts_width(&self) -> usize {
-        self.parts.iter().map(Part::width).sum()
+        self.parts.iter().map(AnyPart::width).sum()
+    }
+
+    /// Each part with state of its own, by the name results show its state under (its kind;
+    /// `kind_k` for the `k`-th of several of a kind), and how many numbers it has.
+    pub fn state_names(&self) -> Vec<(String, usize)> {
+        let with_state: Vec<&AnyPart> = self.parts.iter().filter(|p| p.width() > 0).collect();
+        let mut seen: Vec<&str> = Vec::new();
+        with_state
+            .iter()
+            .map(|p| {
+                let name = p.name();
+                let of_kind = with_state.iter().filter(|o| o.name() == name).count();
+                let k = seen.iter().filter(|n| **n == name).count();
+                seen.push(name);
+                match of_kind {
+                    1 => (name.to_string(), p.width()),
+                    _ => (format!("{name}_{k}"), p.width()),
+                }
+            })
+            .collect()
+    }
+
+    /// Where each body-axes vector of the parts' state starts, in it: what turns with the
+    /// body's axes at the edge of a run.
+    pub fn body_vectors(&self) -> Vec<usize> {
+        let mut at = 0;
+        let mut out = Vec::new();
+        for field in self.parts.iter().flat_map(AnyPart::state) {
+            if field.body_vector {
+                out.push(at);
+            }
+            at += field.width;
+        }
+        out
+    }
+
+    /// The physical dimension of each number of the parts' state.
+    pub fn parts_dims(&self) -> Vec<Dim> {
+        (self.parts.iter().flat_map(AnyPart::state))
+            .flat_map(|f| std::iter::repeat_n(f.dim, f.width))
+            .collect()
+    }
+
+    /// The user's functions the parts call.
+    pub fn functions(&self) -> impl Iterator<Item = &Arc<dyn Function>> {
+        self.parts.iter().flat_map(AnyPart::functions)
     }
 
     /// The body's tensor at `t`, in the user's axes.
@@ -223,9 +204,9 @@ impl System {
 
     /// The energy, the total angular momentum in body axes and in space at one frame from
     /// the body rates `omega`, the parts' state `parts` and the attitude `q` (user axes), as
-    /// the run's model defines them: the energy is the body's and its dampers' kinetic energy
-    /// (a wheel's spin relative to the body left out: with constant momentum, a constant), the
-    /// momentum counts the wheels' `Σ h a` (a schedule's at `t`).
+    /// the run's model defines them: the body's kinetic energy and its parts' own (a wheel's
+    /// spin relative to the body left out: with constant momentum, a constant), the body's
+    /// angular momentum and what its parts store (a schedule's at `t`).
     pub fn observe(
         &self,
         t: f64,
@@ -238,15 +219,9 @@ impl System {
         let (mut energy, mut l) = (0.5 * omega.dot(&body_l), body_l);
         let mut at = 0;
         for part in &self.parts {
-            match part {
-                Part::Damper { damper, .. } => {
-                    let sigma = Vector3::new(parts[at], parts[at + 1], parts[at + 2]);
-                    energy += 0.5 * damper.sphere() * sigma.norm_squared();
-                    l += sigma * damper.sphere();
-                }
-                Part::Wheel(w) => l += w.momentum_body(),
-                Part::ScheduledWheel(w) => l += w.momentum_at(t),
-            }
+            let x = &parts[at..at + part.width()];
+            energy += part.energy(t, x);
+            l += part.momentum(t, x);
             at += part.width();
         }
         let world = rotation_matrix(&Quaternion::new(q[0], q[1], q[2], q[3])) * l;

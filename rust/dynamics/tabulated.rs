@@ -24,7 +24,9 @@ use crate::float::{ldexp, RateScale};
 use crate::kinematics::rotation_matrix;
 
 use super::deployment::check_knot_times;
-use super::torques::Frame;
+use super::kinds::{Conserved, Traits};
+use super::part::{block, Ctx, EnergyRole, Fields, Frame, ModelInfo, Param, ParamKind, Part};
+use super::torques::FRAMES;
 
 /// What a table gives outside its knots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -171,6 +173,19 @@ impl Table {
         })
     }
 
+    /// The same law with every value turned by `to_axes` (a change of axes: a rotation keeps
+    /// finite values finite, so there is nothing to refuse).
+    pub fn turned(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        Self {
+            values: self
+                .values
+                .iter()
+                .map(|v| Vector3::from(to_axes((*v).into())))
+                .collect(),
+            ..self.clone()
+        }
+    }
+
     /// The same law with times in the units of `scale` (times times `2^e`), its values mapped
     /// by `f`.
     ///
@@ -235,6 +250,9 @@ pub struct TabulatedTorque {
     frame: Frame,
 }
 
+/// What a table gives outside its knots, as parameters name it.
+const OUTSIDE: &[&str] = &["zero", "hold"];
+
 impl TabulatedTorque {
     /// The torque `vectors[k]` at `times[k]` (see [`Table::try_new`]), fixed in `frame`,
     /// `outside` the knots zero or held.
@@ -253,16 +271,6 @@ impl TabulatedTorque {
         })
     }
 
-    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body).
-    #[inline]
-    pub fn torque_body(&self, t: f64, q: &Quaternion<f64>) -> Vector3<f64> {
-        let v = self.table.at(t);
-        match self.frame {
-            Frame::Body => v,
-            Frame::World => rotation_matrix(q).tr_mul(&v),
-        }
-    }
-
     pub fn table(&self) -> &Table {
         &self.table
     }
@@ -271,31 +279,80 @@ impl TabulatedTorque {
         self.frame
     }
 
-    /// The same torque with its vectors mapped by `to_axes` if fixed in body axes.
-    pub fn in_axes(&self, to_axes: impl Fn([f64; 3]) -> [f64; 3]) -> Self {
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body). Out of
+    /// line, its arguments by value: a table's search is not worth inlining into every
+    /// right-hand side, and a context passed on by reference would stay in memory.
+    #[inline(never)]
+    pub fn torque_at(&self, t: f64, q: Quaternion<f64>) -> Vector3<f64> {
+        let v = self.table.at(t);
+        match self.frame {
+            Frame::Body => v,
+            Frame::World => rotation_matrix(&q).tr_mul(&v),
+        }
+    }
+}
+
+impl Part for TabulatedTorque {
+    const INFO: ModelInfo = ModelInfo {
+        name: "tabulated_torque",
+        about: "a torque tabulated at knots in body or world axes, linear between them, zero \
+                or held outside (nothing kept but |q|; every step ends on a knot)",
+        law: false,
+        params: &[
+            Param::new("times", ParamKind::Times, "knot times"),
+            Param::new("vectors", ParamKind::Vectors, "the torque at each knot"),
+            Param::new(
+                "frame",
+                ParamKind::Choice(FRAMES),
+                "the axes the vectors are given in: the body's own or space's",
+            ),
+            Param::new(
+                "outside",
+                ParamKind::Choice(OUTSIDE),
+                "the torque before the first knot and after the last: zero or held",
+            ),
+        ],
+        state: &[],
+        keeps: Conserved::Q_NORM,
+        defines: Conserved::NONE,
+        energy: EnergyRole::DoesWork,
+        external: true,
+        unique: false,
+        traits: Traits::EXTERNAL_TORQUE.union(Traits::KINKS),
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        Self::try_new(
+            fields.numbers("times")?,
+            fields.vectors("vectors")?,
+            fields.choice("frame")?,
+            fields.choice("outside")?,
+        )
+    }
+
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body), out of
+    /// line and by value (see [`TabulatedTorque::torque_at`]).
+    #[inline(always)]
+    fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
+        self.torque_at(c.t, c.q)
+    }
+
+    fn kinks(&self) -> Vec<f64> {
+        self.table.times().to_vec()
+    }
+
+    /// Its vectors mapped by `to_axes` if fixed in body axes.
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
         match self.frame {
             Frame::World => self.clone(),
             Frame::Body => Self {
-                // a rotation keeps finite values finite: no error to report
-                table: Table {
-                    values: self
-                        .table
-                        .values
-                        .iter()
-                        .map(|v| Vector3::from(to_axes((*v).into())))
-                        .collect(),
-                    ..self.table.clone()
-                },
+                table: self.table.turned(to_axes),
                 frame: self.frame,
             },
         }
     }
 
-    /// The same torque for moments over `2^m`.
-    ///
-    /// # Errors
-    /// A torque float64 no longer holds.
-    pub fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
         Ok(Self {
             table: self
                 .table
@@ -304,17 +361,17 @@ impl TabulatedTorque {
         })
     }
 
-    /// The same torque with times in the units of `scale`: the knots' times times `2^e`, the
-    /// torque (a moment times a rate squared) over `2^(2e)`.
-    ///
-    /// # Errors
-    /// A time or torque float64 no longer holds.
-    pub fn in_units(&self, scale: RateScale) -> Result<Self> {
+    /// The knots' times times `2^e`, the torque (a moment times a rate squared) over `2^(2e)`.
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
         let f = |v: Vector3<f64>| v.map(|c| scale.rate_to_unit(scale.rate_to_unit(c)));
         Ok(Self {
             table: self.table.in_units(scale, f, "vectors")?,
             frame: self.frame,
         })
+    }
+
+    fn heap_bytes(&self) -> usize {
+        block::<f64>(self.table.times().len()) + block::<Vector3<f64>>(self.table.values().len())
     }
 }
 

@@ -18,6 +18,10 @@
 use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
+use crate::float::{ldexp, RateScale};
+
+use super::kinds::{Conserved, Traits};
+use super::part::{EnergyRole, Fields, ModelInfo, Param, ParamKind, Part};
 
 /// A momentum wheel (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -26,6 +30,23 @@ pub struct Wheel {
     axis: Vector3<f64>,
     /// The relative angular momentum `h` along it.
     momentum: f64,
+}
+
+/// A spin axis: three finite numbers, not all zero, normalised.
+///
+/// # Errors
+/// An axis that is not that, named `axis`.
+pub(crate) fn unit_axis(axis: [f64; 3]) -> Result<Vector3<f64>> {
+    let a = Vector3::from(axis);
+    let norm = a.norm();
+    if !(a.iter().all(|v| v.is_finite()) && norm > 0.0 && norm.is_finite()) {
+        return Err(Error::invalid(
+            "axis",
+            "must be three finite numbers, not all zero",
+            axis,
+        ));
+    }
+    Ok(a / norm)
 }
 
 impl Wheel {
@@ -43,22 +64,11 @@ impl Wheel {
     /// assert!(Wheel::try_new([0.0, 0.0, 0.0], 0.5).is_err());
     /// ```
     pub fn try_new(axis: [f64; 3], momentum: f64) -> Result<Self> {
-        let a = Vector3::from(axis);
-        let norm = a.norm();
-        if !(a.iter().all(|v| v.is_finite()) && norm > 0.0 && norm.is_finite()) {
-            return Err(Error::invalid(
-                "axis",
-                "must be three finite numbers, not all zero",
-                axis,
-            ));
-        }
+        let axis = unit_axis(axis)?;
         if !momentum.is_finite() {
             return Err(Error::invalid("momentum", "must be finite", momentum));
         }
-        Ok(Self {
-            axis: a / norm,
-            momentum,
-        })
+        Ok(Self { axis, momentum })
     }
 
     /// The unit spin axis in body axes.
@@ -74,5 +84,77 @@ impl Wheel {
     /// `h a`, in body axes.
     pub fn momentum_body(&self) -> Vector3<f64> {
         self.axis * self.momentum
+    }
+
+    fn with_momentum(&self, momentum: f64) -> Result<Self> {
+        match momentum.is_finite() && ((momentum == 0.0) == (self.momentum == 0.0)) {
+            true => Ok(Self { momentum, ..*self }),
+            false => Err(Error::invalid(
+                "momentum",
+                "must stay within float64 in the run's units (moments and rates scaled)",
+                self.momentum,
+            )),
+        }
+    }
+}
+
+impl Part for Wheel {
+    const INFO: ModelInfo = ModelInfo {
+        name: "wheel",
+        about: "a momentum wheel of constant relative momentum (a gyrostat: I ω' = (I ω + Σ h a) \
+                × ω)",
+        law: false,
+        params: &[
+            Param::new(
+                "axis",
+                ParamKind::Vector,
+                "the spin axis, body axes (normalised)",
+            ),
+            Param::new(
+                "momentum",
+                ParamKind::Scalar,
+                "the rotor's angular momentum relative to the body along the axis",
+            ),
+        ],
+        state: &[],
+        // with a gravity gradient too, the Jacobi integral stays kept; with a damper, the
+        // energy balance (a constant wheel does no work)
+        keeps: Conserved::MOMENTA
+            .union(Conserved::JACOBI)
+            .union(Conserved::ENERGY_BALANCE),
+        defines: Conserved::NONE,
+        energy: EnergyRole::Neither,
+        external: false,
+        unique: false,
+        traits: Traits::STORED_MOMENTUM,
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        Self::try_new(fields.vector("axis")?, fields.number("momentum")?)
+    }
+
+    #[inline(always)]
+    fn momentum(&self, _t: f64, _x: &[f64]) -> Vector3<f64> {
+        self.momentum_body()
+    }
+
+    fn constant_momentum(&self) -> Option<Vector3<f64>> {
+        Some(self.momentum_body())
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        Self {
+            axis: Vector3::from(to_axes(self.axis.into())),
+            ..*self
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        self.with_momentum(ldexp(self.momentum, -m))
+    }
+
+    /// A momentum is a moment times a rate.
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        self.with_momentum(scale.rate_to_unit(self.momentum))
     }
 }

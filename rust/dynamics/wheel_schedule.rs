@@ -18,8 +18,12 @@
 use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
+use crate::float::{ldexp, RateScale};
 
+use super::kinds::{Conserved, Traits};
+use super::part::{block, EnergyRole, Fields, ModelInfo, Param, ParamKind, Part};
 use super::tabulated::{Outside, Table};
+use super::wheel::unit_axis;
 
 /// A wheel of scheduled momentum (see the module doc).
 #[derive(Debug, Clone, PartialEq)]
@@ -36,7 +40,7 @@ impl WheelSchedule {
     ///
     /// # Errors
     /// A bad `axis` (as [`super::Wheel::try_new`]); the table's errors ([`Table::try_new`]),
-    /// the values named `momentum`.
+    /// the values named `values`.
     ///
     /// # Example
     /// ```
@@ -46,27 +50,18 @@ impl WheelSchedule {
     /// assert_eq!(w.momentum_at(20.0).z, 1.0);
     /// ```
     pub fn try_new(axis: [f64; 3], times: Vec<f64>, values: Vec<f64>) -> Result<Self> {
-        let a = Vector3::from(axis);
-        let norm = a.norm();
-        if !(a.iter().all(|v| v.is_finite()) && norm > 0.0 && norm.is_finite()) {
-            return Err(Error::invalid(
-                "axis",
-                "must be three finite numbers, not all zero",
-                axis,
-            ));
-        }
-        let axis = a / norm;
+        let axis = unit_axis(axis)?;
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(Error::invalid(
-                "momentum",
-                "must be finite",
-                format!("momentum[{k}] = {}", values[k]),
+                "values",
+                "(the wheel's momenta) must be finite",
+                format!("values[{k}] = {}", values[k]),
             ));
         }
         let vectors = values.iter().map(|&h| (axis * h).into()).collect();
         Ok(Self {
             axis,
-            table: Table::try_new(times, vectors, Outside::Hold, "momentum")?,
+            table: Table::try_new(times, vectors, Outside::Hold, "values")?,
         })
     }
 
@@ -87,6 +82,92 @@ impl WheelSchedule {
     }
 }
 
+impl Part for WheelSchedule {
+    const INFO: ModelInfo = ModelInfo {
+        name: "wheel_schedule",
+        about: "a momentum wheel whose momentum follows a schedule, linear between knots and \
+                held outside (I ω' = (I ω + Σ h a) × ω − Σ ḣ a; |L| and L in space kept, the \
+                energy changed by the wheel's work; every step ends on a knot)",
+        law: false,
+        params: &[
+            Param::new(
+                "axis",
+                ParamKind::Vector,
+                "the spin axis, body axes (normalised)",
+            ),
+            Param::new("times", ParamKind::Times, "the schedule's knot times"),
+            Param::new(
+                "values",
+                ParamKind::Values,
+                "the rotor's relative momentum at each knot",
+            ),
+        ],
+        state: &[],
+        // the wheel's work changes the energy (and, in an orbit, the Jacobi integral)
+        keeps: Conserved::MOMENTA,
+        defines: Conserved::NONE,
+        energy: EnergyRole::DoesWork,
+        external: false,
+        unique: false,
+        traits: Traits::STORED_MOMENTUM.union(Traits::KINKS),
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        Self::try_new(
+            fields.vector("axis")?,
+            fields.numbers("times")?,
+            fields.numbers("values")?,
+        )
+    }
+
+    #[inline(never)]
+    fn momentum(&self, t: f64, _x: &[f64]) -> Vector3<f64> {
+        self.table.at(t)
+    }
+
+    /// A schedule's `|h a|` is largest at one of its knots (linear between them).
+    fn largest_momentum(&self) -> f64 {
+        self.table
+            .values()
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.norm()))
+    }
+
+    fn kinks(&self) -> Vec<f64> {
+        self.table.times().to_vec()
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        let turn = |v: Vector3<f64>| Vector3::from(to_axes(v.into()));
+        Self {
+            axis: turn(self.axis),
+            table: self.table.turned(to_axes),
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            axis: self.axis,
+            table: self
+                .table
+                .map_values(|v| v.map(|c| ldexp(c, -m)), "values")?,
+        })
+    }
+
+    /// Times times `2^e`, momenta (a moment times a rate) over it.
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let to_unit = |v: Vector3<f64>| v.map(|c| scale.rate_to_unit(c));
+        Ok(Self {
+            axis: self.axis,
+            table: self.table.in_units(scale, to_unit, "values")?,
+        })
+    }
+
+    fn heap_bytes(&self) -> usize {
+        block::<f64>(self.table.times().len()) + block::<Vector3<f64>>(self.table.values().len())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -100,12 +181,11 @@ mod tests {
         let w = WheelSchedule::try_new([0.0, 1.0, 1.0], vec![0.0, 2.0], vec![0.5, 1.5]).unwrap();
         let m = GeneralModel::<7>::try_new(
             InertiaLaw::Constant(ConstantInertia::try_new(i).unwrap()),
-            None,
+            vec![w.clone().into()],
         )
-        .unwrap()
-        .with_schedules(vec![w.table().clone()]);
+        .unwrap();
         assert_eq!(m.kinks(), &[0.0, 2.0]);
-        let x = m.state_from(0.7, [0.3, -0.7, 1.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let x = m.state_from(0.7, [0.3, -0.7, 1.1], [1.0, 0.0, 0.0, 0.0]);
         assert!((m.omega_body(0.7, &x) - Vector3::new(0.3, -0.7, 1.1)).amax() < 1e-15);
         // T' = −ḣ (a · ω), ḣ = 0.5, by a central difference along the right-hand side
         let h = 1e-6;
@@ -134,7 +214,7 @@ mod tests {
         };
         assert!(err([0.0; 3], vec![0.0, 1.0], vec![0.0; 2]).contains("axis"));
         assert!(err([1.0, 0.0, 0.0], vec![1.0, 0.0], vec![0.0; 2]).contains("times"));
-        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0, f64::NAN]).contains("momentum"));
-        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0; 3]).contains("momentum"));
+        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0, f64::NAN]).contains("values"));
+        assert!(err([1.0, 0.0, 0.0], vec![0.0, 1.0], vec![0.0; 3]).contains("values"));
     }
 }

@@ -112,6 +112,7 @@ impl RunSummary {
                 momentum_world: f64::NAN,
                 q_norm: f64::NAN,
                 jacobi: None,
+                energy_balance: None,
                 kept: crate::dynamics::Conserved::FREE,
             },
             stats: Stats::default(),

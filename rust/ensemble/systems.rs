@@ -292,7 +292,7 @@ fn free_rows(
             .chunks_mut(frames * 3)
             .zip(out.q.chunks_mut(frames * 4));
         for (edge, (omega, q)) in edges.iter().zip(chunks) {
-            edge.frames_out(omega, q, &mut [], 0);
+            edge.frames_out(omega, q, &mut [], (0, &[]));
         }
     }
     Ok(out)

@@ -16,7 +16,7 @@
 
 use nalgebra::Vector3;
 
-use crate::dynamics::{FreeRigidBody, GeneralModel, InertiaLaw, Model};
+use crate::dynamics::{EnergyRole, FreeRigidBody, GeneralModel, InertiaLaw, Model};
 
 use super::sides::hermite_zero;
 use super::Observer;
@@ -40,9 +40,13 @@ impl FlatAxes<7> for FreeRigidBody {
     }
 }
 
-impl<const N: usize> FlatAxes<N> for GeneralModel<N> {
+impl<const N: usize, const H: bool> FlatAxes<N> for GeneralModel<N, H> {
     fn flat_axes(&self) -> Option<[bool; 3]> {
-        self.damper()?;
+        // a body with a part that takes energy
+        self.parts()
+            .iter()
+            .any(|p| p.info().energy == EnergyRole::Dissipates)
+            .then_some(())?;
         let InertiaLaw::Constant(c) = self.inertia() else {
             return None;
         };

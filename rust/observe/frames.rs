@@ -7,8 +7,8 @@ use crate::error::Result;
 use super::Observer;
 
 /// Stores, at every frame of a run of `sys`, time-major: the body rates `omega` `(frames, 3)`,
-/// the attitude `q` `(frames, 4)` and the parts' state `parts` `(frames, N − 7)` (a damper's
-/// σ; empty for a body without parts).
+/// the attitude `q` `(frames, 4)` and the parts' state `parts` `(frames, k)` (a damper's σ;
+/// `k` the model's [`Model::parts_width`], empty for a body without parts).
 #[derive(Debug, Clone)]
 pub struct Recorder<'a, const N: usize, S> {
     sys: &'a S,
@@ -28,7 +28,7 @@ impl<'a, const N: usize, S: Model<N>> Recorder<'a, N, S> {
             sys,
             omega: zeroed(len(3), "the frames")?,
             q: zeroed(len(4), "the frames")?,
-            parts: zeroed(len(N - 7), "the frames")?,
+            parts: zeroed(len(sys.parts_width()), "the frames")?,
         })
     }
 
@@ -44,9 +44,9 @@ impl<const N: usize, S: Model<N>> Observer<N> for Recorder<'_, N, S> {
         let omega = self.sys.omega_body(t, x);
         self.omega[3 * index..3 * index + 3].copy_from_slice(omega.as_slice());
         self.q[4 * index..4 * index + 4].copy_from_slice(&x[N - 4..]);
-        let k = N - 7;
+        let k = self.sys.parts_width();
         if k > 0 {
-            self.parts[k * index..k * (index + 1)].copy_from_slice(&x[3..N - 4]);
+            self.parts[k * index..k * (index + 1)].copy_from_slice(&x[3..3 + k]);
         }
     }
 }
@@ -73,7 +73,7 @@ impl<'a, const N: usize, S: Model<N>> LastFrame<'a, N, S> {
         End {
             omega: self.sys.omega_body(self.t, &self.x).into(),
             q: [self.x[N - 4], self.x[N - 3], self.x[N - 2], self.x[N - 1]],
-            parts: self.x[3..N - 4].to_vec(),
+            parts: self.x[3..3 + self.sys.parts_width()].to_vec(),
         }
     }
 }

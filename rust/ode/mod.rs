@@ -18,6 +18,15 @@ pub trait OdeSystem<const N: usize> {
     fn rhs(&self, t: f64, x: &[f64; N]) -> [f64; N] {
         self.increment(t, x, 1.0)
     }
+
+    /// Whether the system has a discrete update at some of its kinks ([`OdeSystem::sample`]).
+    fn is_sampled(&self) -> bool {
+        false
+    }
+
+    /// The system's discrete update at its kink `t` (a controller's held command): the
+    /// drivers call it once a step has ended on a kink, before the next starts.
+    fn sample(&self, _t: f64, _x: &mut [f64; N]) {}
 }
 
 /// A one-step method with a fixed step.

@@ -198,11 +198,11 @@ fn keep(options: &RunOptions, frames: bool) -> Keep {
 }
 
 /// What every run of a batch or sweep reports, one value per run in each column: the
-/// drift `(energy, momentum, momentum_world, q_norm, jacobi)` (jacobi NaN where a model has
-/// none), the names of what the models keep, the cost and the step.
+/// drift `(energy, momentum, momentum_world, q_norm, jacobi, energy_balance)` (the last two
+/// NaN where a model has none), the names of what the models keep, the cost and the step.
 #[pyclass(name = "RunColumns", module = "dzhanibekov._core", frozen, get_all)]
 struct PyRunColumns {
-    drift: [Py<PyArray1<f64>>; 5],
+    drift: [Py<PyArray1<f64>>; 6],
     kept: Vec<&'static str>,
     nfev: Py<PyArray1<i64>>,
     n_steps: Py<PyArray1<i64>>,
@@ -222,6 +222,7 @@ impl PyRunColumns {
                 of(|d| d.momentum_world)?,
                 of(|d| d.q_norm)?,
                 of(|d| d.jacobi.unwrap_or(f64::NAN))?,
+                of(|d| d.energy_balance.unwrap_or(f64::NAN))?,
             ],
             kept: drift.first().map_or(Vec::new(), |d| d.kept.names()),
             nfev: count(|s| s.nfev)?,

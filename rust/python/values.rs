@@ -1,17 +1,19 @@
-//! The values Python builds and the core checks: bodies, deployments, dampers, systems, the
-//! options of a run, and the registry's entries.
+//! The values Python builds and the core checks: bodies, deployments, any part (by its kind
+//! and parameters: this file names none), systems, the options of a run, and the registries'
+//! entries.
 
 use nalgebra::Matrix3;
 use numpy::ndarray::{Ix1, Ix3};
 use numpy::{PyArray1, PyArray3, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyTuple};
 
 use crate::body::{Inertia, RigidBody};
 use crate::buffer::{try_collect, try_with_capacity};
 use crate::dynamics::{
-    Conserved, Damper, Deployment, Frame, Outside, Part, System, SystemBody, TabulatedTorque,
-    Torque, Wheel, WheelSchedule, MODELS,
+    AnyPart, Conserved, Deployment, Fields, ModelInfo, Param, ParamKind, System, SystemBody, Value,
+    MODELS,
 };
 use crate::error::Error;
 use crate::run::options::RunOptions;
@@ -158,147 +160,111 @@ impl PyDeployment {
     }
 }
 
-/// A spherical viscous damper, validated.
-#[pyclass(name = "Damper", module = "dzhanibekov._core", frozen)]
-pub(crate) struct PyDamper {
-    inner: Damper,
+/// A part of a system of any kind the registry knows, built from its kind and its parameters
+/// by name (`fields`, kinds already coerced by the Python layer), validated by the core.
+#[pyclass(name = "Part", module = "dzhanibekov._core", frozen)]
+pub(crate) struct PyPart {
+    pub(crate) inner: AnyPart,
+}
+
+/// The value of parameter `param` in `fields`, extracted by its declared kind; `None` if it is
+/// left out (or None) and optional.
+fn extract(param: &Param, fields: &Bound<'_, PyDict>) -> PyResult<Option<Value>> {
+    let name = param.name;
+    let Some(value) = fields.get_item(name)?.filter(|v| !v.is_none()) else {
+        return match param.optional {
+            true => Ok(None),
+            false => Err(PyTypeError::new_err(format!("`{name}` must be given"))),
+        };
+    };
+    let wrong = |what: &str| {
+        let kind = value
+            .get_type()
+            .name()
+            .map_or("?".into(), |n| n.to_string());
+        PyTypeError::new_err(format!("`{name}` must be {what}, got {kind}"))
+    };
+    Ok(Some(match param.kind {
+        ParamKind::Scalar => Value::Number(value.extract().map_err(|_| wrong("a number"))?),
+        ParamKind::Vector => Value::Vector(value.extract().map_err(|_| wrong("three numbers"))?),
+        ParamKind::Times | ParamKind::Values => {
+            let a: PyReadonlyArray1<'_, f64> =
+                value.extract().map_err(|_| wrong("a float64 array (K,)"))?;
+            Value::Numbers(a.as_array().to_vec())
+        }
+        ParamKind::Vectors => {
+            let a: PyReadonlyArray2<'_, f64> = value
+                .extract()
+                .map_err(|_| wrong("a float64 array (K, 3)"))?;
+            let v = a.as_array();
+            if v.shape()[1] != 3 {
+                return Err(
+                    Error::invalid(name, "must have shape (K, 3)", v.shape().to_vec()).into(),
+                );
+            }
+            let mut rows = try_with_capacity(v.shape()[0], "the knots", "give fewer knots")?;
+            rows.extend((0..v.shape()[0]).map(|k| [v[[k, 0]], v[[k, 1]], v[[k, 2]]]));
+            Value::Vectors(rows)
+        }
+        ParamKind::Choice(allowed) => {
+            let text: String = value.extract().map_err(|_| wrong("a string"))?;
+            if !allowed.contains(&text.as_str()) {
+                let names: Vec<String> = allowed.iter().map(|a| format!("'{a}'")).collect();
+                return Err(
+                    Error::invalid(name, format!("must be {}", names.join(" or ")), text).into(),
+                );
+            }
+            Value::Text(text)
+        }
+        ParamKind::Function { returns, .. } => {
+            if !value.is_callable() {
+                return Err(super::callable::not_callable(name, &value));
+            }
+            Value::Function(super::callable::PyFunction::of(
+                value.unbind(),
+                name,
+                returns,
+            ))
+        }
+    }))
 }
 
 #[pymethods]
-impl PyDamper {
+impl PyPart {
+    /// The part of kind `kind` (a registry name) with the parameters `fields`.
     #[new]
-    fn new(inertia: f64, damping: f64) -> PyResult<Self> {
-        Ok(Self {
-            inner: Damper::try_new(inertia, damping)?,
-        })
-    }
-
-    /// `c (1/j + 1/I_min)` for a body of least moment `least`: the damper's stiffness.
-    fn slip_rate(&self, least: f64) -> f64 {
-        self.inner.slip_rate(least)
-    }
-}
-
-/// A momentum wheel of constant or scheduled relative momentum, validated.
-#[pyclass(name = "Wheel", module = "dzhanibekov._core", frozen)]
-pub(crate) struct PyWheel {
-    inner: Part,
-}
-
-#[pymethods]
-impl PyWheel {
-    #[new]
-    fn new(axis: [f64; 3], momentum: f64) -> PyResult<Self> {
-        Ok(Self {
-            inner: Part::Wheel(Wheel::try_new(axis, momentum)?),
-        })
-    }
-
-    /// A wheel about `axis` whose momentum is `values` (K,) at the increasing `times` (K,),
-    /// linear between them and held outside.
-    #[staticmethod]
-    fn scheduled(
-        py: Python<'_>,
-        axis: [f64; 3],
-        times: PyReadonlyArray1<'_, f64>,
-        values: PyReadonlyArray1<'_, f64>,
-    ) -> PyResult<Self> {
-        let (times, values) = (times.as_array().to_vec(), values.as_array().to_vec());
-        let wheel = py.detach(|| WheelSchedule::try_new(axis, times, values))?;
-        Ok(Self {
-            inner: Part::ScheduledWheel(wheel),
-        })
-    }
-
-    /// The unit spin axis in body axes.
-    #[getter]
-    fn axis(&self) -> [f64; 3] {
-        match &self.inner {
-            Part::ScheduledWheel(w) => w.axis().into(),
-            Part::Wheel(w) => w.axis().into(),
-            Part::Damper { .. } => [f64::NAN; 3],
+    fn new(py: Python<'_>, kind: &str, fields: &Bound<'_, PyDict>) -> PyResult<Self> {
+        let Some(info) = MODELS.iter().find(|m| m.name == kind && !m.law) else {
+            return Err(AnyPart::build(kind, &Fields::new()).err().map_or_else(
+                || PyValueError::new_err(format!("unknown part {kind:?}")),
+                PyErr::from,
+            ));
+        };
+        let mut values = Fields::new();
+        for param in info.params {
+            if let Some(v) = extract(param, fields)? {
+                values.set(param.name, v);
+            }
         }
-    }
-}
-
-/// An external torque, validated: the gravity gradient of a circular orbit, or a constant
-/// torque in body or world axes.
-#[pyclass(name = "Torque", module = "dzhanibekov._core", frozen)]
-pub(crate) struct PyTorque {
-    inner: Torque,
-}
-
-#[pymethods]
-impl PyTorque {
-    /// The gravity gradient of a circular orbit of rate `orbit_rate` in the world x–y plane.
-    #[staticmethod]
-    fn gravity_gradient(orbit_rate: f64) -> PyResult<Self> {
-        Ok(Self {
-            inner: Torque::gravity_gradient(orbit_rate)?,
-        })
+        let inner = py.detach(|| AnyPart::build(kind, &values))?;
+        Ok(Self { inner })
     }
 
-    /// A constant torque `vector` fixed in `frame` ('body' or 'world').
-    #[staticmethod]
-    fn constant(vector: [f64; 3], frame: &str) -> PyResult<Self> {
-        let frame: Frame = frame.parse()?;
-        Ok(Self {
-            inner: Torque::constant(vector, frame)?,
-        })
-    }
-
-    /// A torque `vectors` (K, 3) at the increasing `times` (K,), linear between them, fixed
-    /// in `frame` ('body' or 'world'), `outside` the knots 'zero' or 'hold'.
-    #[staticmethod]
-    fn tabulated(
-        py: Python<'_>,
-        times: PyReadonlyArray1<'_, f64>,
-        vectors: PyReadonlyArray2<'_, f64>,
-        frame: &str,
-        outside: &str,
-    ) -> PyResult<Self> {
-        let frame: Frame = frame.parse()?;
-        let outside: Outside = outside.parse()?;
-        let times = times.as_array().to_vec();
-        let v = vectors.as_array();
-        if v.shape()[1] != 3 {
-            return Err(
-                Error::invalid("vectors", "must have shape (K, 3)", v.shape().to_vec()).into(),
-            );
-        }
-        let mut rows = try_with_capacity(v.shape()[0], "the knots", "give fewer knots")?;
-        rows.extend((0..v.shape()[0]).map(|k| [v[[k, 0]], v[[k, 1]], v[[k, 2]]]));
-        let table = py.detach(|| TabulatedTorque::try_new(times, rows, frame, outside))?;
-        Ok(Self {
-            inner: Torque::Tabulated(std::sync::Arc::new(table)),
-        })
-    }
-
-    /// The torque `func(t, q, omega)` returns, in body axes, called at each evaluation with
-    /// the GIL taken.
-    #[staticmethod]
-    fn callable(func: Bound<'_, PyAny>) -> PyResult<Self> {
-        if !func.is_callable() {
-            return Err(super::callable::not_callable(&func));
-        }
-        Ok(Self {
-            inner: super::callable::PyTorqueFunction::torque(func.unbind()),
-        })
-    }
-
-    /// The registry's model it is.
+    /// The registry name of its kind.
     #[getter]
     fn kind(&self) -> &'static str {
-        self.inner
-            .kind()
-            .names()
-            .first()
-            .copied()
-            .unwrap_or("torque")
+        self.inner.name()
+    }
+
+    /// How many numbers of state it has.
+    #[getter]
+    fn width(&self) -> usize {
+        self.inner.width()
     }
 }
 
-/// What is simulated: a body (a `RigidBody` or a `Deployment`) with its parts, validated.
+/// What is simulated: a body (a `RigidBody` or a `Deployment`) with its parts in the user's
+/// order, validated.
 #[pyclass(name = "System", module = "dzhanibekov._core", frozen)]
 pub(crate) struct PySystem {
     pub(crate) inner: System,
@@ -306,16 +272,10 @@ pub(crate) struct PySystem {
 
 #[pymethods]
 impl PySystem {
-    /// `body` with `dampers`, each with its sphere's start (`None`: co-rotating), `wheels`
-    /// and external `torques`.
+    /// `body` with `parts` (internal parts and external torques, in order).
     #[new]
-    #[pyo3(signature = (body, dampers, wheels = Vec::new(), torques = Vec::new()))]
-    fn new(
-        body: &Bound<'_, PyAny>,
-        dampers: Vec<(PyRef<'_, PyDamper>, Option<[f64; 3]>)>,
-        wheels: Vec<PyRef<'_, PyWheel>>,
-        torques: Vec<PyRef<'_, PyTorque>>,
-    ) -> PyResult<Self> {
+    #[pyo3(signature = (body, parts = Vec::new()))]
+    fn new(body: &Bound<'_, PyAny>, parts: Vec<PyRef<'_, PyPart>>) -> PyResult<Self> {
         let body = match (body.cast::<PyRigidBody>(), body.cast::<PyDeployment>()) {
             (Ok(b), _) => SystemBody::Rigid(b.get().inner),
             (_, Ok(d)) => SystemBody::Deployment(d.get().inner.clone()),
@@ -328,17 +288,9 @@ impl PySystem {
                 .into())
             }
         };
-        let parts = dampers
-            .iter()
-            .map(|(d, sigma0)| Part::Damper {
-                damper: d.inner,
-                sigma0: *sigma0,
-            })
-            .chain(wheels.iter().map(|w| w.inner.clone()))
-            .collect();
-        let torques = torques.iter().map(|t| t.inner.clone()).collect();
+        let parts = parts.iter().map(|p| p.inner.clone()).collect();
         Ok(Self {
-            inner: System::try_new(body, parts)?.with_torques(torques)?,
+            inner: System::try_new(body, parts)?,
         })
     }
 
@@ -354,16 +306,11 @@ impl PySystem {
         PyTuple::new(py, self.inner.conserved().names())
     }
 
-    /// Each part with state of its own: its name and how many numbers of state it has (a
-    /// wheel has none).
+    /// Each part with state of its own: the name results show its state under and how many
+    /// numbers of state it has (a wheel has none).
     #[getter]
-    fn parts(&self) -> Vec<(&'static str, usize)> {
-        self.inner
-            .parts()
-            .iter()
-            .filter(|p| p.width() > 0)
-            .map(|p| (p.name(), p.width()))
-            .collect()
+    fn parts(&self) -> Vec<(String, usize)> {
+        self.inner.state_names()
     }
 
     /// The body's tensor at `t`, in the user's axes.
@@ -481,7 +428,7 @@ impl From<&'static MethodInfo> for PyMethodInfo {
             keeps: info.keeps.intersection(Conserved::FREE).names(),
             rhs_per_step: info.rhs_per_step,
             batch: info.batch,
-            models: info.models.names(),
+            models: info.models(),
             imaginary_limit: info.stability.map(|s| s.imaginary),
             real_limit: info.stability.map(|s| s.real),
             about: info.about,
@@ -533,25 +480,118 @@ fn method_info(name: &str) -> PyResult<PyMethodInfo> {
     Ok(method.info().into())
 }
 
-/// The models the registry knows: `(name, keeps, about)` each.
+/// What the core declares of a model (see `crate::dynamics::ModelInfo`), read-only: its
+/// name, one line about it, whether it is an inertia law (the free body, a deployment) or a
+/// part, its parameters `(name, kind, optional, about, choices)`, its state's fields
+/// `(name, width, body_vector, about)`, what a system with it keeps, the invariant it brings,
+/// its energy role, whether it is an external torque, whether a system holds at most one,
+/// what it asks of a method and the methods that run it.
+#[pyclass(name = "ModelInfo", module = "dzhanibekov._core", frozen, get_all)]
+pub(crate) struct PyModelInfo {
+    name: &'static str,
+    about: &'static str,
+    law: bool,
+    params: Vec<ParamTuple>,
+    state: Vec<(&'static str, usize, bool, &'static str)>,
+    keeps: Vec<&'static str>,
+    defines: Vec<&'static str>,
+    energy: &'static str,
+    external: bool,
+    unique: bool,
+    traits: Vec<&'static str>,
+    methods: Vec<&'static str>,
+}
+
+/// A parameter: name, kind, optional, about, the words of a choice.
+type ParamTuple = (
+    &'static str,
+    &'static str,
+    bool,
+    &'static str,
+    Vec<&'static str>,
+);
+
+impl From<&'static ModelInfo> for PyModelInfo {
+    fn from(m: &'static ModelInfo) -> Self {
+        let params = m
+            .params
+            .iter()
+            .map(|p| {
+                let choices = match p.kind {
+                    ParamKind::Choice(words) => words.to_vec(),
+                    _ => Vec::new(),
+                };
+                (p.name, p.kind.name(), p.optional, p.about, choices)
+            })
+            .collect();
+        Self {
+            name: m.name,
+            about: m.about,
+            law: m.law,
+            params,
+            state: m
+                .state
+                .iter()
+                .map(|f| (f.name, f.width, f.body_vector, f.about))
+                .collect(),
+            keeps: crate::dynamics::Kinds::named(m.name)
+                .map_or(Vec::new(), |k| k.conserved().names()),
+            defines: m.defines.names(),
+            energy: m.energy.name(),
+            external: m.external,
+            unique: m.unique,
+            traits: m.traits.names(),
+            methods: (crate::run::METHODS.iter())
+                .filter(|method| method.runs(m))
+                .map(|method| method.name)
+                .collect(),
+        }
+    }
+}
+
+#[pymethods]
+impl PyModelInfo {
+    /// Pickles by name: the entry is looked up again on load.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (&'static str,))> {
+        let lookup = py.import("dzhanibekov._core")?.getattr("model_info")?;
+        Ok((lookup, (self.name,)))
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "ModelInfo(name='{}', law={}, params={:?}, state={:?}, keeps={:?}, energy='{}')",
+            self.name,
+            if self.law { "True" } else { "False" },
+            self.params.iter().map(|p| p.0).collect::<Vec<_>>(),
+            self.state.iter().map(|f| f.0).collect::<Vec<_>>(),
+            self.keeps,
+            self.energy,
+        )
+    }
+}
+
+/// The declaration of the model called `name`.
 #[pyfunction]
-fn models() -> Vec<(&'static str, Vec<&'static str>, &'static str)> {
-    MODELS
-        .iter()
-        .map(|m| (m.name, m.keeps.names(), m.about))
-        .collect()
+fn model_info(name: &str) -> PyResult<PyModelInfo> {
+    match MODELS.iter().find(|m| m.name == name) {
+        Some(m) => Ok(PyModelInfo::from(*m)),
+        None => Err(AnyPart::build(name, &Fields::new())
+            .err()
+            .map_or_else(|| PyValueError::new_err(name.to_string()), PyErr::from)),
+    }
 }
 
 pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyRigidBody>()?;
     m.add_class::<PyDeployment>()?;
-    m.add_class::<PyDamper>()?;
-    m.add_class::<PyWheel>()?;
-    m.add_class::<PyTorque>()?;
+    m.add_class::<PyPart>()?;
     m.add_class::<PySystem>()?;
     m.add_class::<PyRunOptions>()?;
     m.add_class::<PyMethodInfo>()?;
+    m.add_class::<PyModelInfo>()?;
     m.add_function(wrap_pyfunction!(method_info, m)?)?;
-    m.add_function(wrap_pyfunction!(models, m)?)?;
+    m.add_function(wrap_pyfunction!(model_info, m)?)?;
+    let models: Vec<PyModelInfo> = MODELS.iter().map(|m| PyModelInfo::from(*m)).collect();
+    m.add("MODELS", PyTuple::new(m.py(), models)?)?;
     Ok(())
 }

@@ -10,8 +10,9 @@
 //! Each sub-flow is exact and the composition symmetric, so the method is of order 2 (Hairer,
 //! Lubich & Wanner, *Geometric Numerical Integration*, 2006, §II.5); with no torque it is the
 //! exact solution. The free flow keeps `|q| = 1`, the kicks do not touch `q`: `|q|` is kept to
-//! round-off. It runs a constant body under torques (no wheels, dampers or schedules: their free
-//! part is not the elliptic motion). Each step builds the closed form from its start (the
+//! round-off. It runs a constant body under torques of time and attitude (no wheels, dampers or
+//! other parts: their free part is not the elliptic motion; steps end on a tabulated torque's
+//! knots). Each step builds the closed form from its start (the
 //! elliptic functions' parameter, `K`, the phase: [`ExactMotion::try_new_for_step`]), about
 //! the cost of ten RK4 steps under the gravity gradient. [`super::ExactKick4`] composes it to
 //! fourth order.
@@ -112,7 +113,10 @@ impl ExactKick {
     /// (refused before, by the registry); a start whose closed form does not start there
     /// ([`ExactMotion::try_new`]: moments it cannot resolve), checked once here so that each
     /// step builds the lighter [`ExactMotion::try_new_for_step`].
-    pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
+    pub fn of<const N: usize, const H: bool>(
+        model: &GeneralModel<N, H>,
+        x0: &[f64; N],
+    ) -> Result<Self> {
         let refuse = || {
             Error::invalid(
                 "method",
@@ -121,7 +125,7 @@ impl ExactKick {
                 model.kinds().names(),
             )
         };
-        if N != 7 || model.has_wheels() {
+        if N != 7 || model.has_parts_inside() {
             return Err(refuse());
         }
         let InertiaLaw::Constant(c) = model.inertia() else {
@@ -150,9 +154,9 @@ impl ExactKick {
     /// The momentum kick `H ← H + a τ_b(t, q)` (the attitude and the time held), its change
     /// of the invariants added to `carried`.
     #[inline(always)]
-    pub(crate) fn kick<const N: usize>(
+    pub(crate) fn kick<const N: usize, const H: bool>(
         &self,
-        sys: &GeneralModel<N>,
+        sys: &GeneralModel<N, H>,
         t: f64,
         a: f64,
         x: &mut [f64; N],
@@ -255,12 +259,12 @@ impl ExactKick {
     }
 }
 
-impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick {
+impl<const N: usize, const H: bool> Stepper<N, GeneralModel<N, H>> for ExactKick {
     const ORDER: u32 = 2;
     /// Two torque evaluations (and one closed-form free motion).
     const RHS_PER_STEP: u64 = 2;
 
-    fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
+    fn step(&self, sys: &GeneralModel<N, H>, t: f64, h: f64, x: &mut [f64; N]) {
         let mut carried = self.carried_to(x);
         self.kick(sys, t, 0.5 * h, x, &mut carried);
         self.free_flow((h, 0.0), x, &carried);
@@ -272,7 +276,7 @@ impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{ConstantInertia, Frame, Torque, Torques};
+    use crate::dynamics::{AnyPart, ConstantInertia, ConstantTorque, Frame};
     use nalgebra::Matrix3;
 
     /// `(|H|², 2E)` of `x` in plain float64, and the attitude's norm.
@@ -289,12 +293,13 @@ mod tests {
         // and 2E drift by up to 2.3e-13 (relative) over these 2·10⁴ flows
         let moments = [1.0, 1.7, 2.3];
         let inertia = ConstantInertia::try_new(Matrix3::from_diagonal(&moments.into())).unwrap();
-        let model = GeneralModel::<7>::try_new(InertiaLaw::Constant(inertia), None)
-            .unwrap()
-            .with_torques(
-                Torques::of(&[Torque::constant([0.0; 3], Frame::Body).unwrap()]).unwrap(),
-            );
-        let mut x = model.state_from(0.0, [0.4, -0.9, 0.6], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let torque = ConstantTorque::try_new([0.0; 3], Frame::Body).unwrap();
+        let model = GeneralModel::<7, true>::try_new(
+            InertiaLaw::Constant(inertia),
+            vec![AnyPart::ConstantTorque(torque)],
+        )
+        .unwrap();
+        let mut x = model.state_from(0.0, [0.4, -0.9, 0.6], [1.0, 0.0, 0.0, 0.0]);
         let (l0, e0) = invariants(&x, moments);
         let kick = ExactKick::of(&model, &x).unwrap();
         let carried = kick.carried_to(&x);

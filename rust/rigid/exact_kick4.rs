@@ -48,7 +48,10 @@ impl ExactKick4 {
     ///
     /// # Errors
     /// As [`ExactKick::of`].
-    pub fn of<const N: usize>(model: &GeneralModel<N>, x0: &[f64; N]) -> Result<Self> {
+    pub fn of<const N: usize, const H: bool>(
+        model: &GeneralModel<N, H>,
+        x0: &[f64; N],
+    ) -> Result<Self> {
         let weights = suzuki_weights();
         let mut kicks = [0.0; 6];
         let mut times = [0.0; 5];
@@ -74,12 +77,12 @@ impl ExactKick4 {
     }
 }
 
-impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick4 {
+impl<const N: usize, const H: bool> Stepper<N, GeneralModel<N, H>> for ExactKick4 {
     const ORDER: u32 = 4;
     /// Six torque evaluations (and five closed-form free motions).
     const RHS_PER_STEP: u64 = 6;
 
-    fn step(&self, sys: &GeneralModel<N>, t: f64, h: f64, x: &mut [f64; N]) {
+    fn step(&self, sys: &GeneralModel<N, H>, t: f64, h: f64, x: &mut [f64; N]) {
         let s = &self.strang;
         let mut carried = s.carried_to(x);
         s.kick(sys, t, self.kicks[0] * h, x, &mut carried);
@@ -98,16 +101,17 @@ impl<const N: usize> Stepper<N, GeneralModel<N>> for ExactKick4 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{ConstantInertia, InertiaLaw, Torque, Torques};
+    use crate::dynamics::{ConstantInertia, GravityGradient, InertiaLaw};
     use nalgebra::Matrix3;
 
     #[test]
     fn the_weights_are_of_order_four_and_the_kicks_cover_the_step_once() {
         let inertia = ConstantInertia::try_new(Matrix3::from_diagonal(&[1.0, 2.0, 3.0].into()));
-        let model = GeneralModel::<7>::try_new(InertiaLaw::Constant(inertia.unwrap()), None)
-            .unwrap()
-            .with_torques(Torques::of(&[Torque::gravity_gradient(0.5).unwrap()]).unwrap());
-        let x0 = model.state_from(0.0, [0.3, 0.2, 0.1], [0.0; 3], [1.0, 0.0, 0.0, 0.0]);
+        let gravity = GravityGradient::try_new(0.5).unwrap().into();
+        let model =
+            GeneralModel::<7>::try_new(InertiaLaw::Constant(inertia.unwrap()), vec![gravity])
+                .unwrap();
+        let x0 = model.state_from(0.0, [0.3, 0.2, 0.1], [1.0, 0.0, 0.0, 0.0]);
         let s = ExactKick4::of(&model, &x0).unwrap();
         // Σ w = 1 and Σ w³ = 0 (HLW §II.4, eq. 4.4), symmetric weights
         let w = s.flows.map(|w| w.0);

@@ -44,11 +44,13 @@ const FRAMES_BETWEEN_CHECKS: u64 = 1 << 16;
 /// The sizes a run's error is measured against: `rate`, a bound on the motion's rates (the
 /// first step is taken from it), and each component's unit for the absolute tolerance —
 /// `atol · size` on the first `rates` components (rates or momenta), `atol` on the rest (the
-/// quaternion).
+/// quaternion); `dims` of the `N` components are the system's (the others are padding, zero
+/// throughout), and the error norm is their root-mean-square.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Units<const N: usize> {
     pub rate: f64,
     pub weight: [f64; N],
+    pub dims: usize,
 }
 
 impl<const N: usize> Units<N> {
@@ -63,6 +65,40 @@ impl<const N: usize> Units<N> {
         Self {
             rate,
             weight: std::array::from_fn(|k| if k < rates { size } else { 1.0 }),
+            dims: N,
+        }
+    }
+
+    /// The same units with the `k`-th component's (`k < N − 4`) of the dimension of a rate to
+    /// the power `power(k)`: `size · rate^(p − 1)` (a momentum's `size` for rates and momenta,
+    /// `size · rate` for an energy), 1 for `p = 0` (an angle, as the quaternion's). `size`
+    /// and `rate` as given to [`Units::new`].
+    pub fn with_powers(mut self, size: f64, power: impl Fn(usize) -> i32) -> Self {
+        let size = if size > 0.0 && size.is_finite() {
+            size
+        } else {
+            1.0
+        };
+        let rate = if self.rate > 0.0 && self.rate.is_finite() {
+            self.rate
+        } else {
+            1.0
+        };
+        for k in 0..N.saturating_sub(4) {
+            self.weight[k] = match power(k) {
+                1 => size,
+                p if p <= 0 => 1.0,
+                p => (1..p).fold(size, |w, _| w * rate),
+            };
+        }
+        self
+    }
+
+    /// The same units for a system of `dims` of the `N` components (see [`Units`]).
+    pub fn with_dims(self, dims: usize) -> Self {
+        Self {
+            dims: dims.clamp(1, N),
+            ..self
         }
     }
 }
@@ -96,11 +132,19 @@ where
     let t_end = grid.t_end();
     let atol: [f64; N] = std::array::from_fn(|k| settings.atol * units.weight[k]);
     let ctl = P::CONTROLLER;
+    // the norms over N components, padding's zeros included, as over the system's own
+    let padded = match units.dims == N {
+        true => 1.0,
+        false => (N as f64 / units.dims as f64).sqrt(),
+    };
 
     obs.frame(0, 0.0, &x0);
     let (mut t, mut x) = (0.0, x0);
     if kinks.contains(&0.0) {
-        // a kink at the start: the run integrates its far side
+        // a kink at the start: the run integrates its far side, sampled there
+        if sys.is_sampled() {
+            sys.sample(t, &mut x);
+        }
         t = crate::run::fixed::after(t);
     }
     let mut f = sys.rhs(t, &x);
@@ -154,7 +198,7 @@ where
         let x1 = *step.x1();
         let scale: [f64; N] =
             std::array::from_fn(|k| atol[k] + settings.rtol * x[k].abs().max(x1[k].abs()));
-        let err = step.error_norm(h, &scale);
+        let err = step.error_norm(h, &scale) * padded;
         if err.is_nan() || err > 1.0 {
             // rejected (a NaN estimate, from an overflow, is rejected too)
             stats.n_rejected += 1;
@@ -215,7 +259,11 @@ where
             // by the knot's shortening
             next_knot += 1;
             if kinks.binary_search_by(|k| k.total_cmp(&t)).is_ok() {
-                // a kink or jump: the next step starts one float64 after it, on its far side
+                // a kink or jump: the system sampled there, the next step starts one float64
+                // after it, on its far side
+                if sys.is_sampled() {
+                    sys.sample(t, &mut x);
+                }
                 t = crate::run::fixed::after(t);
             }
             f = sys.rhs(t, &x);

@@ -14,7 +14,9 @@
 //! or a jump (a tabulated torque, a wheel's schedule), [`integrate_across`] splits the substep
 //! that straddles one into two, the first ending on it and the second starting one float64
 //! after it (the side the table's law takes there, see [`crate::dynamics::Table`]): the run
-//! keeps the method's order. Each split adds one step to the run's count.
+//! keeps the method's order. Each split adds one step to the run's count. A system sampled at
+//! some of its kinks ([`OdeSystem::sample`]: a controller's held command) is updated there,
+//! between the step that ends on the kink and the next.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -233,6 +235,11 @@ where
             next += 1;
             if kink > t {
                 piece(&mut x, t, kink);
+            }
+            if sys.is_sampled() {
+                let mut state = method.to_state(sys, &x);
+                sys.sample(kink, &mut state);
+                x = method.to_internal(sys, &state);
             }
             // on the kink's far side (also when the substep starts on it)
             t = after(kink).max(t);

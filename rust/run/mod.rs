@@ -17,7 +17,6 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use nalgebra::Vector3;
 
 use crate::body::RigidBody;
-use crate::dynamics::model::state_to_unit;
 use crate::dynamics::{state_from, FreeRigidBody, Model};
 use crate::error::{Error, Result};
 use crate::exact::ExactMotion;
@@ -229,14 +228,21 @@ fn simulate_model_with<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>
     }
     let (unit_grid, unit_method) = to_unit(grid, method, omega0, scale)?;
     let unit = sys.in_units(scale)?;
-    let x = state_to_unit(&x0, scale);
+    let x = sys.state_in_units(&x0, scale);
     let mut out = simulate_unit(&unit, x, &unit_grid, unit_method, keep, tilt, cancel)
         .map_err(|e| error_from_unit(e, scale, grid.t_end()))?;
     let end = &mut out.end;
-    let rates = (out.omega.iter_mut().chain(&mut out.parts))
-        .chain(end.omega.iter_mut().chain(&mut end.parts));
-    for w in rates {
+    for w in out.omega.iter_mut().chain(end.omega.iter_mut()) {
         *w = scale.rate_from_unit(*w);
+    }
+    // the parts' state by its dimension (a rate once, a torque twice, an angle not at all)
+    let dims = sys.parts_dims();
+    if !dims.is_empty() {
+        for v in [&mut out.parts, &mut end.parts] {
+            for (x, d) in v.iter_mut().zip(dims.iter().cycle()) {
+                *x = (0..d.rate).fold(*x, |x, _| scale.rate_from_unit(x));
+            }
+        }
     }
     // An integrator's frame 0 is the start as given: components below 2^-1074 of the largest
     // rate round in the run's own units (and move it by that much), the start itself does

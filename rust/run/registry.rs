@@ -4,12 +4,16 @@
 //!
 //! Adding a method: its stepper (a [`crate::ode::Stepper`] or [`crate::ode::EmbeddedPair`])
 //! in its own file, a variant of [`Method`], its entry in [`METHODS`] and its arm in
-//! [`run_method`].
+//! [`Runs::run_method`]. A method says which models it runs by what it can handle
+//! ([`MethodInfo::handles`]: torque-free, a constant body, no part state, …), read against
+//! each model's declared traits: a part added later is run by every method that can.
 
 use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 
-use crate::dynamics::{Conserved, FreeRigidBody, GeneralModel, Kinds, Model, State};
+use crate::dynamics::{
+    Conserved, FreeRigidBody, GeneralModel, Kinds, Model, ModelInfo, State, Traits,
+};
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
 use crate::observe::Observer;
@@ -104,8 +108,12 @@ pub struct MethodInfo {
     /// Whether RK4's silent dissipation of `|q|` is predicted for it before a run (the
     /// projection hides the drift, not the error behind it).
     pub rk4_dissipation: bool,
-    /// The models ([`crate::dynamics::MODELS`]) it can run.
-    pub models: Kinds,
+    /// What it can handle of what models ask ([`Traits`]): it runs every model
+    /// ([`crate::dynamics::MODELS`]) whose traits are among these.
+    pub handles: Traits,
+    /// What a model must have for it to run it (an external torque: a splitting of the
+    /// exact free flow and the torque's kicks has nothing to split without one).
+    pub needs: Traits,
     /// Where a fixed-step method stays stable; `None` for the methods that choose their steps
     /// or take none, and for the splittings (compositions of exact rotations).
     pub stability: Option<Stability>,
@@ -132,6 +140,19 @@ const RK4_STABILITY: Stability = Stability {
 };
 
 impl MethodInfo {
+    /// Whether it runs the model `model`.
+    pub fn runs(&self, model: &ModelInfo) -> bool {
+        self.handles.contains(model.traits) && model.traits.contains(self.needs)
+    }
+
+    /// The models it runs, in [`crate::dynamics::MODELS`]' order.
+    pub fn models(&self) -> Vec<&'static str> {
+        (crate::dynamics::MODELS.iter())
+            .filter(|m| self.runs(m))
+            .map(|m| m.name)
+            .collect()
+    }
+
     /// Whether the method chooses its own steps (then `dt` is only the first one tried).
     pub fn adaptive(&self) -> bool {
         matches!(self.step_rule, StepRule::Adaptive { .. })
@@ -147,21 +168,16 @@ impl MethodInfo {
 const ALL_INVARIANTS: Conserved = Conserved::FREE.union(Conserved::JACOBI);
 /// The momenta and `|q|`: what a composition of exact rotations keeps.
 const ROTATIONS: Conserved = Conserved::MOMENTA;
-const FREE_ONLY: Kinds = Kinds::FREE;
-/// The torque-free models: the free body, deployments, damped bodies and wheels (a
-/// projection onto `|L|` and `L_world` is valid for them alone).
-const TORQUE_FREE: Kinds = Kinds::FREE
-    .union(Kinds::DEPLOYMENT)
-    .union(Kinds::DAMPER)
-    .union(Kinds::WHEEL)
-    .union(Kinds::WHEEL_SCHEDULE);
-/// Every model: the torque-free ones and those under external torques.
-const EVERY_MODEL: Kinds = TORQUE_FREE
-    .union(Kinds::GRAVITY_GRADIENT)
-    .union(Kinds::TORQUE)
-    .union(TABULATED_AND_CALLABLE);
-/// The torques given as tables or by the user's code (their runs step onto the tables' knots).
-const TABULATED_AND_CALLABLE: Kinds = Kinds::TABULATED_TORQUE.union(Kinds::CALLABLE_TORQUE);
+/// The constant free body alone (methods made for it).
+const FREE_ONLY: Traits = Traits::NONE;
+/// Every model but those under an external torque (a projection onto `|L|` and `L_world` is
+/// valid for them alone).
+const TORQUE_FREE: Traits = Traits::ALL.without(Traits::EXTERNAL_TORQUE);
+/// Every model: the drivers end steps on kinks and sample times, and evaluate any part.
+const EVERY_MODEL: Traits = Traits::ALL;
+/// A constant body in principal axes under torques of time and attitude alone (kinks
+/// included: steps end on them): the splittings on the exact free flow.
+const TORQUES_ALONE: Traits = Traits::EXTERNAL_TORQUE.union(Traits::KINKS);
 
 /// The rhs evaluations of a fixed-step method.
 const fn fixed<M: Stepper<7, FreeRigidBody>>() -> u64 {
@@ -190,7 +206,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Rk4>(),
         batch: true,
         rk4_dissipation: true,
-        models: EVERY_MODEL,
+        handles: EVERY_MODEL,
+        needs: Traits::NONE,
         stability: Some(RK4_STABILITY),
         about: "classic fixed-step fourth-order Runge–Kutta, the paper's method",
     },
@@ -207,7 +224,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Rk4Projected<crate::dynamics::FreeProjection>>(),
         batch: false,
         rk4_dissipation: true,
-        models: TORQUE_FREE,
+        handles: TORQUE_FREE,
+        needs: Traits::NONE,
         stability: Some(RK4_STABILITY),
         about: "RK4, each step projected back onto what the model keeps: for the free body the \
                 energy, |L|, L_world and |q| = 1 (E and |L| to round-off for dt·Ω ≲ 0.25, beyond \
@@ -230,7 +248,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Splitting2>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "the classical Lie–Poisson splitting of McLachlan (1993) and Reich (1994): exact \
                 rotations about the body axes composed by Strang (order 2; energy error bounded)",
@@ -249,7 +268,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Splitting4>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "Suzuki's fourth-order composition of the classical splitting",
     },
@@ -269,7 +289,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Splitting6>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "Kahan & Li's sixth-order composition of the classical splitting (37 rotations a \
                 step)",
@@ -290,7 +311,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<ImplicitMidpoint>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "the implicit midpoint rule on (L, q), symplectic and Poisson: keeps the energy \
                 and |L| (order 2; Newton's method to round-off, 2 iterations a step at dt·|ω| = \
@@ -310,7 +332,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Dmv>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "the discrete Moser–Veselov algorithm in quaternion form (Moser & Veselov 1991; \
                 Hairer & Vilmart 2006), symplectic and integrable (order 2; Newton's method, 3 \
@@ -330,7 +353,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<DmvModified>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "the discrete Moser–Veselov algorithm with modified moments of inertia \
                 (McLachlan & Zanna 2005; Hairer & Vilmart 2006): order 4 at the DMV's cost (3 \
@@ -351,7 +375,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<Rkmk4>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "Runge–Kutta–Munthe-Kaas of order 4 on the unit quaternions (Munthe-Kaas 1999), \
                 explicit: RK4 on the rotation group",
@@ -371,7 +396,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: fixed::<CrouchGrossman3>(),
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "Crouch–Grossman of order 3 on the unit quaternions (Crouch & Grossman 1993), \
                 explicit and commutator-free",
@@ -391,7 +417,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: <ExactKick as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: Kinds::GRAVITY_GRADIENT.union(Kinds::TORQUE),
+        handles: TORQUES_ALONE,
+        needs: Traits::EXTERNAL_TORQUE,
         stability: None,
         about: "Strang's splitting of a constant body under torques: the exact free motion \
                 (elliptic functions) between half kicks of the torque (order 2; |q| to \
@@ -412,7 +439,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: <ExactKick4 as Stepper<7, GeneralModel<7>>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: Kinds::GRAVITY_GRADIENT.union(Kinds::TORQUE),
+        handles: TORQUES_ALONE,
+        needs: Traits::EXTERNAL_TORQUE,
         stability: None,
         about: "Suzuki's fourth-order composition of splitting_exact for a constant body under \
                 torques: five exact free motions (elliptic functions, one of them backwards) \
@@ -429,7 +457,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: <Dopri5 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: EVERY_MODEL,
+        handles: EVERY_MODEL,
+        needs: Traits::NONE,
         stability: None,
         about: "Dormand–Prince 5(4) with error control and dense output",
     },
@@ -444,7 +473,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: <Dop853 as EmbeddedPair<7, FreeRigidBody>>::RHS_PER_STEP,
         batch: false,
         rk4_dissipation: false,
-        models: EVERY_MODEL,
+        handles: EVERY_MODEL,
+        needs: Traits::NONE,
         stability: None,
         about: "Dormand–Prince 8(5,3) (Hairer's DOP853) with error control and dense output",
     },
@@ -457,7 +487,8 @@ pub const METHODS: [MethodInfo; 15] = [
         rhs_per_step: 0,
         batch: false,
         rk4_dissipation: false,
-        models: FREE_ONLY,
+        handles: FREE_ONLY,
+        needs: Traits::NONE,
         stability: None,
         about: "the closed-form solution (Jacobi elliptic functions), evaluated at the frames",
     },
@@ -623,7 +654,12 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
     cancel: &AtomicBool,
 ) -> Option<Result<Stats>> {
     // absolute tolerance: `atol` on q, `atol` times the size of the rates (or momenta) elsewhere
-    let units = || Units::new(sys.rate_bound(&x0), sys.state_size(&x0), N - 4);
+    let units = || {
+        let size = sys.state_size(&x0);
+        Units::new(sys.rate_bound(&x0), size, N - 4)
+            .with_powers(size, |k| sys.rate_power(k))
+            .with_dims(sys.dimension())
+    };
     let run = match method {
         Method::Rk4 => integrate_across(&Rk4, sys, x0, grid, sys.kinks(), obs, cancel),
         Method::Rk4Projected => {
@@ -713,7 +749,7 @@ impl Runs<7> for FreeRigidBody {
                 cancel,
             )?,
             // the closed form takes no steps: `run_exact`
-            other => return refused(other, Kinds::NONE),
+            other => return refused(other, self.kinds()),
         };
         Ok(stats)
     }
@@ -730,7 +766,7 @@ impl Runs<7> for FreeRigidBody {
     }
 }
 
-impl<const N: usize> Runs<N> for GeneralModel<N> {
+impl<const N: usize, const HOT: bool> Runs<N> for GeneralModel<N, HOT> {
     fn run_method<O: Observer<N>>(
         &self,
         method: Method,
@@ -744,13 +780,15 @@ impl<const N: usize> Runs<N> for GeneralModel<N> {
         }
         match method {
             Method::SplittingExact => {
-                let (_, stats) =
-                    integrate(&ExactKick::of(self, &x0)?, self, x0, grid, obs, cancel)?;
+                let stepper = ExactKick::of(self, &x0)?;
+                let kinks = self.kinks();
+                let (_, stats) = integrate_across(&stepper, self, x0, grid, kinks, obs, cancel)?;
                 Ok(stats)
             }
             Method::SplittingExact4 => {
                 let stepper = ExactKick4::of(self, &x0)?;
-                let (_, stats) = integrate(&stepper, self, x0, grid, obs, cancel)?;
+                let kinks = self.kinks();
+                let (_, stats) = integrate_across(&stepper, self, x0, grid, kinks, obs, cancel)?;
                 Ok(stats)
             }
             other => refused(other, self.kinds()),
@@ -771,22 +809,19 @@ impl Method {
     /// use dzhanibekov::run::Method;
     /// let e = Method::Exact.for_kinds(Kinds::DEPLOYMENT).unwrap_err();
     /// assert!(e.to_string().starts_with("method 'exact' cannot run model 'deployment'"));
-    /// assert!(Method::Rk4.for_kinds(Kinds::DAMPER).is_ok());
+    /// assert!(Method::Rk4.for_kinds(Kinds::named("damper").unwrap()).is_ok());
     /// ```
     pub fn for_kinds(self, kinds: Kinds) -> Result<Self> {
-        let Some(model) = kinds.first_missing(self.info().models) else {
+        let info = self.info();
+        let Some(model) = kinds.models().find(|m| !info.runs(m)) else {
             return Ok(self);
         };
-        let kind = crate::dynamics::MODELS
-            .iter()
-            .find(|m| m.name == model)
-            .map_or(Kinds::NONE, |m| m.kind);
         Err(Error::Unsupported {
             method: self.name(),
-            model,
+            model: model.name,
             supported: METHODS
                 .iter()
-                .filter(|m| m.models.contains(kind))
+                .filter(|m| m.runs(model))
                 .map(|m| format!("'{}'", m.name))
                 .collect::<Vec<_>>()
                 .join(", "),
@@ -825,16 +860,27 @@ mod tests {
     #[test]
     fn a_projection_onto_the_momentum_is_refused_under_a_torque() {
         let e = Method::Rk4Projected
-            .for_kinds(Kinds::GRAVITY_GRADIENT)
+            .for_kinds(Kinds::named("gravity_gradient").unwrap())
             .unwrap_err()
             .to_string();
         assert!(
             e.contains("'gravity_gradient'") && e.contains("'dop853'"),
             "{e}"
         );
-        assert!(Method::Rk4Projected.for_kinds(Kinds::WHEEL).is_ok());
-        assert!(Method::Splitting.for_kinds(Kinds::TORQUE).is_err());
-        assert!(Method::Rk4.for_kinds(Kinds::TORQUE).is_ok());
+        let named = |name| Kinds::named(name).unwrap();
+        assert!(Method::Rk4Projected.for_kinds(named("wheel")).is_ok());
+        assert!(Method::Splitting
+            .for_kinds(named("constant_torque"))
+            .is_err());
+        assert!(Method::Rk4.for_kinds(named("constant_torque")).is_ok());
+        // a splitting of the free flow and kicks needs a torque, and one of time and attitude
+        assert!(Method::SplittingExact.for_kinds(Kinds::FREE).is_err());
+        assert!(Method::SplittingExact
+            .for_kinds(named("tabulated_torque"))
+            .is_ok());
+        assert!(Method::SplittingExact
+            .for_kinds(named("callable_torque"))
+            .is_err());
     }
 
     #[test]

@@ -204,7 +204,7 @@ pub fn reaching(
     let turns = (rate * t_end).max(1.0);
     METHODS
         .iter()
-        .filter(|m| m.models.contains(kinds))
+        .filter(|m| kinds.models().all(|model| m.runs(model)))
         .filter_map(|m| {
             let model = error_model(m)?;
             (model.least_error(turns) <= rtol)
@@ -310,7 +310,7 @@ mod tests {
         let free = crate::dynamics::Kinds::FREE;
         assert_eq!(reaching(free, rate, t_end, rtol), Some("splitting6"));
         // a damped body has RK4 and its projection only
-        let damped = crate::dynamics::Kinds::FREE.union(crate::dynamics::Kinds::DAMPER);
+        let damped = free.union(crate::dynamics::Kinds::named("damper").unwrap());
         assert_eq!(reaching(damped, rate, t_end, rtol), Some("rk4_projected"));
         assert_eq!(reaching(damped, rate, 1e6, rtol), None);
     }

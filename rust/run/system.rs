@@ -7,13 +7,12 @@ use std::sync::atomic::AtomicBool;
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use crate::body::Inertia;
-use crate::dynamics::model::state_to_unit;
 use crate::dynamics::{
-    state_from, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System,
-    SystemBody, Torques,
+    state_from, AnyPart, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System,
+    SystemBody, STATE_SIZES,
 };
 use crate::error::{Error, Result};
-use crate::float::{exponent, RateScale, UNSCALED};
+use crate::float::{exponent, ldexp, RateScale, UNSCALED};
 use crate::kinematics::normalized;
 use crate::ode::controller::check_rtol;
 
@@ -64,17 +63,26 @@ impl Edge {
         }
     }
 
-    /// Frames of a run in principal axes back in the user's: `ω = R ω_p` and every 3-vector
-    /// of the parts' state (`width` numbers a frame) likewise, `q = q_p ⊗ q_R*`.
-    pub fn frames_out(&self, omega: &mut [f64], q: &mut [f64], parts: &mut [f64], width: usize) {
+    /// Frames of a run in principal axes back in the user's: `ω = R ω_p` and the body-axes
+    /// vectors of the parts' state (`width` numbers a frame, the vectors starting at
+    /// `vectors`) likewise, `q = q_p ⊗ q_R*`.
+    pub fn frames_out(
+        &self,
+        omega: &mut [f64],
+        q: &mut [f64],
+        parts: &mut [f64],
+        (width, vectors): (usize, &[usize]),
+    ) {
         let Some((r, qr)) = &self.axes else { return };
         let turn = |v: &mut [f64]| {
             let out = r * Vector3::new(v[0], v[1], v[2]);
             v.copy_from_slice(out.as_slice());
         };
         omega.chunks_exact_mut(3).for_each(turn);
-        if width > 0 {
-            parts.chunks_exact_mut(3).for_each(turn);
+        if width > 0 && !vectors.is_empty() {
+            for frame in parts.chunks_exact_mut(width) {
+                vectors.iter().for_each(|&k| turn(&mut frame[k..k + 3]));
+            }
         }
         let conj = qr.conjugate();
         for f in q.chunks_exact_mut(4) {
@@ -85,12 +93,53 @@ impl Edge {
 }
 
 /// The model a system makes for a run, with its start, in principal axes where the body is
-/// constant (see [`Edge`]) and with its moments over a power of two near the largest.
+/// constant (see [`Edge`]) and with its moments over a power of two near the largest: the
+/// free body, or the general model in the least state size that holds it.
 enum Built {
     /// The free body, its start in principal axes (its run scales itself).
     Free(crate::body::RigidBody, [f64; 3], [f64; 4]),
-    Plain(GeneralModel<7>, [f64; 7]),
-    Damped(GeneralModel<10>, [f64; 10]),
+    /// Every part folded: no part's code in the right-hand side.
+    Lean(GeneralModel<7, false>, [f64; 7]),
+    G7(GeneralModel<7>, [f64; 7]),
+    G8(GeneralModel<8>, [f64; 8]),
+    G10(GeneralModel<10>, [f64; 10]),
+    G12(GeneralModel<12>, [f64; 12]),
+    G14(GeneralModel<14>, [f64; 14]),
+    G16(GeneralModel<16>, [f64; 16]),
+    G24(GeneralModel<24>, [f64; 24]),
+}
+
+/// `$e` with `$model` and `$x0` the general model of `$built` and its start, whatever its
+/// size; `$free` for the free body.
+macro_rules! each_size {
+    ($built:expr, $model:ident, $x0:ident => $e:expr, $free:pat => $f:expr) => {
+        match $built {
+            $free => $f,
+            Built::Lean($model, $x0) => $e,
+            Built::G7($model, $x0) => $e,
+            Built::G8($model, $x0) => $e,
+            Built::G10($model, $x0) => $e,
+            Built::G12($model, $x0) => $e,
+            Built::G14($model, $x0) => $e,
+            Built::G16($model, $x0) => $e,
+            Built::G24($model, $x0) => $e,
+        }
+    };
+}
+
+/// The general model of `law` with `parts` up to `t_end`, in a state of `N` numbers, and its
+/// start from `omega` and `q` (the run's axes).
+fn general<const N: usize, const HOT: bool>(
+    law: InertiaLaw,
+    parts: Vec<AnyPart>,
+    omega: [f64; 3],
+    q: [f64; 4],
+    t_end: f64,
+) -> Result<(GeneralModel<N, HOT>, [f64; N])> {
+    let model = GeneralModel::<N, HOT>::try_new(law, parts)?.until(t_end);
+    let x0 = model.state_from(0.0, omega, q);
+    finite_start(&x0)?;
+    Ok((model, x0))
 }
 
 /// The largest moment's binary exponent, if beyond `2^±UNSCALED`: moments over `2^m` then.
@@ -107,14 +156,20 @@ fn moment_exponent(system: &System) -> i32 {
     }
 }
 
-/// The model of `system` and its start from the body rates `omega0` and attitude `q0` (the
-/// user's axes; `q0` normalised here).
-fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge)> {
+/// The model of `system` over `[0, t_end]` and its start from the body rates `omega0` and
+/// attitude `q0` (the user's axes; `q0` normalised here), the edge back to the user's axes
+/// and the moments' exponent.
+fn build(
+    system: &System,
+    omega0: [f64; 3],
+    q0: [f64; 4],
+    t_end: f64,
+) -> Result<(Built, Edge, i32)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
     // the moments over a power of two near the largest, before any is inverted
     let m = moment_exponent(system);
-    let scaled = |x: f64| crate::float::ldexp(x, -m);
+    let scaled = |x: f64| ldexp(x, -m);
     let (law, edge) = match system.body() {
         SystemBody::Rigid(inertia) => {
             let edge = Edge::of(inertia);
@@ -124,7 +179,7 @@ fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge
                     edge.vector_in(omega0),
                     edge.attitude_in(q0),
                 );
-                return Ok((built, edge));
+                return Ok((built, edge, 0));
             }
             let moments = inertia.principal().inertia_body().map(scaled);
             let tensor = Matrix3::from_diagonal(&moments);
@@ -139,50 +194,32 @@ fn build(system: &System, omega0: [f64; 3], q0: [f64; 4]) -> Result<(Built, Edge
         ),
     };
     let (omega, q) = (edge.vector_in(omega0), edge.attitude_in(q0));
-    // wheels' momenta and body-fixed torques in the run's axes, over the moments' power of two
-    let wheels = system
-        .wheels_momentum()
-        .map(|w| Vector3::from(edge.vector_in(w.into())).map(scaled));
-    let torques = Torques::of(system.torques())?
-        .in_axes(|v| edge.vector_in(v))
-        .with_moments_scaled(m)?;
-    let schedules = system
-        .wheel_schedules()
-        .map(|w| {
-            let to_run = |v: Vector3<f64>| Vector3::from(edge.vector_in(v.into())).map(scaled);
-            w.table().map_values(to_run, "momentum")
+    // the parts in the run's axes, over the moments' power of two, with the run's seed
+    let to_axes = |v: [f64; 3]| edge.vector_in(v);
+    let parts = (system.parts().iter().enumerate())
+        .map(|(k, p)| {
+            p.in_axes(&to_axes)
+                .with_moments_scaled(m)
+                .map(|p| p.seeded(system.seed(), k))
         })
         .collect::<Result<Vec<_>>>()?;
-    let parts = |model: GeneralModel<7>| {
-        model
-            .with_wheels(wheels)
-            .with_schedules(schedules.clone())
-            .with_torques(torques.clone())
+    let needed = 7 + system.state_width();
+    let Some(&size) = STATE_SIZES.iter().find(|&&n| n >= needed) else {
+        return Err(System::too_much_state(needed - 7));
     };
-    let built = match system.damper() {
-        None => {
-            let model = parts(GeneralModel::<7>::try_new(law, None)?);
-            let x0 = model.state_from(0.0, omega, [0.0; 3], q);
-            Built::Plain(model, x0)
+    let built = match size {
+        7 if GeneralModel::<7>::is_lean(&parts) => {
+            general(law, parts, omega, q, t_end).map(|(m, x)| Built::Lean(m, x))
         }
-        Some((damper, sigma0)) => {
-            let damper = damper.with_moments_scaled(m)?;
-            let model = GeneralModel::<10>::try_new(law, Some(damper))?
-                .with_wheels(wheels)
-                .with_schedules(schedules.clone())
-                .with_torques(torques.clone());
-            let sigma = edge.vector_in(sigma0.unwrap_or(omega0));
-            let x0 = model.state_from(0.0, omega, sigma, q);
-            Built::Damped(model, x0)
-        }
-    };
-    if let Built::Plain(_, x) = &built {
-        finite_start(x)?;
-    }
-    if let Built::Damped(_, x) = &built {
-        finite_start(x)?;
-    }
-    Ok((built, edge))
+        7 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G7(m, x)),
+        8 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G8(m, x)),
+        10 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G10(m, x)),
+        12 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G12(m, x)),
+        14 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G14(m, x)),
+        16 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G16(m, x)),
+        _ => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G24(m, x)),
+    }?;
+    Ok((built, edge, m))
 }
 
 /// A start whose momenta float64 holds.
@@ -215,16 +252,27 @@ pub fn simulate_system(
     cancel: &AtomicBool,
 ) -> Result<RunOutput> {
     method.for_kinds(system.kinds())?;
-    let (built, edge) = build(system, omega0, q0)?;
-    let mut out = match built {
-        Built::Free(body, omega, q) => simulate(&body, omega, q, grid, method, keep, cancel)?,
-        Built::Plain(model, x0) => simulate_model(&model, x0, grid, method, keep, cancel)?,
-        Built::Damped(model, x0) => simulate_model(&model, x0, grid, method, keep, cancel)?,
-    };
-    let width = system.parts_width();
-    edge.frames_out(&mut out.omega, &mut out.q, &mut out.parts, width);
+    let (built, edge, m) = build(system, omega0, q0, grid.t_end())?;
+    let mut out = each_size!(built,
+        model, x0 => simulate_model(&model, x0, grid, method, keep, cancel)?,
+        Built::Free(body, omega, q) => simulate(&body, omega, q, grid, method, keep, cancel)?
+    );
+    // the parts' state in the user's moments and axes
+    let dims = system.parts_dims();
+    if m != 0 && dims.iter().any(|d| d.moment != 0) {
+        let unscale = |v: &mut [f64]| {
+            for (x, d) in v.iter_mut().zip(dims.iter().cycle()) {
+                *x = ldexp(*x, m * d.moment);
+            }
+        };
+        unscale(&mut out.parts);
+        unscale(&mut out.end.parts);
+    }
+    let layout = (system.parts_width(), system.body_vectors());
+    let layout = (layout.0, layout.1.as_slice());
+    edge.frames_out(&mut out.omega, &mut out.q, &mut out.parts, layout);
     let end = &mut out.end;
-    edge.frames_out(&mut end.omega, &mut end.q, &mut end.parts, width);
+    edge.frames_out(&mut end.omega, &mut end.q, &mut end.parts, layout);
     // turned back into the user's axes, rates at the edge of float64 can leave it
     super::finite_frames(out, grid)
 }
@@ -248,18 +296,14 @@ pub fn plan_system(
     rtol: f64,
 ) -> Result<StepPlan> {
     method.for_kinds(system.kinds())?;
-    let (built, _) = build(system, omega0, q0)?;
-    let (rate, stiffness) = match &built {
+    let (built, _, _) = build(system, omega0, q0, t_end)?;
+    let (rate, stiffness) = each_size!(&built,
+        model, x0 => (rate_in_units(model, x0)?, model.stiffness()),
         Built::Free(body, omega, q) => {
             let model = FreeRigidBody::new(*body);
             (rate_in_units(&model, &state_from(*omega, *q))?, 0.0)
         }
-        Built::Plain(model, x0) => (rate_in_units(model, x0)?, 0.0),
-        Built::Damped(model, x0) => {
-            let rate = rate_in_units(model, x0)?;
-            (rate, model.stiffness())
-        }
-    };
+    );
     let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
     if plan.out_of_reach {
         plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
@@ -277,7 +321,7 @@ fn rate_in_units<const N: usize, S: Model<N>>(sys: &S, x0: &[f64; N]) -> Result<
     let rate = match scale.is_identity() {
         true => sys.rate_bound(x0),
         false => {
-            let x = state_to_unit(x0, scale);
+            let x = sys.state_in_units(x0, scale);
             scale.rate_from_unit(sys.in_units(scale)?.rate_bound(&x))
         }
     };
@@ -358,4 +402,70 @@ pub(crate) fn plan_step(
         out_of_reach: planned && model.out_of_reach(rate * t_end, rtol),
         reached_by: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::dynamics::toy::Counter;
+    use crate::dynamics::{Fields, Part, Value};
+    use crate::observe::Observer;
+
+    /// The end of every step.
+    #[derive(Default)]
+    struct Ends(Vec<f64>);
+
+    impl Observer<8> for Ends {
+        const WANTS_STEPS: bool = true;
+        fn step(&mut self, _: f64, _: &[f64; 8], t1: f64, _: &[f64; 8]) {
+            self.0.push(t1);
+        }
+    }
+
+    /// The seam's hook for sampled parts, driven by each kind of driver: a counter sampled at
+    /// `0.1 + 0.25 k` counts the sample times in `[0, t_end)` (its state held between them),
+    /// and every step ends on them, however the steps fall.
+    #[test]
+    fn every_driver_ends_its_steps_on_sample_times_and_samples_there() {
+        let fields = Fields::new()
+            .with("period", Value::Number(0.25))
+            .with("phase", Value::Number(0.1));
+        let counter = AnyPart::from(Counter::from_fields(&fields).unwrap());
+        let law = InertiaLaw::Constant(
+            ConstantInertia::try_new(Matrix3::from_diagonal(&Vector3::new(1.0, 2.0, 3.0))).unwrap(),
+        );
+        let model = GeneralModel::<8>::try_new(law, vec![counter])
+            .unwrap()
+            .until(2.0);
+        let x0 = model.state_from(0.0, [0.3, 0.2, 1.0], [1.0, 0.0, 0.0, 0.0]);
+        let samples: Vec<f64> = (0..8).map(|k| 0.1 + 0.25 * f64::from(k)).collect();
+        let cancel = AtomicBool::new(false);
+        for method in ["rk4", "dop853"] {
+            let method = Method::named(method, 1e-9, 1e-12, None).unwrap();
+            let grid = FrameGrid::for_method(&method, 2.0, 5, 0.07, u64::MAX).unwrap();
+            let mut ends = Ends::default();
+            use crate::run::registry::Runs;
+            model
+                .run_method(method, x0, &grid, &mut ends, &cancel)
+                .unwrap();
+            for t in &samples {
+                assert!(ends.0.contains(t), "{}: no step ends on {t}", method.name());
+            }
+            let keep = Keep {
+                frames: true,
+                flips: false,
+                tilt: false,
+            };
+            let out = simulate_model(&model, x0, &grid, method, keep, &cancel).unwrap();
+            assert_eq!(out.end.parts, vec![8.0], "{}", method.name());
+            // the frames hold the count before each frame's time (a frame on a sample time
+            // shows the state before it)
+            assert_eq!(
+                out.parts,
+                vec![0.0, 2.0, 4.0, 6.0, 8.0],
+                "{}",
+                method.name()
+            );
+        }
+    }
 }

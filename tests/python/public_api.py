@@ -945,7 +945,8 @@ def check_damper(kwargs: dict[str, Any], d: Any, caught: list[warnings.WarningMe
 def check_system(kwargs: dict[str, Any], s: Any, caught: list[warnings.WarningMessage]) -> None:
     assert isinstance(s, dz.System) and s.parts == tuple(kwargs.get("parts", ()))
     assert s.kinds == (("damper",) if s.parts else ("free",))
-    assert set(s.conserved) <= {"energy", "momentum", "momentum_world", "q_norm"}
+    assert set(s.conserved) <= {"energy", "momentum", "momentum_world", "q_norm",
+                                "energy_balance"}
 
 
 @st.composite
@@ -1502,7 +1503,7 @@ ENTRIES: dict[str, Entry] = {
         hostile={"body": st.one_of(hostile_vector3(positive=True, moments=True),
                                    st.sampled_from(["box", None, dz.Damper(1.0, 1.0),
                                                     [[1.0, 0.0], [0.0, 1.0]], math.nan])),
-                 "parts": st.sampled_from([[0.5], "damper", [dz.Damper(1.0, 1.0)] * 2, 3,
+                 "parts": st.sampled_from([[0.5], "damper", [dz.Damper(1.0, 1.0)] * 6, 3,
                                            [None], [dz.Body((1.0, 2.0, 3.0))],
                                            [dz.Damper(1.0, 1.0), None], {"damper": 1},
                                            np.array([1.0]), [dz.Damper(1.0, 1.0)] * 10**5,

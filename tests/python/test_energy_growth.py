@@ -1,5 +1,7 @@
 """A damped body (no torque, no deployment) can only lose kinetic energy: a fixed-step run
-whose energy grows is past the method's stability limit for the damper, and raises.
+whose energy (with the work its damper dissipated) grows is past the method's stability limit
+for the damper, and raises. A damper with anything that does work is not watched: its energy
+may rise (issue 29: it raised a false DivergedError at any dt).
 
 Issue 24: beyond the stiffness limit an RK4 run could finish normally with 1122 times its
 starting energy; the warning fired before the run, but with warnings filtered the result was
@@ -55,8 +57,8 @@ def test_an_rk4_run_past_the_dampers_limit_that_would_end_finite_raises():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the user filtered the StiffDamperWarning
         with pytest.raises(dz.DivergedError, match=r"the run diverged at t = \d.*the energy "
-                           r"grew to 1\.0\d* times its start.*a damped body only loses "
-                           r"energy: take a smaller dt") as info:
+                           r"grew to 1\.0\d* times its start.*a body whose parts only "
+                           r"dissipate only loses energy: take a smaller dt") as info:
             dz.simulate(system, OMEGA0, t_end=20.0, frames=201, dt=DT)
     # it names the first frame past the threshold, early in the run (not its end)
     assert "t = 20" not in str(info.value)
@@ -95,3 +97,37 @@ def test_adaptive_runs_and_undamped_models_are_not_watched():
         warnings.simplefilter("ignore")
         traj = dz.simulate(system, OMEGA0, t_end=5.0, frames=6, method="dopri5")
     assert np.diff(traj.energy).max() <= 1e-9 * traj.energy[0]
+
+
+def _work_and_damper(other: object) -> dz.System:
+    return dz.System(BODY, parts=[dz.Damper(J, damping_for(0.5))] + (
+        [other] if isinstance(other, dz.Wheel) else []),
+        torques=[] if isinstance(other, dz.Wheel) else [other])
+
+
+@pytest.mark.parametrize("other", [
+    dz.ConstantTorque((0.0, 0.0, 0.5)),                            # spins the body up
+    dz.GravityGradient(2.0),                                       # trades energy with the orbit
+    dz.Wheel((0.0, 0.0, 1.0), ([0.0, 2.0], [0.0, -2.0])),          # a wheel spun up against z
+])
+def test_a_damper_with_anything_that_does_work_runs_at_a_fine_step(other):
+    # issue 29's reproducers: the watchdog assumed "a damped body only loses energy" and
+    # stopped these at any dt; their energy rises by the work done, the runs are fine
+    system = _work_and_damper(other)
+    assert "energy_balance" not in system.conserved
+    traj = dz.simulate(system, OMEGA0, t_end=4.0, frames=41, dt=1e-3)
+    fine = dz.simulate(system, OMEGA0, t_end=4.0, frames=41, dt=5e-4)
+    assert traj.energy.max() > traj.energy[0] * (1 + 1e-3)   # the work done: the energy rose
+    # and the run converged (RK4: halving the step shrinks the difference 16-fold)
+    assert np.abs(traj.omega - fine.omega).max() < 1e-9
+
+
+def test_a_dampers_energy_balance_is_kept_to_the_runs_error():
+    # E + W (the energy plus the work dissipated) is what a damped body keeps: its drift
+    # measures the run's error, falling as RK4's fourth order says
+    system = dz.System(BODY, parts=[dz.Damper(J, damping_for(0.5))])
+    drifts = [dz.simulate(system, OMEGA0 * 20, t_end=2.0, frames=11, dt=dt).drift
+              for dt in (4e-3, 2e-3)]
+    assert drifts[0].energy > 1e-2                 # the damper's own loss, not an error
+    ratio = drifts[0].energy_balance / drifts[1].energy_balance
+    assert 12 < ratio < 20, ratio
