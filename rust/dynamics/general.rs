@@ -17,8 +17,12 @@
 //! q' = ½ q ⊗ (0, ω)
 //! ```
 //!
-//! `ω` is made in one place ([`GeneralModel::omega_body`]): a part whose mass moves in the
-//! body would solve it jointly with its own rates there. A deployment alone is
+//! `ω` is made in one place ([`GeneralModel::omega_body`]). With parts whose mass moves in the
+//! body ([`Traits::MOVING_MASS`]: a spring–mass damper, a hinged appendage, slosh) it is solved
+//! there jointly with their rates, from the mass matrix of the hub and those parts about the
+//! system's mass centre ([`super::multibody`]; the body's mass is then needed): `H` is their
+//! total angular momentum, each such part's state holds its conjugate momenta, and each gets
+//! its rates and its element's velocity through [`Ctx::moving`]. A deployment alone is
 //! `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone is Hughes's spherical
 //! damper; constant wheels make a gyrostat. Without external torques every such model keeps
 //! `|H|` and `H` in space exactly; with a gravity gradient alone (and constant wheels) the
@@ -37,6 +41,10 @@ use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
+use super::multibody::{
+    self, capacity_for, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES,
+};
+use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
 use super::Deployment;
@@ -267,6 +275,18 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     samples: Vec<(f64, usize)>,
     /// The run's end: sample times are laid out up to it.
     horizon: f64,
+    /// The parts whose mass moves in the body, the hub they move in (its mass) and the joint
+    /// solve's capacity for their rates (see [`super::multibody`]): the one extension of the
+    /// model for such parts.
+    movers: Vec<Placed>,
+    hub: Option<Hub>,
+    capacity: usize,
+    /// A single such part, the system's only one on a body of constant inertia, in its
+    /// closed form (see [`super::Part::alone`]).
+    alone: Option<AloneSolve>,
+    /// The parts with state, and those that dissipate, whose mass does not move.
+    fixed_states: Vec<Placed>,
+    fixed_dissipators: Vec<Placed>,
 }
 
 /// # Construction
@@ -280,6 +300,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         let mut at = 3;
         let (mut stores, mut torques, mut states) = (Vec::new(), Vec::new(), Vec::new());
         let (mut dissipators, mut sampled, mut dims) = (Vec::new(), Vec::new(), Vec::new());
+        let mut movers: Vec<Placed> = Vec::new();
         let (mut stored, mut body_torque, mut world_torque) = (None, None, None);
         let mut torqued = false;
         let mut placed_all = Vec::new();
@@ -317,6 +338,9 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             }
             for field in info.state {
                 dims.extend(std::iter::repeat_n(field.dim, field.width));
+            }
+            if info.traits.contains(Traits::MOVING_MASS) {
+                movers.push(placed.clone());
             }
             if width > 0 {
                 states.push(placed.clone());
@@ -369,9 +393,52 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             knots: Vec::new(),
             samples: Vec::new(),
             horizon: 0.0,
+            capacity: 0,
+            alone: None,
+            fixed_states: Vec::new(),
+            fixed_dissipators: Vec::new(),
+            movers,
+            hub: None,
         };
+        let still = |p: &&Placed| !p.part.info().traits.contains(Traits::MOVING_MASS);
+        model.fixed_states = model.states.iter().filter(still).cloned().collect();
+        model.fixed_dissipators = model.dissipators.iter().filter(still).cloned().collect();
         model.lay_out();
         Ok(model)
+    }
+
+    /// The same model carried by a hub of mass `mass` (the body's), for parts whose mass moves.
+    ///
+    /// # Errors
+    /// Such parts and no mass; more rates than the joint solve holds.
+    pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
+        if self.movers.is_empty() {
+            return Ok(self);
+        }
+        let Some(mass) = mass else {
+            return Err(Error::invalid(
+                "body",
+                "must have a mass (the system's `mass`) to carry parts whose mass moves in it",
+                "no mass",
+            ));
+        };
+        let carried: f64 = self.movers.iter().map(|p| p.part.moving_mass()).sum();
+        let hub = Hub::try_new(self.inertia.tensor_at(0.0), mass, carried)?;
+        self.hub = Some(hub);
+        let constant = matches!(self.inertia, InertiaLaw::Constant(_));
+        let only = self.parts.len() == 1 && self.stored.is_none() && !self.torqued;
+        self.alone = (constant && only)
+            .then(|| self.movers[0].part.alone(&hub))
+            .flatten();
+        let k: usize = self.movers.iter().map(|p| p.part.moving_rates()).sum();
+        self.capacity = capacity_for(k).ok_or_else(|| {
+            Error::invalid(
+                "parts",
+                format!("must have at most {MAX_RATES} degrees of freedom"),
+                k,
+            )
+        })?;
+        Ok(self)
     }
 
     /// The same model with its sample times laid out over `[0, t_end]`.
@@ -428,6 +495,28 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         for p in &self.stores {
             h += p.part.momentum(t0, p.of(&x));
         }
+        if let Some(hub) = self.hub_at(t0) {
+            // the parts' start rates into momenta, by the mass matrix at the start
+            let mut carried = Vec::new();
+            let mut v = [0.0; MAX_RATES];
+            let mut row = 0;
+            for m in &self.movers {
+                let c = m.part.carried(m.of(&x)).unwrap_or_default().0;
+                let r = m.part.start_rates(m.of(&x));
+                let n = c.rates.min(MAX_RATES - row);
+                v[row..row + n].copy_from_slice(&r[..n]);
+                row += c.rates;
+                carried.push(c);
+            }
+            let (body, p) = MassMatrix::<MAX_RATES>::assemble(&hub, &carried).apply(&omega, &v);
+            h += body - self.inertia.tensor_at(t0) * omega;
+            let mut row = 0;
+            for (m, c) in self.movers.iter().zip(&carried) {
+                m.part
+                    .set_momenta(&mut x[m.at..m.at + m.width], &p[row..row + c.rates]);
+                row += c.rates;
+            }
+        }
         x[..3].copy_from_slice(h.as_slice());
         x[N - 4..].copy_from_slice(&q0);
         x
@@ -467,6 +556,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             q: attitude(x),
             omega,
             inertia: &self.inertia,
+            moving: None,
         }
     }
 
@@ -544,9 +634,163 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     }
 }
 
+/// What the joint solve gives at one state: the motion and what each moving part carries.
+struct Joint<const K: usize> {
+    motion: multibody::Motion<K>,
+    carried: [Carried; K],
+}
+
+/// # Parts whose mass moves (see [`super::multibody`])
+impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+    /// The hub at `t` (a deployment's tensor then).
+    #[inline(always)]
+    fn hub_at(&self, t: f64) -> Option<Hub> {
+        let hub = self.hub?;
+        Some(match &self.inertia {
+            InertiaLaw::Constant(_) => hub,
+            InertiaLaw::Schedule(d) => hub.with_inertia(d.inertia_at(t)),
+        })
+    }
+
+    /// The joint solve at `(t, x)`, in a buffer of `K` rates.
+    #[inline(always)]
+    fn joint<const K: usize>(&self, t: f64, x: &[f64; N]) -> (Joint<K>, [f64; K]) {
+        let mut carried = [Carried::default(); K];
+        let mut p = [0.0; K];
+        let mut row = 0;
+        for (k, m) in self.movers.iter().enumerate().take(K) {
+            let (c, mo) = m.part.carried(m.of(x)).unwrap_or_default();
+            let n = c.rates.min(K - row);
+            p[row..row + n].copy_from_slice(&mo[..n]);
+            row += c.rates;
+            carried[k] = c;
+        }
+        let n = self.movers.len().min(K);
+        let h = self.body_momentum(t, x);
+        let motion = match self.hub_at(t) {
+            Some(hub) => multibody::motion::<K>(&hub, &carried[..n], &h, &p),
+            None => multibody::Motion {
+                omega: self.inertia.omega_from(t, &h),
+                rates: [0.0; K],
+                drift: Vector3::zeros(),
+            },
+        };
+        (Joint { motion, carried }, p)
+    }
+
+    /// What the joint solve gives mover `k`, whose rates start at `row`.
+    #[inline(always)]
+    fn moved<'j, const K: usize>(&self, j: &'j Joint<K>, k: usize, row: usize) -> Moved<'j> {
+        let c = &j.carried[k];
+        let (velocity, spin) = j.motion.element(c, row);
+        let mut rates = [0.0; PART_RATES];
+        for (i, r) in rates.iter_mut().enumerate().take(c.rates) {
+            *r = j.motion.rates[row + i];
+        }
+        Moved {
+            rates,
+            velocity,
+            spin,
+            carried: c,
+        }
+    }
+
+    /// `s · x'` with the joint solve in a buffer of `K` rates.
+    #[inline(always)]
+    fn increment_moving<const K: usize>(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        let (j, _) = self.joint::<K>(t, x);
+        let omega = j.motion.omega;
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let mut dh = h.cross(&omega);
+        if self.torqued {
+            dh += self.torque_at(t, x, omega);
+        }
+        let mut dx = [0.0; N];
+        dx[..3].copy_from_slice((dh * s).as_slice());
+        let c = self.ctx(t, x, omega);
+        let mut power = 0.0;
+        for p in &self.fixed_states {
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(&c, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+        }
+        for p in &self.fixed_dissipators {
+            power += p.part.dissipation(&c, p.of(x));
+        }
+        let mut row = 0;
+        for (k, p) in self.movers.iter().enumerate().take(K) {
+            let moved = Ctx {
+                moving: Some(self.moved(&j, k, row)),
+                ..c
+            };
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(&moved, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+            power += p.part.dissipation(&moved, p.of(x));
+            row += j.carried[k].rates;
+        }
+        if let Some(k) = self.balance {
+            dx[k] = power * s;
+        }
+        let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
+        dx[N - 4..].copy_from_slice(&dq);
+        dx
+    }
+
+    /// `s · x'` of a part alone on its hub, by its closed form.
+    #[inline(always)]
+    fn increment_alone(&self, alone: &AloneSolve, x: &[f64; N], s: f64) -> [f64; N] {
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let p = &self.movers[0];
+        let mut dx = [0.0; N];
+        let (omega, power) = alone
+            .0
+            .increment(&h, p.of(x), s, &mut dx[p.at..p.at + p.width]);
+        let dh = h.cross(&omega) * s;
+        dx[..3].copy_from_slice(dh.as_slice());
+        if let Some(k) = self.balance {
+            dx[k] = power * s;
+        }
+        let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
+        dx[N - 4..].copy_from_slice(&dq);
+        dx
+    }
+
+    #[inline(always)]
+    fn omega_moving<const K: usize>(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
+        self.joint::<K>(t, x).0.motion.omega
+    }
+
+    /// The kinetic energy `½ (ω · (H − Σ h_k) + v · p)` with the joint solve.
+    fn kinetic_moving<const K: usize>(&self, t: f64, x: &[f64; N]) -> f64 {
+        let (j, p) = self.joint::<K>(t, x);
+        let k = j.carried.iter().map(|c| c.rates).sum();
+        let h = self.body_momentum(t, x);
+        multibody::kinetic_energy(&j.motion.omega, &j.motion.rates, &h, &p, k)
+    }
+}
+
+/// `$self.$f::<K>(…)` for the joint solve's capacity `K` (see [`multibody::CAPACITIES`]).
+macro_rules! by_capacity {
+    ($self:ident, $f:ident ( $($arg:expr),* )) => {
+        match $self.capacity {
+            1 => $self.$f::<1>($($arg),*),
+            2 => $self.$f::<2>($($arg),*),
+            3 | 4 => $self.$f::<4>($($arg),*),
+            _ => $self.$f::<MAX_RATES>($($arg),*),
+        }
+    };
+}
+
 impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        if let (true, Some(alone)) = (HOT, &self.alone) {
+            return self.increment_alone(alone, x, s);
+        }
+        if HOT && !self.movers.is_empty() {
+            return by_capacity!(self, increment_moving(t, x, s));
+        }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
         let mut dh = h.cross(&omega);
@@ -606,7 +850,14 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.inertia.omega_from(t, &self.body_momentum(t, x))
+        if let (true, Some(alone)) = (HOT, &self.alone) {
+            let p = &self.movers[0];
+            return alone.0.omega(&Vector3::new(x[0], x[1], x[2]), p.of(x));
+        }
+        match !HOT || self.movers.is_empty() {
+            true => self.inertia.omega_from(t, &self.body_momentum(t, x)),
+            false => by_capacity!(self, omega_moving(t, x)),
+        }
     }
 
     #[inline(always)]
@@ -638,7 +889,11 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `½ lᵀ I⁻¹ l` of the body's own momentum `l`, plus the parts' own energies.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(t, x);
-        let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
+        let body = match (self.movers.is_empty(), &self.alone) {
+            (true, _) => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
+            (false, Some(alone)) => alone.0.kinetic(&l, self.movers[0].of(x)),
+            (false, None) => by_capacity!(self, kinetic_moving(t, x)),
+        };
         (self.states.iter()).fold(body, |e, p| e + p.part.energy(t, p.of(x)))
     }
 
@@ -667,7 +922,8 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             let largest = self.inertia.tensor_at(0.0).symmetric_eigenvalues().max();
             (self.parts.iter()).find_map(|p| p.rate_bound(least, largest, j, stored))
         });
-        free.max(bound.unwrap_or(0.0))
+        let free = free.max(bound.unwrap_or(0.0));
+        (self.movers.iter()).fold(free, |m, p| m.max(p.part.frequency(free)))
     }
 
     /// The size of `H` over the run (and of rate-like parts' state): the absolute tolerance's
@@ -773,7 +1029,9 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             .map(|p| p.in_units(scale))
             .collect::<Result<Vec<_>>>()?;
         // the kinks and sample times follow the laws' times, rebuilt in the run's units
-        Ok(Self::try_new(inertia, parts)?.until(scale.time_to_unit(self.horizon)))
+        Ok(Self::try_new(inertia, parts)?
+            .with_hub_mass(self.hub.map(|h| h.mass()))?
+            .until(scale.time_to_unit(self.horizon)))
     }
 }
 

@@ -53,7 +53,7 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
 
-use super::multibody::{Carried, Hub, Sym3};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 use super::spring_mass::{checked, point, unit};
 
 /// A hinged appendage (see the module doc).
@@ -71,6 +71,8 @@ pub struct Hinge {
     length: f64,
     stiffness: f64,
     damping: f64,
+    /// The angle and its rate at the start.
+    start: [f64; 2],
 }
 
 /// The panel at one hinge angle: its arm `s`, `g = e × s`, and tensor `I_b`.
@@ -147,6 +149,7 @@ impl Hinge {
             length: checked("length", length, false)?,
             stiffness: checked("stiffness", stiffness, false)?,
             damping: checked("damping", damping, false)?,
+            start: [0.0; 2],
         })
     }
 
@@ -342,6 +345,192 @@ impl LoneHinge {
         let swing = wg * (self.moment * omega.dot(&p.hinge) + self.swing * omega.dot(&s));
         let coriolis = rate * omega.dot(&(self.q2 * cos + self.q1 * sin));
         (centrifugal - swing) - (coriolis + (p.stiffness * beta + p.damping * rate))
+    }
+}
+
+use super::kinds::Conserved;
+use super::multibody::PART_RATES;
+use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
+use super::spring_mass::{MOVING_KEEPS, MOVING_TRAITS};
+use crate::float::{ldexp, RateScale};
+
+impl Alone for LoneHinge {
+    #[inline(always)]
+    fn increment(
+        &self,
+        h: &Vector3<f64>,
+        x: &[f64],
+        s: f64,
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        let (omega, v, cos, sin) = self.rates(h, x[0], x[1]);
+        dx[0] = v * s;
+        dx[1] = self.momentum_rate(x[0], cos, sin, v, &omega) * s;
+        (omega, self.part.dissipation(v))
+    }
+
+    fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {
+        self.rates(h, x[0], x[1]).0
+    }
+
+    fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64 {
+        let (omega, v, _, _) = self.rates(h, x[0], x[1]);
+        0.5 * (omega.dot(h) + v * x[1])
+    }
+}
+
+impl Part for Hinge {
+    const INFO: ModelInfo = ModelInfo {
+        name: "hinge",
+        about: "a rigid panel or rod on a one-axis hinge of the body with a torsional spring and damper",
+        law: false,
+        params: &[
+            Param::new("mass", ParamKind::Scalar, "the panel's mass (positive)"),
+            Param::new("moments", ParamKind::Vector, "its moments about its own centre: about the arm, the hinge axis, their normal"),
+            Param::new("hinge", ParamKind::Vector, "the hinge point, from the body's mass centre, body axes"),
+            Param::new("axis", ParamKind::Vector, "the hinge axis, body axes"),
+            Param::new("arm", ParamKind::Vector, "from the hinge towards the panel's centre at rest, body axes"),
+            Param::new("length", ParamKind::Scalar, "the distance of its centre from the hinge"),
+            Param::new("stiffness", ParamKind::Scalar, "the torsional spring's k (non-negative)"),
+            Param::new("damping", ParamKind::Scalar, "the damper's c (non-negative)"),
+            Param::new("angle0", ParamKind::Scalar, "the hinge angle at the start (0)").optional(),
+            Param::new("rate0", ParamKind::Scalar, "its rate at the start (0)").optional(),
+        ],
+        state: &[
+            Field { name: "angle", width: 1, body_vector: false, dim: Dim::NONE, about: "β, from rest" },
+            Field { name: "momentum", width: 1, body_vector: false, dim: Dim::MOMENTUM, about: "p = ∂T/∂β̇" },
+        ],
+        keeps: MOVING_KEEPS,
+        defines: Conserved::NONE,
+        energy: EnergyRole::Dissipates,
+        external: false,
+        unique: false,
+        traits: MOVING_TRAITS,
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        let mut h = Self::try_new(
+            fields.number("mass")?,
+            fields.vector("moments")?,
+            fields.vector("hinge")?,
+            fields.vector("axis")?,
+            fields.vector("arm")?,
+            fields.number("length")?,
+            fields.number("stiffness")?,
+            fields.number("damping")?,
+        )?;
+        h.start = [
+            fields.optional_number("angle0")?.unwrap_or(0.0),
+            fields.optional_number("rate0")?.unwrap_or(0.0),
+        ];
+        if !h.start.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid(
+                "angle0",
+                "and rate0 must be finite",
+                h.start,
+            ));
+        }
+        Ok(h)
+    }
+
+    #[inline(always)]
+    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
+        Some((Hinge::carried(self, &self.pose(x[0])), [x[1], 0.0, 0.0]))
+    }
+
+    fn moving_rates(&self) -> usize {
+        1
+    }
+
+    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
+        Some(AloneSolve(std::sync::Arc::new(LoneHinge::new(hub, *self))))
+    }
+
+    fn moving_mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
+        x[..2].copy_from_slice(&self.start);
+    }
+
+    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
+        [x[1], 0.0, 0.0]
+    }
+
+    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
+        x[1] = p[0];
+    }
+
+    #[inline(always)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
+        if let Some(m) = &c.moving {
+            // the pose the solve built: ℓ s = r − h, ℓ g its rate's column, I_b its tensor
+            let carried = m.carried;
+            let rate = m.rates[0];
+            let moved = c.omega.cross(&carried.linear[0]) - (carried.centre - self.hinge) * rate;
+            let spin = m.spin;
+            let tensor = carried.inertia.unwrap_or_default();
+            dx[0] = rate;
+            dx[1] = self.mass * m.velocity.dot(&moved)
+                + self.axis.dot(&(tensor * spin).cross(&spin))
+                - self.stiffness * x[0]
+                - self.damping * rate;
+        }
+    }
+
+    fn energy(&self, _t: f64, x: &[f64]) -> f64 {
+        self.potential(x[0])
+    }
+
+    #[inline(always)]
+    fn dissipation(&self, c: &Ctx<'_>, _x: &[f64]) -> f64 {
+        c.moving
+            .map_or(0.0, |m| Hinge::dissipation(self, m.rates[0]))
+    }
+
+    fn stiffness(&self, _least: f64) -> f64 {
+        self.damping
+            / (self.mass * self.length * self.length + self.moments.y).max(f64::MIN_POSITIVE)
+    }
+
+    fn frequency(&self, rate: f64) -> f64 {
+        let j = (self.mass * self.length * self.length + self.moments.y).max(f64::MIN_POSITIVE);
+        let reach = self.hinge.norm() + self.length;
+        (self.stiffness / j).sqrt()
+            + rate * (1.0 + reach / self.length.max(1e-300)).sqrt().min(1e3)
+            + rate
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        let v = |a: Vector3<f64>| Vector3::from(to_axes(a.into()));
+        Self {
+            hinge: v(self.hinge),
+            axis: v(self.axis),
+            arm: v(self.arm),
+            normal: v(self.normal),
+            ..*self
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            mass: ldexp(self.mass, -m),
+            moments: self.moments.map(|j| ldexp(j, -m)),
+            stiffness: ldexp(self.stiffness, -m),
+            damping: ldexp(self.damping, -m),
+            ..*self
+        })
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let rate = |v: f64| scale.rate_to_unit(v);
+        Ok(Self {
+            stiffness: rate(rate(self.stiffness)),
+            damping: rate(self.damping),
+            start: [self.start[0], rate(self.start[1])],
+            ..*self
+        })
     }
 }
 

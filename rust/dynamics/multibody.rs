@@ -43,9 +43,38 @@
 //! dissipated power `Σ v ∂R/∂v = Σ c v²`, so `T + V + W` with `W` the work the dampers took is
 //! kept: the energy balance a run's drift reports. `T = ½ [ω; v] · [H; p]`.
 
+use std::fmt::Debug;
+use std::sync::Arc;
+
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
+
+/// A part whose mass moves, alone on its hub, in closed form ([`super::LoneSpring`],
+/// [`super::LoneHinge`], [`super::LoneSlosh`]): the body rates and the part's own rates
+/// straight from `H` and its state, without the general joint solve.
+pub trait Alone: Debug + Send + Sync {
+    /// `ω` from `h` and the part's state `x`, with `s ×` the part's state rates written into
+    /// `dx` and the power it dissipates.
+    fn increment(&self, h: &Vector3<f64>, x: &[f64], s: f64, dx: &mut [f64])
+        -> (Vector3<f64>, f64);
+
+    /// `ω` alone.
+    fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64>;
+
+    /// The whole system's kinetic energy `½ (ω · H + v · p)`.
+    fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64;
+}
+
+/// A shared [`Alone`], as a model holds it (equal when it is the same one).
+#[derive(Debug, Clone)]
+pub struct AloneSolve(pub Arc<dyn Alone>);
+
+impl PartialEq for AloneSolve {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
 
 /// The most rates one part may have.
 pub const PART_RATES: usize = 3;
@@ -54,7 +83,7 @@ pub const PART_RATES: usize = 3;
 /// its mass, with the system's total mass.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hub {
-    inertia: Matrix3<f64>,
+    pub inertia: Matrix3<f64>,
     mass: f64,
     /// `1 / M`, `M` the hub's and every part's mass.
     inv_total: f64,
@@ -91,6 +120,12 @@ impl Hub {
         &self.inertia
     }
 
+    /// The same hub with tensor `inertia` (a deployment's at some time).
+    #[inline(always)]
+    pub fn with_inertia(self, inertia: Matrix3<f64>) -> Self {
+        Self { inertia, ..self }
+    }
+
     pub fn mass(&self) -> f64 {
         self.mass
     }
@@ -114,7 +149,8 @@ impl Hub {
 
 /// What a moving part carries at one configuration, as the kinetic energy sees it: a mass
 /// element, its centre, its own tensor, and how its rates move it (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// `Default` is nothing: no mass, no rates.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Carried {
     /// `m_e`.
     pub mass: f64,

@@ -44,7 +44,7 @@ use nalgebra::Vector3;
 
 use crate::error::Result;
 
-use super::multibody::{Carried, Hub, Sym3};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 use super::spring_mass::{checked, point};
 
 /// A slosh pendulum (see the module doc).
@@ -54,6 +54,9 @@ pub struct Slosh {
     pivot: Vector3<f64>,
     length: f64,
     damping: f64,
+    /// The rod's direction and relative angular velocity at the start.
+    direction0: Vector3<f64>,
+    rate0: Vector3<f64>,
 }
 
 /// The rod at one direction: `n` normalised and a basis `t₁, t₂` of the plane normal to it,
@@ -128,6 +131,8 @@ impl Slosh {
             pivot: point("pivot", pivot)?,
             length: checked("length", length, true)?,
             damping: checked("damping", damping, false)?,
+            direction0: Vector3::x(),
+            rate0: Vector3::zeros(),
         })
     }
 
@@ -276,6 +281,199 @@ impl LoneSlosh {
             direction: nu.cross(n),
             momentum: nu.cross(&normal) + torque - nu * self.part.damping,
         }
+    }
+}
+
+use super::kinds::Conserved;
+use super::multibody::PART_RATES;
+use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
+use super::spring_mass::{unit, MOVING_KEEPS, MOVING_TRAITS};
+use crate::error::Error;
+use crate::float::{ldexp, RateScale};
+
+#[inline(always)]
+fn vector(x: &[f64]) -> Vector3<f64> {
+    Vector3::new(x[0], x[1], x[2])
+}
+
+impl Alone for LoneSlosh {
+    #[inline(always)]
+    fn increment(
+        &self,
+        h: &Vector3<f64>,
+        x: &[f64],
+        s: f64,
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        let r = self.rates(
+            h,
+            &Vector3::new(x[0], x[1], x[2]),
+            &Vector3::new(x[3], x[4], x[5]),
+        );
+        for k in 0..3 {
+            dx[k] = r.direction[k] * s;
+            dx[3 + k] = r.momentum[k] * s;
+        }
+        (r.omega, self.part.dissipation(&r.nu))
+    }
+
+    fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {
+        let (n, pi) = (
+            Vector3::new(x[0], x[1], x[2]),
+            Vector3::new(x[3], x[4], x[5]),
+        );
+        self.rates(h, &n, &pi).omega
+    }
+
+    fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64 {
+        let (n, pi) = (
+            Vector3::new(x[0], x[1], x[2]),
+            Vector3::new(x[3], x[4], x[5]),
+        );
+        let r = self.rates(h, &n, &pi);
+        0.5 * (r.omega.dot(h) + r.nu.dot(&pi))
+    }
+}
+
+impl Part for Slosh {
+    const INFO: ModelInfo = ModelInfo {
+        name: "slosh",
+        about: "a tank's first sloshing mode as a spherical pendulum damped at its pivot, free of angle singularities",
+        law: false,
+        params: &[
+            Param::new("mass", ParamKind::Scalar, "the sloshing mass (positive)"),
+            Param::new("pivot", ParamKind::Vector, "the pivot, from the body's mass centre, body axes"),
+            Param::new("length", ParamKind::Scalar, "the rod's length (positive)"),
+            Param::new("damping", ParamKind::Scalar, "the pivot's viscous c: torque per relative rate"),
+            Param::new("direction0", ParamKind::Vector, "the rod's direction at the start, body axes"),
+            Param::new("rate0", ParamKind::Vector, "the rod's angular velocity relative to the body at the start (0)").optional(),
+        ],
+        state: &[
+            Field { name: "direction", width: 3, body_vector: true, dim: Dim::NONE, about: "n" },
+            Field { name: "momentum", width: 3, body_vector: true, dim: Dim::MOMENTUM, about: "π" },
+        ],
+        keeps: MOVING_KEEPS,
+        defines: Conserved::NONE,
+        energy: EnergyRole::Dissipates,
+        external: false,
+        unique: false,
+        traits: MOVING_TRAITS,
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        let mut s = Self::try_new(
+            fields.number("mass")?,
+            fields.vector("pivot")?,
+            fields.number("length")?,
+            fields.number("damping")?,
+        )?;
+        s.direction0 = unit("direction0", fields.vector("direction0")?)?;
+        let r = fields.optional_vector("rate0")?.unwrap_or([0.0; 3]);
+        if !r.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid("rate0", "must be three finite rates", r));
+        }
+        s.rate0 = Vector3::from(r);
+        Ok(s)
+    }
+
+    #[inline(always)]
+    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
+        let rod = Rod::along(&vector(x));
+        let [a, b] = Slosh::momenta(self, &rod, &vector(&x[3..]));
+        Some((Slosh::carried(self, &rod), [a, b, 0.0]))
+    }
+
+    fn moving_rates(&self) -> usize {
+        2
+    }
+
+    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
+        Some(AloneSolve(std::sync::Arc::new(LoneSlosh::new(hub, *self))))
+    }
+
+    fn moving_mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
+        x[..3].copy_from_slice(self.direction0.as_slice());
+        x[3..6].copy_from_slice(self.rate0.as_slice());
+    }
+
+    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
+        let [a, b] = Rod::along(&vector(x)).rates_of(&vector(&x[3..]));
+        [a, b, 0.0]
+    }
+
+    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
+        let pi = Rod::along(&vector(x)).momentum_of([p[0], p[1]]);
+        x[3..6].copy_from_slice(pi.as_slice());
+    }
+
+    #[inline(always)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
+        if let Some(m) = &c.moving {
+            let n = vector(x);
+            // the rod the solve built: l n̂ = r − p, its rates' columns −l t₂, l t₁
+            let inv = 1.0 / self.length;
+            let carried = m.carried;
+            let rod = Rod {
+                direction: (carried.centre - self.pivot) * inv,
+                t1: carried.linear[1] * inv,
+                t2: -carried.linear[0] * inv,
+            };
+            let nu = rod.spin([m.rates[0], m.rates[1]]);
+            let (dn, dpi) =
+                Slosh::rates(self, &n, &vector(&x[3..]), &rod, &nu, &c.omega, &m.velocity);
+            dx[..3].copy_from_slice(dn.as_slice());
+            dx[3..6].copy_from_slice(dpi.as_slice());
+        }
+    }
+
+    fn energy(&self, _t: f64, _x: &[f64]) -> f64 {
+        0.0
+    }
+
+    #[inline(always)]
+    fn dissipation(&self, c: &Ctx<'_>, _x: &[f64]) -> f64 {
+        c.moving.map_or(0.0, |m| {
+            let r = m.carried.linear[0] * m.rates[0] + m.carried.linear[1] * m.rates[1];
+            self.damping * r.norm_squared() / (self.length * self.length)
+        })
+    }
+
+    fn stiffness(&self, _least: f64) -> f64 {
+        self.damping / (self.mass * self.length * self.length)
+    }
+
+    fn frequency(&self, rate: f64) -> f64 {
+        rate * ((1.0 + self.pivot.norm() / self.length).sqrt() + 1.0)
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        let v = |a: Vector3<f64>| Vector3::from(to_axes(a.into()));
+        Self {
+            pivot: v(self.pivot),
+            direction0: v(self.direction0),
+            rate0: v(self.rate0),
+            ..*self
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            mass: ldexp(self.mass, -m),
+            damping: ldexp(self.damping, -m),
+            ..*self
+        })
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        Ok(Self {
+            damping: scale.rate_to_unit(self.damping),
+            rate0: self.rate0.map(|v| scale.rate_to_unit(v)),
+            ..*self
+        })
     }
 }
 

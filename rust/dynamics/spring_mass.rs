@@ -33,7 +33,7 @@ use nalgebra::Vector3;
 
 use crate::error::{Error, Result};
 
-use super::multibody::{Carried, Hub, Sym3};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 
 /// A spring–mass damper (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -43,6 +43,8 @@ pub struct SpringMass {
     direction: Vector3<f64>,
     stiffness: f64,
     damping: f64,
+    /// The displacement and its rate at the start.
+    start: [f64; 2],
 }
 
 /// `value` if it is finite and at least `low` (or above it, `strict`).
@@ -112,6 +114,7 @@ impl SpringMass {
             direction: unit("direction", direction)?,
             stiffness: checked("stiffness", stiffness, false)?,
             damping: checked("damping", damping, false)?,
+            start: [0.0; 2],
         })
     }
 
@@ -238,6 +241,199 @@ impl LoneSpring {
         let swing = self.reduced * s * (omega.norm_squared() - wd * wd);
         let tilt = self.reduced * wa * wd;
         (swing - tilt) - (self.part.stiffness * x + self.part.damping * rate)
+    }
+}
+
+use super::kinds::{Conserved, Traits};
+use super::multibody::PART_RATES;
+use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
+use crate::float::{ldexp, RateScale};
+
+/// What a part whose mass moves keeps: the momenta and the energy balance.
+pub(crate) const MOVING_KEEPS: Conserved = Conserved::MOMENTA.union(Conserved::ENERGY_BALANCE);
+/// What it asks of a method.
+pub(crate) const MOVING_TRAITS: Traits = Traits::PART_STATE
+    .union(Traits::STORED_MOMENTUM)
+    .union(Traits::MOVING_MASS);
+
+impl Alone for LoneSpring {
+    #[inline(always)]
+    fn increment(
+        &self,
+        h: &Vector3<f64>,
+        x: &[f64],
+        s: f64,
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        let (omega, v) = self.rates(h, x[0], x[1]);
+        dx[0] = v * s;
+        dx[1] = self.momentum_rate(x[0], v, &omega) * s;
+        (omega, self.part.dissipation(v))
+    }
+
+    fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {
+        self.rates(h, x[0], x[1]).0
+    }
+
+    fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64 {
+        let (omega, v) = self.rates(h, x[0], x[1]);
+        0.5 * (omega.dot(h) + v * x[1])
+    }
+}
+
+impl Part for SpringMass {
+    const INFO: ModelInfo = ModelInfo {
+        name: "spring_mass",
+        about: "a point mass on a spring and viscous damper along a line of the body (the \
+                classic nutation damper)",
+        law: false,
+        params: &[
+            Param::new("mass", ParamKind::Scalar, "the moving mass m (positive)"),
+            Param::new(
+                "anchor",
+                ParamKind::Vector,
+                "where it rests, from the body's mass centre, body axes",
+            ),
+            Param::new(
+                "direction",
+                ParamKind::Vector,
+                "the line it slides along, body axes",
+            ),
+            Param::new(
+                "stiffness",
+                ParamKind::Scalar,
+                "the spring's k (non-negative)",
+            ),
+            Param::new(
+                "damping",
+                ParamKind::Scalar,
+                "the damper's c (non-negative)",
+            ),
+            Param::new("x0", ParamKind::Scalar, "the displacement at the start (0)").optional(),
+            Param::new("rate0", ParamKind::Scalar, "its rate at the start (0)").optional(),
+        ],
+        state: &[
+            Field {
+                name: "displacement",
+                width: 1,
+                body_vector: false,
+                dim: Dim::NONE,
+                about: "x",
+            },
+            Field {
+                name: "momentum",
+                width: 1,
+                body_vector: false,
+                dim: Dim::MOMENTUM,
+                about: "p = ∂T/∂ẋ",
+            },
+        ],
+        keeps: MOVING_KEEPS,
+        defines: Conserved::NONE,
+        energy: EnergyRole::Dissipates,
+        external: false,
+        unique: false,
+        traits: MOVING_TRAITS,
+    };
+
+    fn from_fields(fields: &Fields) -> Result<Self> {
+        let mut s = Self::try_new(
+            fields.number("mass")?,
+            fields.vector("anchor")?,
+            fields.vector("direction")?,
+            fields.number("stiffness")?,
+            fields.number("damping")?,
+        )?;
+        s.start = [
+            fields.optional_number("x0")?.unwrap_or(0.0),
+            fields.optional_number("rate0")?.unwrap_or(0.0),
+        ];
+        if !s.start.iter().all(|v| v.is_finite()) {
+            return Err(Error::invalid("x0", "and rate0 must be finite", s.start));
+        }
+        Ok(s)
+    }
+
+    #[inline(always)]
+    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
+        Some((SpringMass::carried(self, x[0]), [x[1], 0.0, 0.0]))
+    }
+
+    fn moving_rates(&self) -> usize {
+        1
+    }
+
+    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
+        Some(AloneSolve(std::sync::Arc::new(LoneSpring::new(hub, *self))))
+    }
+
+    fn moving_mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
+        x[..2].copy_from_slice(&self.start);
+    }
+
+    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
+        [x[1], 0.0, 0.0]
+    }
+
+    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
+        x[1] = p[0];
+    }
+
+    #[inline(always)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
+        if let Some(m) = &c.moving {
+            dx[0] = m.rates[0];
+            dx[1] = self.momentum_rate(x[0], m.rates[0], &c.omega, &m.velocity);
+        }
+    }
+
+    fn energy(&self, _t: f64, x: &[f64]) -> f64 {
+        self.potential(x[0])
+    }
+
+    #[inline(always)]
+    fn dissipation(&self, c: &Ctx<'_>, _x: &[f64]) -> f64 {
+        c.moving
+            .map_or(0.0, |m| SpringMass::dissipation(self, m.rates[0]))
+    }
+
+    fn stiffness(&self, _least: f64) -> f64 {
+        self.damping / self.mass
+    }
+
+    fn frequency(&self, rate: f64) -> f64 {
+        (self.stiffness / self.mass).sqrt() + 2.0 * rate
+    }
+
+    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        Self {
+            anchor: Vector3::from(to_axes(self.anchor.into())),
+            direction: Vector3::from(to_axes(self.direction.into())),
+            ..*self
+        }
+    }
+
+    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
+        Ok(Self {
+            mass: ldexp(self.mass, -m),
+            stiffness: ldexp(self.stiffness, -m),
+            damping: ldexp(self.damping, -m),
+            ..*self
+        })
+    }
+
+    fn in_units(&self, scale: RateScale) -> Result<Self> {
+        let rate = |v: f64| scale.rate_to_unit(v);
+        Ok(Self {
+            stiffness: rate(rate(self.stiffness)),
+            damping: rate(self.damping),
+            start: [self.start[0], rate(self.start[1])],
+            ..*self
+        })
     }
 }
 

@@ -135,8 +135,11 @@ fn general<const N: usize, const HOT: bool>(
     omega: [f64; 3],
     q: [f64; 4],
     t_end: f64,
+    mass: Option<f64>,
 ) -> Result<(GeneralModel<N, HOT>, [f64; N])> {
-    let model = GeneralModel::<N, HOT>::try_new(law, parts)?.until(t_end);
+    let model = GeneralModel::<N, HOT>::try_new(law, parts)?
+        .with_hub_mass(mass)?
+        .until(t_end);
     let x0 = model.state_from(0.0, omega, q);
     finite_start(&x0)?;
     Ok((model, x0))
@@ -203,21 +206,23 @@ fn build(
                 .map(|p| p.seeded(system.seed(), k))
         })
         .collect::<Result<Vec<_>>>()?;
+    // the body's mass over the moments' power of two (its parts' masses go with them)
+    let mass = system.mass().map(scaled);
     let needed = 7 + system.state_width();
     let Some(&size) = STATE_SIZES.iter().find(|&&n| n >= needed) else {
         return Err(System::too_much_state(needed - 7));
     };
     let built = match size {
         7 if GeneralModel::<7>::is_lean(&parts) => {
-            general(law, parts, omega, q, t_end).map(|(m, x)| Built::Lean(m, x))
+            general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::Lean(m, x))
         }
-        7 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G7(m, x)),
-        8 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G8(m, x)),
-        10 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G10(m, x)),
-        12 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G12(m, x)),
-        14 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G14(m, x)),
-        16 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G16(m, x)),
-        _ => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G24(m, x)),
+        7 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G7(m, x)),
+        8 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G8(m, x)),
+        10 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G10(m, x)),
+        12 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G12(m, x)),
+        14 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G14(m, x)),
+        16 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G16(m, x)),
+        _ => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G24(m, x)),
     }?;
     Ok((built, edge, m))
 }
