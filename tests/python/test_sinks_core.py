@@ -85,7 +85,7 @@ def test_the_nutation_grows_at_the_energy_sink_estimates_rate():
 @pytest.mark.parametrize("kind", ["spring", "hinge", "slosh"])
 def test_each_part_moves_as_lagranges_equations_say(kind):
     # the core (DOP853 at rtol 1e-12) against sympy's Lagrange equations (DOP853 at 1e-12),
-    # both from the same start, over a few nutation periods
+    # both from the same start, over ten time units
     from sinks_reference import Lagrange
 
     inertia = np.array([[3.0, -0.2, 0.1], [-0.2, 4.0, 0.3], [0.1, 0.3, 5.0]])
@@ -114,4 +114,5 @@ def test_each_part_moves_as_lagranges_equations_say(kind):
     out = _core.simulate_batch([system], np.array([w0], float),
                                np.array([[1.0, 0.0, 0.0, 0.0]]), options, True)
     omega = reference.omega(y)
-    assert np.abs(out.omega[0] - omega).max() < 1e-8
+    # measured: 4.8e-13 (spring), 1.5e-13 (hinge), 1.7e-13 (slosh)
+    assert np.abs(out.omega[0] - omega).max() < 1e-11
