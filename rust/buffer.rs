@@ -4,6 +4,16 @@ use std::alloc::{alloc_zeroed, Layout};
 
 use crate::error::{Error, Result};
 
+/// The error of an allocation of `what` (a noun phrase: "the frames") that cannot be had.
+fn out_of_memory(what: &'static str, needed: String, hint: &'static str) -> Error {
+    Error::TooLarge {
+        what: format!("holding {what}").into(),
+        needed,
+        limit: "the memory this process can allocate".into(),
+        hint,
+    }
+}
+
 /// A zero-filled `Vec<f64>` of `len` elements, or [`Error::TooLarge`] if it cannot be had.
 ///
 /// Zeroed memory from the allocator costs nothing up front for large sizes (fresh pages are
@@ -17,11 +27,12 @@ pub fn zeroed_for(len: usize, what: &'static str, hint: &'static str) -> Result<
     if len == 0 {
         return Ok(Vec::new());
     }
-    let too_large = || Error::TooLarge {
-        what,
-        needed: format!("{len} float64 values ({:.3e} bytes)", len as f64 * 8.0),
-        limit: "the memory this process can allocate".into(),
-        hint,
+    let too_large = || {
+        out_of_memory(
+            what,
+            format!("{len} float64 values ({:.3e} bytes)", len as f64 * 8.0),
+            hint,
+        )
     };
     let layout = Layout::array::<f64>(len).map_err(|_| too_large())?;
     // SAFETY: the layout has non-zero size; a null return is handled; the memory is
@@ -39,14 +50,9 @@ pub fn zeroed_for(len: usize, what: &'static str, hint: &'static str) -> Result<
 /// if it cannot be had (under an address-space limit, say), instead of aborting the process.
 pub fn try_with_capacity<T>(len: usize, what: &'static str, hint: &'static str) -> Result<Vec<T>> {
     let mut v = Vec::new();
-    v.try_reserve_exact(len).map_err(|_| Error::TooLarge {
-        what,
-        needed: format!(
-            "{len} values ({:.3e} bytes)",
-            len as f64 * std::mem::size_of::<T>() as f64
-        ),
-        limit: "the memory this process can allocate".into(),
-        hint,
+    v.try_reserve_exact(len).map_err(|_| {
+        let bytes = len as f64 * std::mem::size_of::<T>() as f64;
+        out_of_memory(what, format!("{len} values ({bytes:.3e} bytes)"), hint)
     })?;
     Ok(v)
 }
@@ -83,12 +89,7 @@ pub fn try_collect_results<T>(
 /// how much was asked, where the allocations themselves would abort the process. The
 /// reservation is released at once (it never touches its pages).
 pub fn ensure_room(bytes: f64, what: &'static str, hint: &'static str) -> Result<()> {
-    let too_large = || Error::TooLarge {
-        what,
-        needed: format!("about {bytes:.3e} bytes"),
-        limit: "the memory this process can allocate".into(),
-        hint,
-    };
+    let too_large = || out_of_memory(what, format!("about {bytes:.3e} bytes"), hint);
     if bytes.is_nan() || bytes >= isize::MAX as f64 {
         return Err(too_large());
     }

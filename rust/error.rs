@@ -12,10 +12,13 @@ pub enum Error {
         allowed: Cow<'static, str>,
         got: String,
     },
-    /// A request whose output or step count is too large to honour.
-    #[error("{what} needs {needed}, more than the limit {limit}; {hint}")]
+    /// A request whose output or step count is too large to honour. `what` is a singular
+    /// phrase ("the run", "keeping the frames") and `limit` a noun phrase ("the limit
+    /// max_steps = 100", "the memory this process can allocate"), so that the message reads
+    /// as a sentence.
+    #[error("{what} needs {needed}, more than {limit}; {hint}")]
     TooLarge {
-        what: &'static str,
+        what: Cow<'static, str>,
         needed: String,
         limit: String,
         hint: &'static str,
@@ -86,5 +89,34 @@ mod display {
             assert!(text.contains(&format!("t = {shown}:")), "{text}");
             assert!(text.len() < 80, "{text}");
         }
+    }
+
+    #[test]
+    fn a_request_too_large_reads_as_a_sentence() {
+        // an allocation names what it holds ("the step plans needs" read wrongly)
+        let text = crate::buffer::ensure_room(1e30, "the step plans", "plan fewer")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            text.starts_with(
+                "holding the step plans needs about 1.000e30 bytes, more than the memory"
+            ),
+            "{text}"
+        );
+        // a step limit is named once ("more than the limit the most steps a run can count")
+        let text = crate::run::FrameGrid::try_new(1e300, 3, 1e-300, u64::MAX)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            text.contains(", more than the most steps a run can count (2^64 - 1);"),
+            "{text}"
+        );
+        let text = crate::run::FrameGrid::try_new(1.0, 3, 1e-12, 100)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            text.contains(", more than the limit max_steps = 100;"),
+            "{text}"
+        );
     }
 }

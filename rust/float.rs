@@ -28,6 +28,26 @@ pub fn ldexp(mut x: f64, mut e: i32) -> f64 {
     x * 2f64.powi(e)
 }
 
+/// Where `t` lies in the interval `[t0, t1]` (`t0 < t1`, finite), `(t − t0) / (t1 − t0)`,
+/// for intervals of any width: one wider than float64's largest number (knots at ±1.7e308)
+/// is taken by its halves, where `t1 − t0` overflowed to infinity and made the place 0 at
+/// every `t` (a tabulated torque silently 0 for the whole run).
+///
+/// # Example
+/// ```
+/// use dzhanibekov::float::fraction;
+/// assert_eq!(fraction(0.0, -1.7e308, 1.7e308), 0.5);
+/// assert_eq!(fraction(3.0, 2.0, 6.0), 0.25);
+/// ```
+#[inline]
+pub fn fraction(t: f64, t0: f64, t1: f64) -> f64 {
+    let gap = t1 - t0;
+    match gap.is_finite() {
+        true => (t - t0) / gap,
+        false => (0.5 * t - 0.5 * t0) / (0.5 * t1 - 0.5 * t0),
+    }
+}
+
 /// The binary exponent `e` with `2^e ≤ |x| < 2^(e + 1)`, for any finite non-zero `x`
 /// (subnormals included).
 pub fn exponent(x: f64) -> i32 {

@@ -86,6 +86,8 @@ pub const MAX_COORDINATE: f64 = f64::MAX / 4.0;
 const PARALLEL_THRESHOLD: usize = 1 << 16;
 /// Points per task: 2048 points (48 KiB in, 48 KiB out per frame) stay in L2.
 const POINT_BLOCK: usize = 2048;
+/// Frames per task, so that few points rotated by many frames still spread over the cores.
+const FRAME_BLOCK: usize = 4096;
 
 /// Checks a flat `(N, 4)` array of quaternions: finite and non-zero, row by row (of any
 /// size: a row is scaled before its norm is taken).
@@ -163,37 +165,43 @@ pub fn rotate_points_until(
     if n == 0 || p == 0 {
         return Ok(());
     }
-    let matrices: Vec<Matrix3<f64>> = q.chunks_exact(4).map(matrix_of_row).collect();
+    // Each frame's matrix is made where it is used, from its row of `q`: nothing is
+    // allocated beside `out` (a table of N matrices, 72 bytes a frame, aborted the process
+    // under an address-space limit that `out` itself fitted).
     let frame_len = p * 3;
     let stopped = || match cancel.load(Ordering::Relaxed) {
         true => Err(Error::Interrupted),
         false => Ok(()),
     };
     if n * p < PARALLEL_THRESHOLD {
-        for (m, frame) in matrices.iter().zip(out.chunks_exact_mut(frame_len)) {
-            rotate_block(m, points, frame);
+        for (row, frame) in q.chunks_exact(4).zip(out.chunks_exact_mut(frame_len)) {
+            rotate_block(&matrix_of_row(row), points, frame);
         }
         return stopped();
     }
-    // Split the output into (frame, point-block) tiles, grouped by point block so that each
-    // task reads its block of points once from memory and writes it for every frame.
+    // Split the output into tiles of (a block of frames, a block of points): each task reads
+    // its block of points once from memory and writes it for every frame of its block (a
+    // frame's matrix is made once per block of points: 25 flops against the block's 15 a
+    // point). Few points and many frames still make many tasks.
     let blocks = p.div_ceil(POINT_BLOCK);
+    let chunks = n.div_ceil(FRAME_BLOCK);
     let out_ptr = SyncPtr(out.as_mut_ptr());
     crate::pool::install(|| {
-        (0..blocks).into_par_iter().for_each(|b| {
+        (0..blocks * chunks).into_par_iter().for_each(|tile| {
+            let (b, c) = (tile / chunks, tile % chunks);
             let start = b * POINT_BLOCK;
             let end = (start + POINT_BLOCK).min(p);
             let src = &points[start * 3..end * 3];
-            for (i, m) in matrices.iter().enumerate() {
+            for i in c * FRAME_BLOCK..((c + 1) * FRAME_BLOCK).min(n) {
                 if cancel.load(Ordering::Relaxed) {
                     return;
                 }
                 let offset = i * frame_len + start * 3;
-                // SAFETY: tiles (i, b) are disjoint ranges of `out`, each written by one task.
+                // SAFETY: tiles are disjoint ranges of `out`, each written by one task.
                 let dst = unsafe {
                     std::slice::from_raw_parts_mut(out_ptr.get().add(offset), (end - start) * 3)
                 };
-                rotate_block(m, src, dst);
+                rotate_block(&matrix_of_row(&q[4 * i..4 * i + 4]), src, dst);
             }
         })
     })?;

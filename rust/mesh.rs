@@ -79,9 +79,9 @@ pub fn ellipsoid(semi_axes: [f64; 3], n_around: usize, n_along: usize) -> Result
         .checked_mul(n_along)
         .filter(|&c| c <= MAX_CELLS)
         .ok_or_else(|| Error::TooLarge {
-            what: "the ellipsoid mesh",
+            what: "the ellipsoid mesh".into(),
             needed: format!("n_around × n_along = {n_around} × {n_along} cells"),
-            limit: format!("{MAX_CELLS} cells"),
+            limit: format!("the limit of {MAX_CELLS} cells"),
             hint: "ask for fewer cells",
         })?;
     let [a, b, c] = semi_axes;

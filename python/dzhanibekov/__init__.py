@@ -36,6 +36,7 @@ from .lvlh import lvlh_attitude, lvlh_frame, lvlh_start
 from . import scenes
 from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
+from .models import MODELS, ModelInfo
 from .montecarlo import MonteCarlo, StudyError, monte_carlo
 from .simulate import rotate, simulate
 from .stability import (DualSpinMap, GravityGradientMap, dual_spin_map, gravity_gradient_map,
@@ -84,6 +85,8 @@ __all__ = [
     "flip_period",
     "METHODS",
     "MethodInfo",
+    "MODELS",
+    "ModelInfo",
     "StepSizeWarning",
     "MAX_PREDICTED_DRIFT",
     "BOX_SIZE",

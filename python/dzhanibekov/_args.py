@@ -88,6 +88,11 @@ def as_array(name: str, value: Any, shape: str, *, last: int, ndim: tuple[int, .
         raise TypeError(f"`{name}` must hold real numbers, got dtype {arr.dtype}")
     if arr.ndim not in ndim or arr.shape[-1:] != (last,):
         raise ValueError(f"`{name}` must have shape {shape}, got {arr.shape}")
+    if not (arr.dtype == np.float64 and arr.flags.c_contiguous and arr.flags.aligned):
+        # a copy is made: of its full size, whatever the input holds (a broadcast view of
+        # 2**31 rows holds one)
+        check_size(8 * arr.size, f"`{name}` as a float64 array of shape {arr.shape}",
+                   f"pass a smaller `{name}`")
     arr = np.require(arr, dtype=np.float64, requirements=["C", "A"])
     if not np.isfinite(arr).all():
         raise ValueError(f"`{name}` must be finite, got non-finite values")

@@ -2,8 +2,11 @@
 
 Writing is all or nothing (:func:`replacing`): the new content goes to a temporary file in the
 destination's folder, which is renamed over the destination only once it is complete and on
-disk. A full disk, a file-size limit, an error of the writer or Ctrl-C leave the previous
-file as it was and no partial file behind.
+disk. A full disk, a file-size limit, an error of the writer, Ctrl-C or SIGTERM leave the
+previous file as it was and no partial file behind. A process killed outright (SIGKILL, an
+abort) cannot clean up: its temporary file names its host and process (:func:`partial_prefix`),
+and the next write to the same path removes those whose process is gone
+(:func:`remove_stale`).
 
 Reading refuses what is not a regular file before reading a byte (:func:`open_regular`): a
 FIFO would block for ever waiting for a writer, and a device such as ``/dev/zero`` gives
@@ -15,7 +18,10 @@ from __future__ import annotations
 
 import contextlib
 import os
+import re
+import shutil
 import signal
+import socket
 import stat
 import tempfile
 import threading
@@ -27,7 +33,7 @@ from typing import IO, Any
 from .errors import DzhanibekovError
 
 __all__ = ["ReadError", "as_path", "replacing", "write_text", "save_figure", "open_regular",
-           "size_of", "describe", "HDF5_SIGNATURE"]
+           "size_of", "describe", "HDF5_SIGNATURE", "partial_prefix", "remove_stale"]
 
 HDF5_SIGNATURE = b"\x89HDF\r\n\x1a\n"
 """The first 8 bytes of an HDF5 file, hence of a netCDF-4 file (HDF5 file format
@@ -92,26 +98,90 @@ class _Interrupts:
     Python's own handler does), so that an interrupt swallowed inside the writer (h5py and
     xarray run code in ``__del__`` and weak-reference callbacks, where an exception is only
     printed: "Exception ignored in …") still stops the write before anything is replaced.
-    Only in the main thread, and only while Python's default handler is the one installed."""
+    SIGTERM (a scheduler's, ``kill``'s) is taken the same way, then sent again once the
+    temporary file is gone (:meth:`resend`), so that the process ends as it would have, with
+    nothing left behind (it left a hidden ``.partial.nc`` two times in three). Only in the
+    main thread, and only for a signal whose handler is Python's default."""
+
+    _DEFAULTS = ((signal.SIGINT, signal.default_int_handler),
+                 (signal.SIGTERM, signal.SIG_DFL))
 
     def __init__(self) -> None:
         self.seen = False
-        self._previous: Any = None
+        self.terminated = False
+        self._previous: dict[int, Any] = {}
 
     def __enter__(self) -> _Interrupts:
-        if (threading.current_thread() is threading.main_thread()
-                and signal.getsignal(signal.SIGINT) is signal.default_int_handler):
-            self._previous = signal.signal(signal.SIGINT, self._handler)
+        if threading.current_thread() is threading.main_thread():
+            for signum, default in self._DEFAULTS:
+                if signal.getsignal(signum) is default:
+                    self._previous[signum] = signal.signal(signum, self._handler)
         return self
 
     def _handler(self, signum: int, frame: FrameType | None) -> None:
         self.seen = True
+        self.terminated = self.terminated or signum == signal.SIGTERM
         raise KeyboardInterrupt
 
     def __exit__(self, *exc: object) -> None:
-        if self._previous is not None:
-            signal.signal(signal.SIGINT, self._previous)
-            self._previous = None
+        for signum, previous in self._previous.items():
+            signal.signal(signum, previous)
+        self._previous = {}
+
+    def resend(self) -> None:
+        """SIGTERM again, to the handler it had, if one came during the write."""
+        if self.terminated:
+            signal.raise_signal(signal.SIGTERM)
+
+
+def _host() -> str:
+    """This machine's name as it goes in a file name: letters, digits and hyphens."""
+    return re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())[:64] or "host"
+
+
+def partial_prefix(name: str) -> str:
+    """The start of the name of a temporary file (or folder) written for `name` by this
+    process: ``.NAME.HOST-PID.``. The next write of `name` removes those of processes of this
+    host that are gone (:func:`remove_stale`)."""
+    return f".{name}.{_host()}-{os.getpid()}."
+
+
+def _gone(pid: int) -> bool:
+    """Whether no process `pid` runs on this machine (another user's counts as running)."""
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:
+        return False
+    return False
+
+
+def remove_stale(folder: Path, name: str, tail: str) -> list[Path]:
+    """Removes the temporary files (or folders) in `folder` that a write of `name` left when
+    its process was killed: those named ``.NAME.HOST-PID.….TAIL…`` by a process of this host
+    that is gone. A write of another host, or of a process still running, is left alone.
+    Returns what was removed."""
+    prefix = f".{name}.{_host()}-"
+    removed: list[Path] = []
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    for entry in entries:
+        if not entry.name.startswith(prefix) or tail not in entry.name:
+            continue
+        pid, _, rest = entry.name[len(prefix):].partition(".")
+        if not (pid.isdigit() and rest and _gone(int(pid))):
+            continue
+        path = Path(entry.path)
+        with contextlib.suppress(OSError):
+            if entry.is_dir(follow_symlinks=False):
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+            removed.append(path)
+    return removed
 
 
 def _destination(path: Path) -> Path:
@@ -132,12 +202,14 @@ def replacing(path: Any, *, name: str = "path") -> Iterator[Path]:
     """A temporary file in the folder of `path` to write to; it replaces `path` when the block
     ends normally, and is removed whatever else happens.
 
-    The temporary file is hidden (``.NAME.XXXX.partial.SUFFIX``: the suffix kept, for
-    writers that choose the format by it), written, flushed to disk (``fsync``), given the
-    permissions `path` has (or a new file would get) and renamed over `path`: one atomic
+    The temporary file is hidden (``.NAME.HOST-PID.XXXX.partial.SUFFIX``: the suffix kept,
+    for writers that choose the format by it), written, flushed to disk (``fsync``), given
+    the permissions `path` has (or a new file would get) and renamed over `path`: one atomic
     step on the same filesystem. A symbolic link is followed: its target is replaced and the
     link kept. SIGINT during the block raises KeyboardInterrupt, and is honoured even where
-    the writer swallowed it.
+    the writer swallowed it; SIGTERM stops the write the same way, and is sent again once the
+    temporary file is gone. Temporary files that killed writes of `path` left are removed
+    first (:func:`remove_stale`).
 
     Raises
     ------
@@ -153,12 +225,14 @@ def replacing(path: Any, *, name: str = "path") -> Iterator[Path]:
         mode = stat.S_IMODE(os.stat(target).st_mode)
     except OSError:
         mode = 0o666 & ~_umask()
-    fd, tmp_name = tempfile.mkstemp(dir=target.parent, prefix=f".{target.name}.",
+    remove_stale(target.parent, target.name, ".partial")
+    fd, tmp_name = tempfile.mkstemp(dir=target.parent, prefix=partial_prefix(target.name),
                                     suffix=".partial" + target.suffix)
     os.close(fd)
     tmp = Path(tmp_name)
+    interrupts = _Interrupts()
     try:
-        with _Interrupts() as interrupts:
+        with interrupts:
             yield tmp
             if interrupts.seen:  # swallowed by the writer: honour it now
                 raise KeyboardInterrupt
@@ -176,6 +250,7 @@ def replacing(path: Any, *, name: str = "path") -> Iterator[Path]:
     finally:
         with contextlib.suppress(OSError):
             os.unlink(tmp)
+        interrupts.resend()
 
 
 def write_text(path: Any, text: str, *, encoding: str = "utf-8", name: str = "path") -> Path:

@@ -49,16 +49,27 @@ class RunProgress:
     the first line after `LINE_EVERY`."""
 
     def __init__(self, t_end: float, always: bool, desc: str = "run") -> None:
-        self.t_end, self.desc = t_end, desc
+        self.t_end, self.desc, self.always = t_end, desc, always
         self.start = time.monotonic()
         self.next_line = self.start + (0.0 if always else LINE_EVERY)
-        bar: Any = tqdm(total=t_end, desc=desc, unit="t", leave=False, disable=None,
-                        delay=0.0 if always else PROGRESS_DELAY,
+        # the bar is made at the core's first report (a long run's): a quick run, which the
+        # core never reports, makes none (tqdm's set-up cost a 10-step run more than the
+        # run itself)
+        self.bar: Any = None
+        self.started = False
+
+    def _start(self) -> None:
+        self.started = True
+        waited = time.monotonic() - self.start
+        bar: Any = tqdm(total=self.t_end, desc=self.desc, unit="t", leave=False, disable=None,
+                        delay=0.0 if self.always else max(0.0, PROGRESS_DELAY - waited),
                         bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.4g} of "
                         "{total:.4g} [{elapsed}<{remaining}]")
         self.bar = None if bar.disable else bar
 
     def __call__(self, share: float) -> None:
+        if not self.started:
+            self._start()
         t = share * self.t_end
         if self.bar is not None:
             self.bar.update(t - self.bar.n)

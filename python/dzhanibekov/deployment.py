@@ -9,6 +9,7 @@ import numpy as np
 from . import _core
 from ._args import as_array, check_size
 from .body import Body
+from .torques import knot_fraction
 
 __all__ = ["Deployment"]
 
@@ -139,7 +140,7 @@ class Deployment:
             return np.array(tensors[0])
         if k == len(self.times):
             return np.array(tensors[-1])
-        tau = (t - self.times[k - 1]) / (self.times[k] - self.times[k - 1])
+        tau = knot_fraction(float(t), float(self.times[k - 1]), float(self.times[k]))
         s = tau**3 * (10 - 15 * tau + 6 * tau**2)
         return np.array(tensors[k - 1] + s * (tensors[k] - tensors[k - 1]))
 

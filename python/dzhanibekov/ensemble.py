@@ -188,7 +188,9 @@ def sweep(
         Initial attitude, scalar first; shared or one per start.
     t_end, frames, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`: the frames only set the substeps and where
-        the drift is measured. With ``dt=None`` every run of a fixed-step method takes
+        the drift is measured (an adaptive method's step that spans more than 64 frames at
+        the last of them only: frames that are not kept are not all read off its
+        interpolant). With ``dt=None`` every run of a fixed-step method takes
         the smallest of the steps its runs would pick alone; the adaptive methods' runs each
         pick their own first step, as alone.
     block : int

@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
@@ -237,23 +238,82 @@ def sample_rng(seed: Any, k: int) -> np.random.Generator:
     return _generator(root.entropy, tuple(root.spawn_key), as_int("k", k, minimum=0))
 
 
+_SEED_KINDS = ("`seed` must be a non-negative integer, a sequence of them (list, tuple, range "
+               "or a 1-D integer array), a numpy.random.SeedSequence or None")
+
+
 def _seed_sequence(seed: Any) -> np.random.SeedSequence:
+    """The root of a study's generators from `seed` (see :func:`monte_carlo`): only what the
+    documentation names is taken — a string, bytes or a dict would be read by NumPy as a
+    sequence of codes or keys — and a sequence becomes a list of Python ints, which
+    :meth:`MonteCarlo.to_xarray` writes and :meth:`MonteCarlo.from_xarray` reads back."""
     if isinstance(seed, np.random.SeedSequence):
-        return seed
+        return np.random.SeedSequence(_entropy(seed.entropy, "seed.entropy"),
+                                      spawn_key=tuple(int(k) for k in seed.spawn_key))
     if seed is None:
         return np.random.SeedSequence()
-    if isinstance(seed, (bool, np.bool_)):
-        raise TypeError(f"`seed` must be a non-negative integer, a sequence of them, a "
-                        f"SeedSequence or None, got {seed!r}")
-    if isinstance(seed, numbers.Integral):
-        if int(seed) < 0:
-            raise ValueError(f"`seed` must be non-negative, got {seed!r}")
-        return np.random.SeedSequence(int(seed))
-    try:
-        return np.random.SeedSequence([int(s) for s in seed])
-    except (TypeError, ValueError):
-        raise TypeError(f"`seed` must be a non-negative integer, a sequence of them, a "
-                        f"SeedSequence or None, got {type(seed).__name__}") from None
+    return np.random.SeedSequence(_entropy(seed, "seed"))
+
+
+def _entropy(seed: Any, name: str) -> int | list[int]:
+    def one(value: Any, where: str) -> int:
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
+            raise TypeError(f"{_SEED_KINDS}, got {where} {value!r} ({type(value).__name__})")
+        if int(value) < 0:
+            raise ValueError(f"`{name}` must be non-negative, got {where} {int(value)}")
+        return int(value)
+
+    if isinstance(seed, numbers.Integral) and not isinstance(seed, (bool, np.bool_)):
+        return one(seed, name)
+    if isinstance(seed, np.ndarray):
+        if seed.ndim != 1 or seed.dtype.kind not in "iu":
+            raise TypeError(f"{_SEED_KINDS}, got an array of shape {seed.shape} and dtype "
+                            f"{seed.dtype}")
+    elif isinstance(seed, (str, bytes, bytearray, memoryview)) or not isinstance(
+            seed, (list, tuple, range)):
+        raise TypeError(f"{_SEED_KINDS}, got {type(seed).__name__} {seed!r:.60}")
+    values = [one(v, f"{name}[{k}] =") for k, v in enumerate(seed)]
+    if not values:
+        raise ValueError(f"`{name}` must hold at least one integer, got an empty sequence")
+    return values
+
+
+def entropy_text(entropy: Any) -> str:
+    """A seed's entropy as a file holds it: ``"123"``, or ``"[1, 2]"`` for a sequence."""
+    if isinstance(entropy, numbers.Integral):
+        return str(int(entropy))
+    return "[" + ", ".join(str(int(v)) for v in entropy) + "]"
+
+
+def entropy_of_text(text: str) -> int | list[int]:
+    """The entropy :func:`entropy_text` wrote.
+
+    Raises
+    ------
+    ValueError
+        Text it never writes.
+
+    Examples
+    --------
+    >>> entropy_of_text("[1, 2]"), entropy_of_text("123")
+    ([1, 2], 123)
+    """
+    inner = text[1:-1] if text.startswith("[") and text.endswith("]") else None
+    parts = (inner.split(",") if inner.strip() else []) if inner is not None else [text]
+    if not parts or not all(re.fullmatch(r"\s*[0-9]+\s*", part) for part in parts):
+        raise ValueError(f"must be a non-negative integer or a list of them, as "
+                         f"'123' or '[1, 2]', got {text!r:.80}")
+    values = [int(part) for part in parts]
+    return values if inner is not None else values[0]
+
+
+def spawn_key_of_text(text: str) -> tuple[int, ...]:
+    """The spawn key a file holds: non-negative integers joined by commas (or nothing)."""
+    if text == "":
+        return ()
+    if not all(re.fullmatch(r"[0-9]+", part) for part in text.split(",")):
+        raise ValueError(f"must be non-negative integers joined by commas, got {text!r:.80}")
+    return tuple(int(part) for part in text.split(","))
 
 
 def _generator(entropy: Any, spawn_key: tuple[int, ...], k: int) -> np.random.Generator:
@@ -402,6 +462,9 @@ _KINDS: dict[tuple[str, ...], str] = {("free",): "free", ("deployment",): "deplo
                                       ("damper",): "damper"}
 """A study's kinds of system, by the registry's kinds of a :class:`System`."""
 
+STUDY_KINDS = tuple(_KINDS.values())
+"""The kinds of system a study runs (``MonteCarlo.kind``)."""
+
 
 def _kind(value: Any) -> str:
     """What kind of system a drawn (or given) value is: "free", "deployment" or "damper"."""
@@ -510,20 +573,12 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
         value = value.body
     if kind == "deployment":
         d: Deployment = value
-        for j, tensor in enumerate(d.tensors):
-            bad = _first_unphysical(np.linalg.eigvalsh(tensor)[None])
-            if bad is not None:
-                raise ValueError(f"knot {j}: {bad[1]}")
         if d.times[-1] > t_end:
             raise ValueError(f"the deployment's last knot, at {d.times[-1]:g}, is after "
                              f"`t_end` {t_end:g}: the verdict is that of the free motion after "
                              "it, so `t_end` must reach it")
-        moments, axes = np.linalg.eigh(d.tensors[-1])
-        if np.linalg.det(axes) < 0:
-            axes[:, 0] = -axes[:, 0]
-        # as if deployed at once: L = I_0 ω kept in the body
-        after = np.linalg.solve(d.tensors[-1], d.tensors[0] @ omega)
-        return _Drawn(kind, moments, d.tensors[-1], axes, None, d, None, axes.T @ after)
+        # its knots' moments, its deployed axes and rates: a chunk's at once (_deployed)
+        return _Drawn(kind, np.full(3, np.nan), d.tensors[-1], None, None, d, None, omega)
     if isinstance(value, Body):
         moments = np.array(value.inertia)
         if value.is_principal:
@@ -531,6 +586,32 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
         axes = value.principal_axes
         return _Drawn(kind, moments, value.tensor, axes, value, None, damper, axes.T @ omega)
     return _Drawn(kind, _moments_of(value), None, None, None, None, damper, omega)
+
+
+def _deployed(drawn: list[_Drawn], samples: np.ndarray) -> tuple[list[_Drawn], _Failure | None]:
+    """A chunk's deployments, checked and measured at once (one sample at a time made a study
+    of deployments several times slower than the sweep of the same deployments): every knot's
+    moments a body has, up to the first that does not; the deployed body's moments and axes
+    (a proper rotation); the rates it has once deployed, as if deployed at once (``L = I_0 ω``
+    kept in the body), in those axes."""
+    knots = np.array([d.deployment.tensors for d in drawn])  # type: ignore[union-attr]
+    m, k = knots.shape[:2]
+    bad = _first_unphysical(np.linalg.eigvalsh(knots).reshape(m * k, 3))
+    failure = None
+    if bad is not None:
+        i, j = divmod(bad[0], k)
+        failure = _Failure(int(samples[i]), f"`system` failed: ValueError: knot {j}: {bad[1]}",
+                           None)
+        drawn, knots, m = drawn[:i], knots[:i], i
+    if not m:
+        return drawn, failure
+    moments, axes = np.linalg.eigh(knots[:, -1])
+    axes[np.linalg.det(axes) < 0, :, 0] *= -1.0
+    omega = np.array([d.omega_principal for d in drawn])
+    after = np.linalg.solve(knots[:, -1], (knots[:, 0] @ omega[:, :, None]))[:, :, 0]
+    principal = np.einsum("mji,mj->mi", axes, after)  # Aᵀ · after
+    return [d._replace(moments=moments[i], axes=axes[i], omega_principal=principal[i])
+            for i, d in enumerate(drawn)], failure
 
 
 class _Failure(NamedTuple):
@@ -583,6 +664,11 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
         drawn.append(record)
         omegas.append(omega)
         qs.append(q)
+    if spec.kind == "deployment" and drawn:
+        drawn, knot_failure = _deployed(drawn, samples)
+        if knot_failure is not None:
+            failure = knot_failure
+            omegas, qs = omegas[:len(drawn)], qs[:len(drawn)]
     moments = np.array([d.moments for d in drawn]).reshape(len(drawn), 3)
     bad = _first_unphysical(moments)
     if bad is not None:
@@ -686,7 +772,13 @@ def _outcomes_of(spec: _Spec, rows: _Rows) -> tuple[np.ndarray, dict[str, np.nda
                                "or a larger `max_steps`", None)
             return _values(spec, values), _taken(rows.inputs, i), failure
         try:
-            values.append(_outcome(spec, result, i))
+            value = _outcome(spec, result, i)
+            if values and isinstance(value, bool) != isinstance(values[0], bool):
+                raise _BadOutcome(_mixed(value, values[0]))
+            values.append(value)
+        except _BadOutcome as bad:
+            k = int(rows.samples[i])
+            return _values(spec, values), _taken(rows.inputs, i), _Failure(k, str(bad), None)
         except Exception as exc:  # the user's `ask` may raise anything: say which sample
             k = int(rows.samples[i])
             what = "`ask` raised" if callable(spec.ask) else "the outcome failed"
@@ -725,13 +817,46 @@ def _outcome(spec: _Spec, result: Any, i: int) -> Any:
     if ask == "flat_spin":
         return bool(np.isfinite(flat_spin_time(traj)))
     assert callable(ask)
-    value = ask(traj)
+    return _checked_outcome(ask(traj))
+
+
+class _BadOutcome(Exception):
+    """What an `ask` returned that a study cannot hold (the message says what)."""
+
+
+_EXACT_INTEGERS = 2**53
+"""Integers float64 holds exactly: the outcomes are float64 (and so in a file)."""
+
+
+def _checked_outcome(value: Any) -> bool | float:
+    """An `ask`'s answer as an outcome: a bool, or a finite real number (an integer one
+    float64 holds exactly); anything else is refused, saying what it was: a NaN or an
+    infinity would make the estimate NaN or infinite, and save and load without complaint."""
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "biuf":
+        value = value[()]
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    if isinstance(value, numbers.Real) or (isinstance(value, np.ndarray) and value.shape == ()
-                                           and value.dtype.kind in "biuf"):
+    if isinstance(value, numbers.Integral):
+        if abs(int(value)) > _EXACT_INTEGERS:
+            digits = str(int(value))
+            shown = digits if len(digits) <= 24 else f"{digits[:8]}… ({len(digits)} digits)"
+            raise _BadOutcome(f"`ask` must return a bool or a real number float64 holds, got "
+                              f"the integer {shown} (beyond 2**53, float64 rounds it)")
         return float(value)
-    raise TypeError(f"`ask` must return a bool or a real number, got {type(value).__name__}")
+    if isinstance(value, numbers.Real):
+        number = float(value)
+        if not math.isfinite(number):
+            raise _BadOutcome(f"`ask` must return a bool or a finite number, got {number!r}")
+        return number
+    raise _BadOutcome(f"`ask` must return a bool or a real number, got "
+                      f"{type(value).__name__} {value!r:.60}")
+
+
+def _mixed(value: bool | float, first: bool | float) -> str:
+    kinds = ("a bool", "a number")
+    return (f"`ask` must return one kind of answer for every sample, got "
+            f"{kinds[not isinstance(value, bool)]} ({value!r}) after {kinds[isinstance(value, bool)]} "
+            f"({first!r})")
 
 
 def _values(spec: _Spec, values: list[Any]) -> np.ndarray:
@@ -1107,7 +1232,7 @@ class MonteCarlo:
         lower, upper = self.interval if self.is_boolean and self.runs else (math.nan, math.nan)
         attrs = {
             "ask": self.ask, "n": self.n, "runs": self.runs, "kind": self.kind,
-            "seed_entropy": str(self.seed.entropy),
+            "seed_entropy": entropy_text(self.seed.entropy),
             "seed_spawn_key": ",".join(str(s) for s in self.seed.spawn_key),
             "t_end": self.t_end, "frames": self.frames, "method": self.method,
             "dt": math.nan if self.dt is None else self.dt, "level": self.level,
@@ -1129,8 +1254,8 @@ class MonteCarlo:
         """A study as :meth:`to_xarray` wrote it (say, from :func:`dzhanibekov.load`): its
         outcomes, inputs and estimate; it cannot rerun a sample (its dispersions are code)."""
         a = ds.attrs
-        entropy = int(a["seed_entropy"])
-        key = tuple(int(s) for s in str(a["seed_spawn_key"]).split(",") if s != "")
+        entropy = entropy_of_text(str(a["seed_entropy"]))
+        key = spawn_key_of_text(str(a["seed_spawn_key"]))
         outcomes = np.asarray(ds["outcome"].values)
         if (a["ask"] in ("tumbles", "flat_spin") or outcomes.dtype == np.bool_
                 or str(a.get("outcome_type", "")) == "bool"):
@@ -1430,16 +1555,23 @@ class _Runner:
                    disable=None if self.progress is None else not self.progress,
                    delay=_PROGRESS_DELAY if self.progress is None else 0.0)
         with bar:
-            if self.submit is not None:
-                return self.submit(self.spec, list(pieces), mode, bar.update)
             done: list[_Chunk] = []
-            for piece in pieces:
-                part = _chunk(self.spec, piece, mode)
-                bar.update(len(part.samples))
-                done.append(part if numbered else part._replace(samples=part.samples[:0]))
-                if part.failure is not None:
-                    return done, part.failure
-            return done, None
+            failure: _Failure | None = None
+            if self.submit is not None:
+                done, failure = self.submit(self.spec, list(pieces), mode, bar.update)
+            else:
+                for piece in pieces:
+                    part = _chunk(self.spec, piece, mode)
+                    bar.update(len(part.samples))
+                    done.append(part)
+                    if part.failure is not None:
+                        failure = part.failure
+                        break
+        if mode == "run":
+            done, failure = _one_kind(done, failure)
+        if not numbered:
+            done = [part._replace(samples=part.samples[:0]) for part in done]
+        return done, failure
 
     def _range(self, n: int) -> Iterator[np.ndarray]:
         """Samples 0 … n − 1 in chunks, made as they are needed."""
@@ -1492,9 +1624,10 @@ class _Runner:
         spec = self.spec
         outcomes = _concatenate([c.values for c in done], _empty_outcomes(spec))
         inputs: dict[str, np.ndarray] = {}
-        if spec.keep_inputs and done:
-            for name in done[0].inputs:
-                inputs[name] = np.concatenate([c.inputs[name] for c in done])
+        drawn = [c for c in done if c.inputs]  # (a chunk whose task failed drew nothing)
+        if spec.keep_inputs and drawn:
+            for name in drawn[0].inputs:
+                inputs[name] = np.concatenate([c.inputs[name] for c in drawn])
         ask = spec.ask if isinstance(spec.ask, str) else getattr(spec.ask, "__name__",
                                                                   type(spec.ask).__name__)
         return MonteCarlo(
@@ -1505,8 +1638,41 @@ class _Runner:
             _strata=strata, _spec=spec)
 
 
+def _one_kind(done: list[_Chunk], failure: _Failure | None
+              ) -> tuple[list[_Chunk], _Failure | None]:
+    """The chunks up to the first whose outcomes are of another kind (bools, numbers) than
+    the first's, which fails at its first sample; the chunks before it are kept. (A chunk's
+    own outcomes are of one kind: see `_outcomes_of`.)"""
+    first: Any = None
+    for i, part in enumerate(done):
+        if not part.values.size:
+            continue
+        if first is None:
+            first = part.values[0]
+        elif (part.values.dtype == np.bool_) != isinstance(first, np.bool_):
+            value = part.values[0]
+            value = bool(value) if isinstance(value, np.bool_) else float(value)
+            first_ = bool(first) if isinstance(first, np.bool_) else float(first)
+            return done[:i], _Failure(int(part.samples[0]), _mixed(value, first_), None)
+    return done, failure
+
+
 def _concatenate(parts: Sequence[np.ndarray], empty: np.ndarray) -> np.ndarray:
     return np.concatenate(parts) if parts else empty
+
+
+def _same(value: Any) -> Any:
+    return value
+
+
+def _lost(spec: _Spec, piece: np.ndarray, mode: str, exc: BaseException) -> _Chunk:
+    """A chunk whose Dask task failed as a whole (its worker died on every try: Dask's
+    ``KilledWorker``; its data lost): no sample of it kept, the failure at its first."""
+    first, last = int(piece[0]), int(piece[-1])
+    empty = _empty_outcomes(spec) if mode == "run" else np.empty(0)
+    why = (f"the Dask task of the chunk of samples {first}–{last} failed "
+           f"({type(exc).__name__}: {exc}); the samples before the chunk are kept")
+    return _Chunk(piece[:0], empty, {}, _Failure(first, why, exc))
 
 
 def _dask(client: Any) -> Callable[..., tuple[list[_Chunk], _Failure | None]]:
@@ -1526,7 +1692,10 @@ def _dask(client: Any) -> Callable[..., tuple[list[_Chunk], _Failure | None]]:
                advance: Callable[[int], Any]) -> tuple[list[_Chunk], _Failure | None]:
         if not pieces:
             return [], None
-        [shared] = cluster.scatter([spec], broadcast=True, hash=False)
+        # the spec as a task's result, not scattered: a worker that dies with it loses data
+        # the scheduler can make again (scattered data it cannot, and every chunk that needed
+        # it was then cancelled: "FutureCancelledError … already forgotten")
+        shared = cluster.submit(_same, spec, pure=False)
         futures = cluster.map(_chunk, [shared] * len(pieces), pieces, [mode] * len(pieces),
                               pure=False)
         index = {f.key: k for k, f in enumerate(futures)}
@@ -1538,7 +1707,10 @@ def _dask(client: Any) -> Callable[..., tuple[list[_Chunk], _Failure | None]]:
                 k = index[done.key]
                 if k >= stop:
                     continue
-                part: _Chunk = done.result()  # a task that raised raises here
+                try:
+                    part: _Chunk = done.result()
+                except Exception as exc:  # noqa: BLE001 - the task, not a sample, failed
+                    part = _lost(spec, pieces[k], mode, exc)
                 results[k] = part
                 advance(len(part.samples))
                 if part.failure is not None:

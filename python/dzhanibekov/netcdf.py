@@ -41,6 +41,7 @@ from .body import Body, InertiaWarning, tensor_moments
 from .damper import Damper
 from .deployment import Deployment
 from .methods import METHODS
+from . import montecarlo
 from .montecarlo import MonteCarlo
 from .orbit import ConstantTorque, GravityGradient, Wheel
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
@@ -721,7 +722,39 @@ def build_study(d: Loaded) -> MonteCarlo:
     return MonteCarlo.from_xarray(_StudyView(d))
 
 
+def _parses(parse: Callable[[str], Any]) -> Check:
+    """A check that each text is one `parse` reads (its ValueError says why not)."""
+    def check(a: np.ndarray) -> str | None:
+        for text in np.ravel(a):
+            try:
+                parse(str(text))
+            except ValueError as exc:
+                return str(exc)
+        return None
+    return check
+
+
+def _within(lower: float, upper: float) -> Check:
+    def check(a: np.ndarray) -> str | None:
+        return None if ((a > lower) & (a < upper)).all() else \
+            f"must lie in ({lower:g}, {upper:g}), got {np.ravel(a)[0].item()!r}"
+    return check
+
+
+def _at_least(least: int) -> Check:
+    def check(a: np.ndarray) -> str | None:
+        return None if (a >= least).all() else \
+            f"must be at least {least}, got {np.ravel(a)[0].item()!r}"
+    return check
+
+
+_ASK_TYPES = {"tumbles": "bool", "flat_spin": "bool", "flips": "int"}
+"""The outcome type of each question a study asks by name."""
+
+
 def study_rules(d: Loaded) -> str | None:
+    """The fields of a study that go together: its samples with `n` and `runs` as its design
+    draws and runs them, the strata of a rare-event design, the outcomes' type with `ask`."""
     samples = d["sample"]
     if samples.size and (samples.min() < 0 or samples.max() >= int(d["n"])):
         return f"`sample` must index the study's n = {int(d['n'])} samples"
@@ -733,6 +766,48 @@ def study_rules(d: Loaded) -> str | None:
         return "`outcome` must be 0 or 1 for a yes/no question"
     if ("stratum" in d) != (str(d["design"]) == "near-separatrix"):
         return "`stratum` goes with the near-separatrix design, and only with it"
+    drawn = [name for name in ("draws_near", "draws_far") if name in d]
+    ask, kind = str(d["ask"]), str(d["outcome_type"])
+    if ask in _ASK_TYPES and kind != _ASK_TYPES[ask]:
+        return f"`outcome_type` must be {_ASK_TYPES[ask]!r} for `ask` {ask!r}, got {kind!r}"
+    n, runs = int(d["n"]), int(d["runs"])
+    if "stratum" not in d:
+        if drawn:
+            return f"`{drawn[0]}` goes with the near-separatrix design, and only with it"
+        if n != runs or not np.array_equal(samples, np.arange(runs)):
+            return (f"a plain study runs its samples 0 … n − 1: `n` ({n}) must equal `runs` "
+                    f"({runs}) and `sample` must be 0 … {runs - 1}")
+        return None
+    if len(drawn) != 2:
+        return "the near-separatrix design needs `draws_near` and `draws_far`"
+    near, far = int(d["draws_near"]), int(d["draws_far"])
+    stratum = d["stratum"]
+    if near + far != n or not runs < n:
+        return (f"`draws_near` + `draws_far` ({near} + {far}) must be `n` ({n}), and `runs` "
+                f"({runs}) below it")
+    if not np.isin(stratum, (0, 1)).all():
+        return "`stratum` must be 0 (near the separatrix) or 1 (the others)"
+    if int((stratum == 0).sum()) != near:
+        return (f"`stratum` must mark the {near} samples near the separatrix (`draws_near`), "
+                f"every one run, with 0; it marks {int((stratum == 0).sum())}")
+    if "separatrix" in d and near and runs > near:  # the nearest are those marked near
+        distance = np.abs(d["separatrix"])
+        if distance[stratum == 0].max() > distance[stratum == 1].min():
+            return ("`stratum` must mark with 0 the samples nearest the separatrix (by "
+                    "`separatrix`)")
+    return None
+
+
+def study_derived(d: Loaded, study: Any) -> str | None:
+    """The weights and the estimate the file holds against those its outcomes give."""
+    if not np.allclose(d["weight"], study.weights, rtol=1e-12, atol=0.0):
+        return "`weight` must be what the design gives each sample"
+    derived = {"estimate": study.mean}
+    if study.is_boolean and study.runs:
+        derived["lower"], derived["upper"] = study.interval
+    for name, value in derived.items():
+        if not np.isclose(float(d[name]), value, rtol=1e-12, atol=1e-15):
+            return f"the attribute `{name}` ({float(d[name])!r}) must be what the outcomes give ({value!r})"
     return None
 
 
@@ -800,17 +875,21 @@ _STUDY = Layout(
         "sample": Var(("sample",), "i", (non_negative,)),
         **_LABELS,
         "axis2": Var(("axis2",), "U", (labels(_tables.AXIS),)),
-        "outcome": Var(("sample",), "n"),
+        "outcome": Var(("sample",), "n", (finite,)),
         "weight": Var(("sample",), "f", (finite, non_negative)),
         "stratum": Var(("sample",), "i", (non_negative,), optional=True),
         **{name: Var(("sample",) + dims, "f", optional=True)
            for name, dims in _STUDY_INPUT.items()},
     },
     attrs={
-        "ask": _TEXT, "n": _COUNT, "runs": _COUNT, "kind": _TEXT,
-        "seed_entropy": _TEXT, "seed_spawn_key": _TEXT,
-        "t_end": Attr("f", (finite, positive)), "frames": _COUNT, "method": _METHOD,
-        "dt": _NUMBER, "level": Attr("f", (finite, positive)), "interval_method": _TEXT,
+        "ask": _TEXT, "n": _COUNT, "runs": _COUNT,
+        "kind": Attr("U", (one_of(tuple(montecarlo.STUDY_KINDS)),)),
+        "seed_entropy": Attr("U", (_parses(montecarlo.entropy_of_text),)),
+        "seed_spawn_key": Attr("U", (_parses(montecarlo.spawn_key_of_text),)),
+        "t_end": Attr("f", (finite, positive)), "frames": Attr("i", (_at_least(2),)),
+        "method": _METHOD, "dt": Attr("f", (finite_or_nan, positive_or_nan)),
+        "level": Attr("f", (finite, _within(0.0, 1.0))),
+        "interval_method": Attr("U", (one_of(montecarlo.INTERVALS),)),
         "estimate": _NUMBER, "lower": _NUMBER, "upper": _NUMBER,
         "design": Attr("U", (one_of(("plain", "near-separatrix")),)),
         "outcome_type": Attr("U", (one_of(("bool", "int", "float")),)),
@@ -819,6 +898,7 @@ _STUDY = Layout(
     },
     rules=(study_rules,),
     build=build_study,
+    after=study_derived,
     sizes={**_FIXED, "axis2": 3},
 )
 
@@ -1008,9 +1088,13 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
     ds.attrs[KIND_ATTRIBUTE] = kind
     check_size(2 * int(ds.nbytes), f"the netCDF image of this {kind} (built in memory)",
                "save fewer frames or runs")
+    # a checksum of every numeric array (HDF5's Fletcher-32 filter): damage to the file is
+    # found by `load` (a ReadError), not read as numbers
+    checked = {name: {"fletcher32": True} for name, v in ds.variables.items()
+               if v.size and v.dtype.kind in "biuf"}
     with replacing(p) as tmp:
         image = io.BytesIO()
-        ds.to_netcdf(image, engine="h5netcdf")  # in memory: see the module's docs
+        ds.to_netcdf(image, engine="h5netcdf", encoding=checked)  # in memory: see the module's docs
         with open(tmp, "wb") as f:
             f.write(image.getbuffer())
         del image
@@ -1088,6 +1172,9 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep | Mon
             except _Bad as bad:
                 raise ReadError(f"{p} holds a {kind} that dz.save never writes: {bad}",
                                 path=str(p)) from None
+            except _Damaged as damaged:
+                raise ReadError(f"{p} holds a {kind} that cannot be read: {damaged}",
+                                path=str(p)) from None
             except (MemoryError, KeyboardInterrupt, ReadError):
                 raise
             except Exception as exc:
@@ -1111,6 +1198,10 @@ def load(path: str | Path) -> Trajectory | Batch | Sweep | DeploymentSweep | Mon
 
 class _Bad(Exception):
     """A field of the file that is not what the layout allows."""
+
+
+class _Damaged(Exception):
+    """A variable of the file that HDF5 cannot read back (its checksum fails)."""
 
 
 _PHONY = b"This is a netCDF dimension but not a netCDF variable"
@@ -1225,7 +1316,10 @@ def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) ->
     for name, spec in layout.variables.items():
         if name not in shapes:
             continue
-        raw = np.asarray(ds.variables[name][...])
+        try:
+            raw = np.asarray(ds.variables[name][...])
+        except OSError as exc:  # HDF5's checksum (Fletcher-32) of the variable fails, ...
+            raise _Damaged(f"`{name}` cannot be read ({exc}): the file is damaged") from None
         number = spec.kind == "n"
         a = (np.ascontiguousarray(raw, dtype=np.float64)
              if spec.kind == "f" or (number and raw.dtype.kind == "f") else

@@ -20,12 +20,17 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
-from .torques import CallableTorque, TabulatedTorque, knot_times
+from .torques import CallableTorque, TabulatedTorque, interpolate, knot_times
 
 __all__ = ["GravityGradient", "ConstantTorque", "Wheel", "Torque", "pitch_libration_rate",
            "dual_spin_threshold"]
 
 _FRAMES = ("body", "world")
+
+SCHEDULE_BYTES_PER_KNOT = 160
+"""Memory a knot of a wheel's schedule takes while the wheel is built: its time and value as
+Python floats in tuples (64 bytes), the arrays they come from and the core's table (129 bytes
+at the peak, measured)."""
 
 
 class GravityGradient:
@@ -206,7 +211,7 @@ class Wheel:
             if len(momentum) != 2:
                 raise ValueError(f"`momentum` must be a number or a schedule (times, values), "
                                  f"got a sequence of {len(momentum)} items")
-            t = knot_times(momentum[0], "momentum times")
+            t = knot_times(momentum[0], "momentum times", SCHEDULE_BYTES_PER_KNOT)
             v = as_array("momentum", momentum[1], "(K,)", last=len(t), ndim=(1,))
             self.momentum = (tuple(float(x) for x in t), tuple(float(x) for x in v))
             self._core = _core.Part("wheel_schedule", {
@@ -227,7 +232,7 @@ class Wheel:
         """The relative momentum at time `t` (a convenience for plots: runs evaluate the law
         in the core)."""
         if isinstance(self.momentum, tuple):
-            return float(np.interp(t, self.momentum[0], self.momentum[1]))
+            return float(interpolate(t, self.momentum[0], self.momentum[1]))
         return self.momentum
 
     def __reduce__(self) -> tuple[Any, ...]:

@@ -31,6 +31,7 @@ import numpy as np
 from tqdm import tqdm
 
 from ._args import as_int
+from ._files import partial_prefix, remove_stale
 from .scenes.plan import SceneResult
 from .scenes.scene import PAPER_SCENES, SCENES, STORY_SCENES, Scene
 
@@ -112,8 +113,9 @@ def output_folder(out: str | Path) -> Iterator[Path]:
     Every destination is checked before any is replaced: a folder named like an output
     leaves `out` untouched. Any failure to write (a read-only folder, a full disk, a file-size
     limit) raises :class:`OutputError` naming the path, and `out` is as it was; folders this
-    call created are removed again. Ctrl-C while the files move in is held until they all
-    have, then raised as :class:`CommittedInterrupt`.
+    call created are removed again. A folder that a killed run left in `out` (named for its
+    host and process, which is gone) is removed. Ctrl-C while the files move in is held until
+    they all have, then raised as :class:`CommittedInterrupt`.
     """
     out = Path(out)
     _check_destination(out)
@@ -122,7 +124,9 @@ def output_folder(out: str | Path) -> Iterator[Path]:
     tmp: Path | None = None
     try:
         out.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=".partial-", dir=out))
+        # what a killed run left here (its process gone), then this run's own
+        remove_stale(out, "partial", "")
+        tmp = Path(tempfile.mkdtemp(prefix=partial_prefix("partial"), dir=out))
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o777 & ~umask)

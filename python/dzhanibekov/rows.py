@@ -106,6 +106,8 @@ def rows_of(system: Any, omega0: Any, q0: Any, *, function: str,
     elif isinstance(system, (System, Body, Deployment)) or _ndim(system) <= 1:
         shared = as_system(system)
         lead = ()
+        if omega.ndim == 1 and q.ndim == 1:  # one run: no axes to broadcast
+            return Rows(Systems(1, shared=shared), _one_row(omega), _one_row(q), (), False)
     else:
         if _is_square(system):
             raise ValueError("`system` of shape (3, 3) is ambiguous: one body's inertia "
@@ -135,6 +137,11 @@ def rows_of(system: Any, omega0: Any, q0: Any, *, function: str,
     systems = Systems(m, shared=shared, each=each, moments=moments)
     batch = bool(shape) or each is not None
     return Rows(systems, flat[0], flat[1], tuple(shape), batch)
+
+
+def _one_row(a: np.ndarray) -> np.ndarray:
+    """A start (n,) as the one row (1, n) of C-contiguous float64 the core takes."""
+    return np.ascontiguousarray(a, dtype=np.float64).reshape(1, len(a))
 
 
 def _at(flat: int, shape: tuple[int, ...]) -> str:

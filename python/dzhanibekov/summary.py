@@ -50,7 +50,8 @@ def summarize(
         As for :func:`~dzhanibekov.simulate`.
     frames : int
         The frame grid, as for ``simulate``: between frames the run takes equal substeps no
-        longer than `dt`, and the invariants' drift is measured at the frames. None are stored.
+        longer than `dt`, and the invariants' drift is measured at the frames (of an
+        adaptive method's step that spans more than 64, at the last). None are stored.
 
     Returns
     -------

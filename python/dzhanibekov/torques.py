@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -24,7 +25,8 @@ _FRAMES = ("body", "world")
 _OUTSIDE = ("zero", "hold")
 
 BYTES_PER_KNOT = 8 * 4 * 4
-"""Memory a knot takes while a table is built: its time and vector, a few copies."""
+"""Memory a knot takes while a table is built: its time and vector, a few copies (64 bytes
+measured: the arrays kept and the core's table)."""
 
 
 def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
@@ -36,7 +38,8 @@ def _choice(name: str, value: Any, allowed: tuple[str, ...]) -> str:
     return value
 
 
-def knot_times(times: Any, n_name: str = "times") -> np.ndarray:
+def knot_times(times: Any, n_name: str = "times", bytes_per_knot: int = BYTES_PER_KNOT
+               ) -> np.ndarray:
     """Knot times: a float64 array (K,) of at least two finite, strictly increasing times.
 
     Raises
@@ -57,16 +60,44 @@ def knot_times(times: Any, n_name: str = "times") -> np.ndarray:
     except TypeError:
         raise TypeError(f"`{n_name}` must be a sequence of knot times, got "
                         f"{type(times).__name__}") from None
-    check_size(n * BYTES_PER_KNOT, f"a table of {n} knots", "give fewer knots")
+    check_size(n * bytes_per_knot, f"a table of {n} knots", "give fewer knots")
     t = as_array(n_name, times, "(K,)", last=n, ndim=(1,))
     if len(t) < 2:
         raise ValueError(f"`{n_name}` must hold at least two knots, got {len(t)}")
-    bad = np.flatnonzero(np.diff(t) <= 0)
+    bad = np.flatnonzero(t[1:] <= t[:-1])  # (not np.diff: a gap of knots at ±1.7e308 overflows)
     if bad.size:
         k = int(bad[0])
         raise ValueError(f"`{n_name}` must be strictly increasing, got {n_name}[{k}] = "
                          f"{t[k]!r} then {n_name}[{k + 1}] = {t[k + 1]!r}")
     return t
+
+
+def knot_fraction(t: float, t0: float, t1: float) -> float:
+    """Where `t` lies in ``[t0, t1]``, ``(t − t0) / (t1 − t0)``, for intervals of any width:
+    one wider than float64's largest number (knots at ±1.7e308) by its halves (its width
+    overflowed, and the place was 0 at every `t`).
+
+    Examples
+    --------
+    >>> knot_fraction(0.0, -1.7e308, 1.7e308)
+    0.5
+    """
+    gap = t1 - t0  # (Python floats: an overflow is inf, without a warning)
+    if math.isfinite(gap):
+        return (t - t0) / gap
+    return (0.5 * t - 0.5 * t0) / (0.5 * t1 - 0.5 * t0)
+
+
+def interpolate(t: float, times: Any, values: Any) -> Any:
+    """The values at knots `times` (increasing) interpolated linearly at `t`, held outside
+    them (as ``numpy.interp``, for knots of any span: see :func:`knot_fraction`)."""
+    k = int(np.searchsorted(times, t, side="right"))
+    if k == 0:
+        return values[0]
+    if k == len(times):
+        return values[-1]
+    s = knot_fraction(float(t), float(times[k - 1]), float(times[k]))
+    return values[k - 1] + s * (values[k] - values[k - 1])
 
 
 class TabulatedTorque:
@@ -121,6 +152,10 @@ class TabulatedTorque:
     def __init__(self, times: Any, vectors: Any, frame: Any = "body",
                  outside: Any = "zero") -> None:
         t = knot_times(times)
+        if isinstance(vectors, np.ndarray) and vectors.ndim and len(vectors) != len(t):
+            # before any copy: a broadcast view of 2**31 rows would be copied whole first
+            raise ValueError(f"`vectors` must give one torque per knot time of `times` "
+                             f"({len(t)}), got {len(vectors)}")
         v = as_array("vectors", vectors, "(K, 3)", last=3, ndim=(2,))
         if len(v) != len(t):
             raise ValueError(f"`vectors` must give one torque per knot time of `times` "
@@ -144,7 +179,7 @@ class TabulatedTorque:
                 return np.zeros(3)
             return np.array(vs[0] if t <= ts[0] else vs[-1])
         k = int(np.searchsorted(ts, t, side="left"))
-        s = (t - ts[k - 1]) / (ts[k] - ts[k - 1])
+        s = knot_fraction(float(t), float(ts[k - 1]), float(ts[k]))
         return np.array(vs[k - 1] + s * (vs[k] - vs[k - 1]))
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -177,8 +212,9 @@ class CallableTorque:
     the methods call it at trial states and times that are not on the trajectory.
 
     A function that raises stops the run, and its exception reaches the caller as raised; one
-    that returns something else than three finite numbers stops it with a ValueError naming
-    `torque`. Ctrl-C stops a run as usual (within milliseconds: no call is made after it). A
+    that returns something else than three finite real numbers (an array of shape (3,), any
+    strides, or a sequence; not bytes, a string, a masked array, complex numbers or bools)
+    stops it with a ValueError naming `torque`. Either stops only the run it happened in. Ctrl-C stops a run as usual (within milliseconds: no call is made after it). A
     batch of such systems runs, its rows one after another on one thread (each call takes the
     GIL: rows on several threads would only queue for it). The model keeps nothing but ``|q| = 1``.
     ``dz.save`` refuses a run with one: a file cannot hold code.

@@ -22,7 +22,9 @@ use crate::error::Result;
 use crate::float::{ldexp, RateScale};
 
 use super::kinds::{Conserved, Traits};
-use super::part::{Arg, Ctx, EnergyRole, Fields, Function, ModelInfo, Param, ParamKind, Part};
+use super::part::{
+    Arg, Ctx, EnergyRole, Fields, Function, MapFunction, ModelInfo, Param, ParamKind, Part,
+};
 
 /// A user's torque function, seen from a run's axes and units (see the module doc).
 #[derive(Clone)]
@@ -178,6 +180,13 @@ impl Part for CallableTorque {
 
     fn functions(&self) -> Vec<&Arc<dyn Function>> {
         vec![&self.function]
+    }
+
+    fn map_functions(&self, f: &mut MapFunction<'_>) -> Self {
+        Self {
+            function: f(&self.function),
+            ..self.clone()
+        }
     }
 }
 

@@ -170,8 +170,9 @@ impl Deployment {
             return (self.tensors[k - 1], Matrix3::zeros());
         }
         let (ta, tb) = (self.times[k - 1], self.times[k]);
+        // (a span beyond float64, knots at ±1.7e308: its rate is 0 to float64's precision)
         let span = tb - ta;
-        let (s, ds) = smootherstep((t - ta) / span);
+        let (s, ds) = smootherstep(crate::float::fraction(t, ta, tb));
         let delta = self.tensors[k] - self.tensors[k - 1];
         (self.tensors[k - 1] + delta * s, delta * (ds / span))
     }
@@ -191,7 +192,7 @@ impl Deployment {
             self.tensors[k - 1]
         } else {
             let (ta, tb) = (self.times[k - 1], self.times[k]);
-            let (s, _) = smootherstep((t - ta) / (tb - ta));
+            let (s, _) = smootherstep(crate::float::fraction(t, ta, tb));
             self.tensors[k - 1] + (self.tensors[k] - self.tensors[k - 1]) * s
         };
         if self.diagonal {
@@ -251,7 +252,7 @@ impl Deployment {
         let times: Vec<f64> = try_collect(unit, k, "the knots", KNOTS_HINT)?;
         if !times.iter().all(|t| t.is_finite()) {
             return Err(Error::TooLarge {
-                what: "the deployment",
+                what: "the deployment".into(),
                 needed: format!(
                     "its knot times ({:.3e}) times the rates' scale ({:.3e})",
                     self.times.last().copied().unwrap_or(0.0),

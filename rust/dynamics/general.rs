@@ -167,7 +167,7 @@ impl InertiaLaw {
 /// parts' state (and the dissipated work), the rest padded with zeros whose rates are 0 (the
 /// adaptive error norm and the drift read the model's own numbers alone). Each size compiles
 /// the drivers, methods and observers once more.
-pub const STATE_SIZES: [usize; 7] = [7, 8, 10, 12, 14, 16, 24];
+pub const STATE_SIZES: [usize; 8] = [7, 8, 10, 11, 12, 14, 16, 24];
 
 /// The most numbers of state a system's parts may have together (with the dissipated work).
 pub const MAX_PARTS_STATE: usize = STATE_SIZES[STATE_SIZES.len() - 1] - 7;

@@ -213,6 +213,10 @@ impl Part for GravityGradient {
         Self::try_new(fields.number("orbit_rate")?)
     }
 
+    fn largest_rate(&self, _least: f64) -> Option<(&'static str, f64, f64)> {
+        Some(("orbit_rate", self.orbit_rate, self.orbit_rate))
+    }
+
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
         gravity_gradient_torque(self.orbit_rate, c.t, &c.q, |v| c.inertia_times(v))

@@ -39,8 +39,8 @@ pub use hinge::{Hinge, LoneHinge, Pose};
 pub use kinds::{Conserved, Kinds, Traits};
 pub use model::{MidAxis, Model};
 pub use part::{
-    Arg, Ctx, Dim, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part,
-    Sampling, Value,
+    Arg, Ctx, Dim, EnergyRole, Field, Fields, Frame, Function, MapFunction, ModelInfo, Param,
+    ParamKind, Part, Sampling, Value,
 };
 pub use registry::{AnyPart, MODELS};
 pub use slosh::{LoneSlosh, Rod, Slosh, SloshRates};

@@ -203,6 +203,10 @@ pub enum Arg<'a> {
     Vector(&'a [f64]),
 }
 
+/// A change of a part's functions (see [`Part::map_functions`]): each function to the one
+/// called instead.
+pub type MapFunction<'a> = dyn FnMut(&Arc<dyn Function>) -> Arc<dyn Function> + 'a;
+
 /// A function of the user's code (in Python: a callable), as a part calls it. The core stays
 /// free of Python: the binding implements this.
 pub trait Function: Send + Sync {
@@ -579,14 +583,35 @@ pub trait Part: Clone + Debug + PartialEq + Send + Sync + Sized {
         self.clone()
     }
 
-    /// About how many bytes a copy of the part holds on the heap.
+    /// About how many bytes a copy of the part holds on the heap (a table shared by the
+    /// copies counts nothing).
     fn heap_bytes(&self) -> usize {
         0
+    }
+
+    /// About the most bytes a run's model holds for the part while it is built (its tables
+    /// copied into the run's axes and units, the kinks they add): what a run checks it has
+    /// room for before it starts.
+    fn model_bytes(&self) -> usize {
+        0
+    }
+
+    /// The largest rate the part brings to a body of least moment `least` (a wheel's
+    /// momentum over it, an orbit's rate), with the parameter that sets it and that
+    /// parameter's value: what a rate bound float64 cannot hold is blamed on.
+    fn largest_rate(&self, _least: f64) -> Option<(&'static str, f64, f64)> {
+        None
     }
 
     /// The user's functions the part calls (the binding readies and stops them).
     fn functions(&self) -> Vec<&Arc<dyn Function>> {
         Vec::new()
+    }
+
+    /// The same part calling `f` of each of its functions instead (a run's own view of the
+    /// user's function).
+    fn map_functions(&self, _f: &mut MapFunction<'_>) -> Self {
+        self.clone()
     }
 }
 

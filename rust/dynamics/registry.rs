@@ -15,7 +15,8 @@ use crate::float::RateScale;
 use super::kinds::{Conserved, Kinds, Traits};
 use super::multibody::{AloneSolve, Carried, Hub, PART_RATES};
 use super::part::{
-    Ctx, EnergyRole, Field, Fields, Frame, Function, ModelInfo, Param, ParamKind, Part, Sampling,
+    Ctx, EnergyRole, Field, Fields, Frame, Function, MapFunction, ModelInfo, Param, ParamKind,
+    Part, Sampling,
 };
 use super::{
     CallableTorque, ConstantTorque, Damper, GravityGradient, Hinge, Slosh, SpringMass,
@@ -423,8 +424,20 @@ macro_rules! parts {
                 match self { $(AnyPart::$ty(p) => Part::heap_bytes(p),)* }
             }
 
+            pub fn model_bytes(&self) -> usize {
+                match self { $(AnyPart::$ty(p) => Part::model_bytes(p),)* }
+            }
+
+            pub fn largest_rate(&self, least: f64) -> Option<(&'static str, f64, f64)> {
+                match self { $(AnyPart::$ty(p) => Part::largest_rate(p, least),)* }
+            }
+
             pub fn functions(&self) -> Vec<&Arc<dyn Function>> {
                 match self { $(AnyPart::$ty(p) => Part::functions(p),)* }
+            }
+
+            pub fn map_functions(&self, f: &mut MapFunction<'_>) -> Self {
+                match self { $(AnyPart::$ty(p) => AnyPart::$ty(Part::map_functions(p, f)),)* }
             }
         }
     };

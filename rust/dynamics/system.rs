@@ -14,7 +14,7 @@ use crate::kinematics::rotation_matrix;
 
 use super::general::MAX_PARTS_STATE;
 use super::kinds::{Conserved, Kinds};
-use super::part::{block, Dim, EnergyRole, Function};
+use super::part::{block, Dim, EnergyRole, Function, MapFunction};
 use super::registry::{kinds_of, AnyPart};
 use super::Deployment;
 
@@ -152,6 +152,14 @@ impl System {
         self.kinds().conserved()
     }
 
+    /// Replaces each user function its parts call by `f` of it (a run's own view of the
+    /// function: see the Python binding's `callable`).
+    pub fn map_functions(&mut self, f: &mut MapFunction<'_>) {
+        for part in &mut self.parts {
+            *part = part.map_functions(f);
+        }
+    }
+
     /// About how many bytes a copy of the system holds on the heap (its parts, a
     /// deployment's knots), with the allocator's headers: what a batch of one system per row
     /// adds for each row.
@@ -162,8 +170,27 @@ impl System {
                 block::<f64>(d.times().len()) + block::<Matrix3<f64>>(d.tensors().len())
             }
         };
+        // the parts' list; a table (a wheel's schedule, a torque's) or a function is shared
+        // by the clones, not copied
         let parts: usize = self.parts.iter().map(AnyPart::heap_bytes).sum();
         knots + block::<AnyPart>(self.parts.len()) + parts
+    }
+
+    /// About the most bytes a run of it holds while it builds its model (each part's copies of
+    /// its tables in the run's axes and units, the kinks and knots its steps end on, a
+    /// deployment's tensors scaled), with the allocator's headers: what a run checks it can
+    /// have before it starts (a wheel's schedule of 10⁷ knots aborted the process in these
+    /// copies). Measured by tests/heap_bytes.rs: 240 bytes a deployment's knot in a run in its
+    /// own units (rates of 1e30), about half that in the user's; a part's, its own.
+    pub fn model_bytes(&self) -> usize {
+        const DEPLOYMENT_KNOT: usize = 248;
+        let knots = match &self.body {
+            SystemBody::Rigid(_) => 0,
+            SystemBody::Deployment(d) => d.times().len(),
+        };
+        (self.parts.iter())
+            .fold(0_usize, |n, p| n.saturating_add(p.model_bytes()))
+            .saturating_add(knots.saturating_mul(DEPLOYMENT_KNOT))
     }
 
     /// The numbers of state of every part, in order.

@@ -16,17 +16,22 @@
 
 use std::str::FromStr;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Arc;
 
 use nalgebra::{Quaternion, Vector3};
 
+use crate::buffer::try_collect;
 use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
 use crate::kinematics::rotation_matrix;
 
 use super::deployment::check_knot_times;
 use super::kinds::{Conserved, Traits};
-use super::part::{block, Ctx, EnergyRole, Fields, Frame, ModelInfo, Param, ParamKind, Part};
+use super::part::{Ctx, EnergyRole, Fields, Frame, ModelInfo, Param, ParamKind, Part};
 use super::torques::FRAMES;
+
+/// What to ask for when a table's knots do not fit.
+const KNOTS_HINT: &str = "give fewer knots";
 
 /// What a table gives outside its knots.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -50,10 +55,14 @@ impl FromStr for Outside {
 }
 
 /// A vector law given at knots, linear between them (see the module doc).
+///
+/// Its knots are shared by its clones (a batch copies its system for each row, a run its
+/// model): a table of 10⁷ knots is 320 MB, held once; the laws made from it in a run's axes
+/// and units hold new values (and times) of their own, allocated fallibly.
 #[derive(Debug)]
 pub struct Table {
-    times: Vec<f64>,
-    values: Vec<Vector3<f64>>,
+    times: Arc<Vec<f64>>,
+    values: Arc<Vec<Vector3<f64>>>,
     outside: Outside,
     /// The piece `k` (`t_{k−1} < t ≤ t_k`) the last evaluation found: a run's evaluations
     /// come in order, so the next one is mostly in it (a hint only: it changes no result).
@@ -63,8 +72,8 @@ pub struct Table {
 impl Clone for Table {
     fn clone(&self) -> Self {
         Self {
-            times: self.times.clone(),
-            values: self.values.clone(),
+            times: Arc::clone(&self.times),
+            values: Arc::clone(&self.values),
             outside: self.outside,
             hint: AtomicUsize::new(self.hint.load(Ordering::Relaxed)),
         }
@@ -124,8 +133,9 @@ impl Table {
             ));
         }
         Ok(Self {
-            times,
-            values: values.into_iter().map(Vector3::from).collect(),
+            times: Arc::new(times),
+            // in place: `[f64; 3]` and `Vector3<f64>` have one layout
+            values: Arc::new(values.into_iter().map(Vector3::from).collect()),
             outside,
             hint: AtomicUsize::new(1),
         })
@@ -145,18 +155,20 @@ impl Table {
         self.outside
     }
 
-    /// The same law with every value mapped by `f` (a change of axes, of units).
+    /// The same law with every value mapped by `f` (a change of axes, of units); the times
+    /// shared.
     ///
     /// # Errors
     /// A value that leaves float64 (or a non-zero one that underflows to zero), named
-    /// `name`.
+    /// `name`; values that cannot be allocated.
     pub fn map_values(
         &self,
         f: impl Fn(Vector3<f64>) -> Vector3<f64>,
         name: &'static str,
     ) -> Result<Self> {
-        let mut values = Vec::with_capacity(self.values.len());
-        for v in &self.values {
+        let k = self.values.len();
+        let mut values = crate::buffer::try_with_capacity(k, "a table's values", KNOTS_HINT)?;
+        for v in self.values.iter() {
             let out = f(*v);
             if !(out.iter().all(|c| c.is_finite()) && ((v.amax() == 0.0) == (out.amax() == 0.0))) {
                 return Err(Error::invalid(
@@ -168,7 +180,7 @@ impl Table {
             values.push(out);
         }
         Ok(Self {
-            values,
+            values: Arc::new(values),
             ..self.clone()
         })
     }
@@ -176,12 +188,13 @@ impl Table {
     /// The same law with every value turned by `to_axes` (a change of axes: a rotation keeps
     /// finite values finite, so there is nothing to refuse).
     pub fn turned(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+        // a rotation keeps finite values finite: no error to report
         Self {
-            values: self
-                .values
-                .iter()
-                .map(|v| Vector3::from(to_axes((*v).into())))
-                .collect(),
+            values: Arc::new(
+                (self.values.iter())
+                    .map(|v| Vector3::from(to_axes((*v).into())))
+                    .collect(),
+            ),
             ..self.clone()
         }
     }
@@ -197,7 +210,8 @@ impl Table {
         f: impl Fn(Vector3<f64>) -> Vector3<f64>,
         name: &'static str,
     ) -> Result<Self> {
-        let times: Vec<f64> = self.times.iter().map(|&t| scale.time_to_unit(t)).collect();
+        let unit = self.times.iter().map(|&t| scale.time_to_unit(t));
+        let times = try_collect(unit, self.times.len(), "a table's times", KNOTS_HINT)?;
         let ok = times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]);
         if !ok {
             return Err(Error::invalid(
@@ -207,7 +221,7 @@ impl Table {
             ));
         }
         Ok(Self {
-            times,
+            times: Arc::new(times),
             ..self.map_values(f, name)?
         })
     }
@@ -237,8 +251,7 @@ impl Table {
                 k
             }
         };
-        let (t0, t1) = (ts[k - 1], ts[k]);
-        let s = (t - t0) / (t1 - t0);
+        let s = crate::float::fraction(t, ts[k - 1], ts[k]);
         vs[k - 1] + (vs[k] - vs[k - 1]) * s
     }
 }
@@ -370,8 +383,12 @@ impl Part for TabulatedTorque {
         })
     }
 
-    fn heap_bytes(&self) -> usize {
-        block::<f64>(self.table.times().len()) + block::<Vector3<f64>>(self.table.values().len())
+    /// The table's values and times in the run's axes and units, and the kinks they add:
+    /// 122 bytes a knot measured in a run in its own units (tests/heap_bytes.rs: the general
+    /// model keeps the kinks and the knots its steps end on), with the allocator's headers.
+    fn model_bytes(&self) -> usize {
+        const TABLE_KNOT: usize = 128;
+        self.table.times().len().saturating_mul(TABLE_KNOT)
     }
 }
 

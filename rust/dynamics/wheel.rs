@@ -133,6 +133,10 @@ impl Part for Wheel {
         Self::try_new(fields.vector("axis")?, fields.number("momentum")?)
     }
 
+    fn largest_rate(&self, least: f64) -> Option<(&'static str, f64, f64)> {
+        Some(("momentum", self.momentum, self.momentum.abs() / least))
+    }
+
     #[inline(always)]
     fn momentum(&self, _t: f64, _x: &[f64]) -> Vector3<f64> {
         self.momentum_body()

@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::float::{ldexp, RateScale};
 
 use super::kinds::{Conserved, Traits};
-use super::part::{block, EnergyRole, Fields, ModelInfo, Param, ParamKind, Part};
+use super::part::{EnergyRole, Fields, ModelInfo, Param, ParamKind, Part};
 use super::tabulated::{Outside, Table};
 use super::wheel::unit_axis;
 
@@ -58,7 +58,12 @@ impl WheelSchedule {
                 format!("values[{k}] = {}", values[k]),
             ));
         }
-        let vectors = values.iter().map(|&h| (axis * h).into()).collect();
+        let vectors = crate::buffer::try_collect(
+            values.iter().map(|&h| (axis * h).into()),
+            values.len(),
+            "the schedule's momenta",
+            "give fewer knots",
+        )?;
         Ok(Self {
             axis,
             table: Table::try_new(times, vectors, Outside::Hold, "values")?,
@@ -133,6 +138,11 @@ impl Part for WheelSchedule {
             .fold(0.0, |m: f64, v| m.max(v.norm()))
     }
 
+    fn largest_rate(&self, least: f64) -> Option<(&'static str, f64, f64)> {
+        let h = self.largest_momentum();
+        Some(("momentum", h, h / least))
+    }
+
     fn kinks(&self) -> Vec<f64> {
         self.table.times().to_vec()
     }
@@ -163,8 +173,12 @@ impl Part for WheelSchedule {
         })
     }
 
-    fn heap_bytes(&self) -> usize {
-        block::<f64>(self.table.times().len()) + block::<Vector3<f64>>(self.table.values().len())
+    /// The table's values and times in the run's axes and units, and the kinks they add:
+    /// 122 bytes a knot measured in a run in its own units (tests/heap_bytes.rs: the general
+    /// model keeps the kinks and the knots its steps end on), with the allocator's headers.
+    fn model_bytes(&self) -> usize {
+        const TABLE_KNOT: usize = 128;
+        self.table.times().len().saturating_mul(TABLE_KNOT)
     }
 }
 

@@ -505,7 +505,7 @@ impl BatchOutput {
         self.flip_times
             .try_reserve(flip_times.len())
             .map_err(|_| Error::TooLarge {
-                what: "the batch's flip times",
+                what: "keeping the batch's flip times".into(),
                 needed: format!("{} values", self.flip_times.len() + flip_times.len()),
                 limit: "the memory this process can allocate".into(),
                 hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",
@@ -573,7 +573,7 @@ pub fn simulate_batch(
         true => {
             let values = |width: usize| m.checked_mul(grid.frames())?.checked_mul(width);
             let too_large = || Error::TooLarge {
-                what: "the batch's frames",
+                what: "keeping the batch's frames".into(),
                 needed: format!("{m} runs × {} frames × 7 float64 values", grid.frames()),
                 limit: "the memory this process can address".into(),
                 hint: FRAMES_HINT,

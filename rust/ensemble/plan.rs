@@ -6,6 +6,7 @@
 //! to pick its own first step, as alone. The plan also names the run that RK4 threatens most
 //! (the largest predicted drift of `|q|`, see [`crate::run::step_size`]), for one warning.
 
+use crate::buffer::try_with_capacity;
 use crate::dynamics::System;
 use crate::ensemble::batch::{plan_rows, Start};
 use crate::error::Result;
@@ -14,6 +15,9 @@ use crate::run::options::RunOptions;
 use crate::run::plan_system;
 use crate::run::registry::Method;
 use crate::run::step_size::StepPlan;
+
+/// What to ask for when the plans of a batch's rows do not fit.
+const PLANS_HINT: &str = "plan fewer starts at a time";
 
 /// The step shared by the runs of a batch, and its worst run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -60,8 +64,11 @@ pub fn plan_systems(
 ) -> Result<BatchPlan> {
     let o = options;
     shared_step(systems.len(), o.method, o.dt, o.rtol, |dt| {
-        (0..systems.len())
-            .map(|i| {
+        // allocated at once, fallibly (a collect's doubling asked for 32768 plans' room for
+        // 20000 rows, beyond what the caller checked, and aborted under a memory limit)
+        let mut plans = try_with_capacity(systems.len(), "the step plans", PLANS_HINT)?;
+        for i in 0..systems.len() {
+            plans.push(
                 plan_system(
                     &systems[i],
                     omega0[i],
@@ -72,9 +79,10 @@ pub fn plan_systems(
                     dt,
                     o.rtol,
                 )
-                .map_err(|e| e.in_row(i))
-            })
-            .collect()
+                .map_err(|e| e.in_row(i))?,
+            );
+        }
+        Ok(plans)
     })
 }
 

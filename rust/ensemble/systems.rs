@@ -100,7 +100,7 @@ pub fn simulate_systems(
             .checked_mul(frames)
             .and_then(|n| n.checked_mul(w))
             .ok_or_else(|| Error::TooLarge {
-                what: "the batch's frames",
+                what: "keeping the batch's frames".into(),
                 needed: format!("{m} runs × {frames} frames × {} float64 values", 7 + w),
                 limit: "the memory this process can address".into(),
                 hint: FRAMES_HINT,

@@ -711,9 +711,9 @@ impl ExactMotion {
         let count = last - first + 1.0;
         if count > MAX_FLIPS as f64 {
             return Err(Error::TooLarge {
-                what: "the flip times",
+                what: "keeping the flip times".into(),
                 needed: format!("{count:.3e} values"),
-                limit: format!("{MAX_FLIPS}"),
+                limit: format!("the limit of {MAX_FLIPS} flips a run"),
                 hint: "take a shorter t_end, or do not ask for the flips",
             });
         }

@@ -40,13 +40,10 @@ impl FlatAxes<7> for FreeRigidBody {
     }
 }
 
-impl<const N: usize, const H: bool> FlatAxes<N> for GeneralModel<N, H> {
+impl<const N: usize, const HOT: bool> FlatAxes<N> for GeneralModel<N, HOT> {
     fn flat_axes(&self) -> Option<[bool; 3]> {
-        // a body with a part that takes energy
-        self.parts()
-            .iter()
-            .any(|p| p.info().energy == EnergyRole::Dissipates)
-            .then_some(())?;
+        // a part that dissipates (a damper) brings the spin to the major axis
+        (self.parts().iter()).find(|p| p.info().energy == EnergyRole::Dissipates)?;
         let InertiaLaw::Constant(c) = self.inertia() else {
             return None;
         };

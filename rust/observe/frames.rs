@@ -39,6 +39,10 @@ impl<'a, const N: usize, S: Model<N>> Recorder<'a, N, S> {
 }
 
 impl<const N: usize, S: Model<N>> Observer<N> for Recorder<'_, N, S> {
+    fn keeps_frames(&self) -> bool {
+        true
+    }
+
     #[inline]
     fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
         let omega = self.sys.omega_body(t, x);

@@ -24,6 +24,15 @@ pub trait Observer<const N: usize = 7> {
     /// Called at frame `index` (time `t`), including the first (t = 0) and the last.
     fn frame(&mut self, _index: usize, _t: f64, _x: &[f64; N]) {}
 
+    /// Whether it keeps every frame (a [`Recorder`]). A driver that reads frames off a step's
+    /// interpolant shows every frame to such an observer; to others, of a step that spans
+    /// more than [`crate::run::adaptive::FRAMES_READ_IN_A_STEP`] frames, the last only, so
+    /// that a run that keeps no frames reads a bounded number a step (`frames = 2**31` ran for
+    /// hours). The first and the last frame are always shown.
+    fn keeps_frames(&self) -> bool {
+        false
+    }
+
     /// Called after every step from `(t0, x0)` to `(t1, x1)`.
     fn step(&mut self, _t0: f64, _x0: &[f64; N], _t1: f64, _x1: &[f64; N]) {}
 
@@ -46,6 +55,10 @@ impl<const N: usize> Observer<N> for () {}
 
 impl<const N: usize, A: Observer<N>, B: Observer<N>> Observer<N> for (A, B) {
     const WANTS_STEPS: bool = A::WANTS_STEPS || B::WANTS_STEPS;
+
+    fn keeps_frames(&self) -> bool {
+        self.0.keeps_frames() || self.1.keeps_frames()
+    }
 
     #[inline(always)]
     fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
@@ -83,6 +96,10 @@ impl<const N: usize, A: Observer<N>, B: Observer<N>> Observer<N> for (A, B) {
 impl<const N: usize, O: Observer<N>> Observer<N> for &mut O {
     const WANTS_STEPS: bool = O::WANTS_STEPS;
 
+    fn keeps_frames(&self) -> bool {
+        (**self).keeps_frames()
+    }
+
     #[inline(always)]
     fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {
         (**self).frame(index, t, x);
@@ -107,6 +124,10 @@ impl<const N: usize, O: Observer<N>> Observer<N> for &mut O {
 
 impl<const N: usize, O: Observer<N>> Observer<N> for Option<O> {
     const WANTS_STEPS: bool = O::WANTS_STEPS;
+
+    fn keeps_frames(&self) -> bool {
+        self.as_ref().is_some_and(O::keeps_frames)
+    }
 
     #[inline(always)]
     fn frame(&mut self, index: usize, t: f64, x: &[f64; N]) {

@@ -52,7 +52,7 @@ impl Sides {
         match self.lost {
             0 => Ok(()),
             lost => Err(Error::TooLarge {
-                what: "the flip times",
+                what: "keeping the flip times".into(),
                 needed: format!("{} values", self.flip_times.len() as u64 + lost),
                 limit: "the memory this process can allocate".into(),
                 hint: "take a shorter t_end, or do not ask for the flips (`flips=False`)",

@@ -1,29 +1,33 @@
 //! A Python function as a part's function ([`crate::dynamics::Function`]: a callable torque's
 //! `f(t, q, omega)`): called with the GIL taken for each call (from whichever thread the run is
-//! on), its result checked; the first failure kept (the function's own exception, or a
-//! `ValueError`/`TypeError` naming the part's function) for the run's caller, and nothing
-//! called after it.
+//! on), its result checked.
+//!
+//! **One run, one failure.** The function object a `System` holds ([`PyFunction`]) is shared by
+//! every run of that system, from any Python thread. Each run (each call of the binding) gives
+//! its copies of the systems functions of their own ([`PythonCalls::of`]): the first failure of
+//! a run (the function's own exception, or a `ValueError` naming the part's function) is kept
+//! for that run's caller and nothing is called after it in that run, and Ctrl-C stops that run
+//! only. (A flag per function object stopped, and misreported, the runs of other threads.)
 
 use std::any::Any;
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use numpy::{PyArray1, PyArrayMethods, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUntypedArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyByteArray, PyBytes, PyString, PyType};
 
 use crate::dynamics::{Arg, Function, System};
 
-/// A Python function giving `returns` numbers (see the module doc).
+/// A Python function giving `returns` numbers, as a system holds it (see the module doc).
 pub(crate) struct PyFunction {
     func: Py<PyAny>,
     /// What messages call it: the part's function, by its parameter's name.
     name: &'static str,
     returns: usize,
-    /// Set once the function failed: the run stops, nothing is called again.
-    failed: AtomicBool,
-    /// Why, for the run's caller.
-    error: Mutex<Option<PyErr>>,
 }
 
 impl PyFunction {
@@ -33,110 +37,19 @@ impl PyFunction {
             func,
             name,
             returns,
-            failed: AtomicBool::new(false),
-            error: Mutex::new(None),
         })
-    }
-
-    fn call(&self, py: Python<'_>, args: &[Arg<'_>], out: &mut [f64]) -> PyResult<()> {
-        let args: Vec<Bound<'_, PyAny>> = args
-            .iter()
-            .map(|a| match a {
-                Arg::Number(v) => pyo3::types::PyFloat::new(py, *v).into_any(),
-                Arg::Vector(v) => PyArray1::from_slice(py, v).into_any(),
-            })
-            .collect();
-        let at = match args.first().and_then(|a| a.extract::<f64>().ok()) {
-            Some(t) => format!(" at t = {t}"),
-            None => String::new(),
-        };
-        let args = pyo3::types::PyTuple::new(py, args)?;
-        let result = self.func.bind(py).call1(args)?;
-        let n = self.returns;
-        let count = match n {
-            1 => "one number".to_string(),
-            2 => "two numbers".to_string(),
-            3 => "three numbers".to_string(),
-            n => format!("{n} numbers"),
-        };
-        let label = self.label();
-        let wrong = || {
-            let shape = result
-                .getattr("shape")
-                .map(|s| format!("shape {s}"))
-                .unwrap_or_else(|_| {
-                    let kind = result
-                        .get_type()
-                        .name()
-                        .map_or("?".into(), |n| n.to_string());
-                    // a sequence says how many numbers it held
-                    match result.len() {
-                        Ok(n) => format!("a {kind} of {n}"),
-                        Err(_) => kind,
-                    }
-                });
-            PyValueError::new_err(format!(
-                "the `{label}` function must return {count} (shape ({n},)), got {shape}{at}"
-            ))
-        };
-        let values: Vec<f64> = match result.cast::<PyArray1<f64>>() {
-            Ok(a) if a.len() == n => a.readonly().as_slice()?.to_vec(),
-            _ => result.extract().map_err(|_| wrong())?,
-        };
-        if values.len() != n {
-            return Err(wrong());
-        }
-        if !values.iter().all(|v| v.is_finite()) {
-            return Err(PyValueError::new_err(format!(
-                "the `{label}` function must return finite numbers, got {values:?}{at}"
-            )));
-        }
-        out.copy_from_slice(&values);
-        Ok(())
-    }
-
-    /// The function as messages name it: a callable torque's is `torque` (the last word of
-    /// its part's kind is what it gives), else its parameter's name.
-    fn label(&self) -> &'static str {
-        match self.name {
-            "func" => "torque",
-            name => name,
-        }
-    }
-
-    fn keep(&self, e: PyErr) {
-        self.failed.store(true, Ordering::SeqCst);
-        if let Ok(mut slot) = self.error.lock() {
-            slot.get_or_insert(e);
-        }
-    }
-
-    /// Ready for a new run: no failure kept.
-    fn reset(&self) {
-        if let Ok(mut slot) = self.error.lock() {
-            *slot = None;
-        }
-        self.failed.store(false, Ordering::SeqCst);
-    }
-
-    fn take(&self) -> Option<PyErr> {
-        self.error.lock().ok().and_then(|mut slot| slot.take())
     }
 }
 
+/// A run that did not go through [`PythonCalls::of`] calls the function without keeping why
+/// it failed (the part's output is then NaN and the run stops as diverged); the binding's runs
+/// all go through it.
 impl Function for PyFunction {
     fn call(&self, args: &[Arg<'_>], out: &mut [f64]) -> bool {
-        // after a failure, or from a daemon thread while the interpreter shuts down: stop
-        if self.failed.load(Ordering::Relaxed) || super::shut_out() {
+        if super::shut_out() {
             return false;
         }
-        Python::attach(|py| match PyFunction::call(self, py, args, out) {
-            Ok(()) => true,
-            Err(e) => {
-                self.keep(e);
-                false
-            }
-        })
+        Python::attach(|py| call(&self.func, self.name, self.returns, py, args, out).is_ok())
     }
 
     fn as_any(&self) -> &dyn Any {
@@ -144,33 +57,217 @@ impl Function for PyFunction {
     }
 }
 
-/// The Python functions among `systems`' parts.
-fn functions(systems: &[System]) -> impl Iterator<Item = &PyFunction> {
-    systems
+/// One run's view of a Python function: the failure and the stop of that run alone.
+struct RunFunction {
+    func: Py<PyAny>,
+    name: &'static str,
+    returns: usize,
+    /// Set once the function failed or the run was stopped: nothing is called again.
+    failed: AtomicBool,
+    /// Why, for the run's caller.
+    error: Mutex<Option<PyErr>>,
+}
+
+impl Function for RunFunction {
+    fn call(&self, args: &[Arg<'_>], out: &mut [f64]) -> bool {
+        // after a failure, or from a daemon thread while the interpreter shuts down: stop
+        if self.failed.load(Ordering::Relaxed) || super::shut_out() {
+            return false;
+        }
+        Python::attach(
+            |py| match call(&self.func, self.name, self.returns, py, args, out) {
+                Ok(()) => true,
+                Err(e) => {
+                    self.failed.store(true, Ordering::SeqCst);
+                    if let Ok(mut slot) = self.error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    false
+                }
+            },
+        )
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// The Python functions of one run, each its own (see the module doc).
+pub(crate) struct PythonCalls {
+    functions: Vec<Arc<RunFunction>>,
+}
+
+impl PythonCalls {
+    /// Gives the Python functions among `systems`' parts (a run's own copies of the systems)
+    /// a view of their own for this run: one per function object, shared by the rows that
+    /// hold it.
+    pub(crate) fn of(py: Python<'_>, systems: &mut [System]) -> Self {
+        let mut views: HashMap<usize, Arc<RunFunction>> = HashMap::new();
+        for system in systems.iter_mut() {
+            system.map_functions(&mut |f: &Arc<dyn Function>| {
+                let Some(user) = f.as_any().downcast_ref::<PyFunction>() else {
+                    return Arc::clone(f);
+                };
+                let key = Arc::as_ptr(f) as *const () as usize;
+                let view = views.entry(key).or_insert_with(|| {
+                    Arc::new(RunFunction {
+                        func: user.func.clone_ref(py),
+                        name: user.name,
+                        returns: user.returns,
+                        failed: AtomicBool::new(false),
+                        error: Mutex::new(None),
+                    })
+                });
+                Arc::clone(view) as Arc<dyn Function>
+            });
+        }
+        Self {
+            functions: views.into_values().collect(),
+        }
+    }
+
+    /// Whether the run calls Python functions.
+    pub(crate) fn any(&self) -> bool {
+        !self.functions.is_empty()
+    }
+
+    /// Stops this run's calls (Ctrl-C): no more calls, no error kept; the run stops at its
+    /// next look at the state (the part's output NaN) or its cancel flag.
+    pub(crate) fn stop(&self) {
+        for f in &self.functions {
+            f.failed.store(true, Ordering::SeqCst);
+        }
+    }
+
+    /// Why a Python function stopped this run, if one did.
+    pub(crate) fn failure(&self) -> Option<PyErr> {
+        self.functions
+            .iter()
+            .find_map(|f| f.error.lock().ok().and_then(|mut slot| slot.take()))
+    }
+}
+
+/// The function as messages name it: a callable torque's is `torque` (the last word of its
+/// part's kind is what it gives), else its parameter's name.
+fn label(name: &'static str) -> &'static str {
+    match name {
+        "func" => "torque",
+        name => name,
+    }
+}
+
+/// `func(args…)` into `out`: `returns` finite real numbers, or an error naming the function.
+fn call(
+    func: &Py<PyAny>,
+    name: &'static str,
+    returns: usize,
+    py: Python<'_>,
+    args: &[Arg<'_>],
+    out: &mut [f64],
+) -> PyResult<()> {
+    let at = match args.first() {
+        Some(Arg::Number(t)) => format!(" at t = {t}"),
+        _ => String::new(),
+    };
+    let args: Vec<Bound<'_, PyAny>> = args
         .iter()
-        .flat_map(System::functions)
-        .filter_map(|f| f.as_any().downcast_ref::<PyFunction>())
+        .map(|a| match a {
+            Arg::Number(v) => pyo3::types::PyFloat::new(py, *v).into_any(),
+            Arg::Vector(v) => PyArray1::from_slice(py, v).into_any(),
+        })
+        .collect();
+    let args = pyo3::types::PyTuple::new(py, args)?;
+    let result = func.bind(py).call1(args)?;
+    let label = label(name);
+    let count = match returns {
+        1 => "one real number".to_string(),
+        2 => "two real numbers".to_string(),
+        3 => "three real numbers".to_string(),
+        n => format!("{n} real numbers"),
+    };
+    let what = match name {
+        "func" => " (body axes, shape (3,))".to_string(),
+        _ => format!(" (shape ({returns},))"),
+    };
+    reals(py, &result, out).map_err(|got| {
+        PyValueError::new_err(format!(
+            "the `{label}` function must return {count}{what}, got {got}{at}"
+        ))
+    })?;
+    if !out.iter().all(|v| v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "the `{label}` function must return finite numbers, got {out:?}{at}"
+        )));
+    }
+    Ok(())
 }
 
-/// Whether a run of `systems` calls Python functions.
-pub(crate) fn calls_python(systems: &[System]) -> bool {
-    functions(systems).next().is_some()
-}
-
-/// Stops the Python functions of `systems` (Ctrl-C): no more calls, no error kept; the run
-/// stops at its next look at the state (the torque NaN) or its cancel flag.
-pub(crate) fn stop(systems: &[System]) {
-    functions(systems).for_each(|f| f.failed.store(true, Ordering::SeqCst));
-}
-
-/// Readies the Python functions of `systems` for a run.
-pub(crate) fn reset(systems: &[System]) {
-    functions(systems).for_each(PyFunction::reset);
-}
-
-/// Why a Python function of `systems` stopped their run, if one did.
-pub(crate) fn failure(systems: &[System]) -> Option<PyErr> {
-    functions(systems).find_map(PyFunction::take)
+/// The `out.len()` real numbers `result` holds, into `out` — a sequence of them, or an array
+/// of that shape of a real dtype, whatever its strides — or, in a few words, what it is
+/// instead. Refused however they look like numbers: bytes and strings (a sequence of codes), a
+/// masked array (its mask would be ignored), complex numbers (their imaginary part would be
+/// dropped), bools.
+fn reals(py: Python<'_>, result: &Bound<'_, PyAny>, out: &mut [f64]) -> Result<(), String> {
+    static MASKED: PyOnceLock<Py<PyType>> = PyOnceLock::new();
+    let n = out.len();
+    let name = || {
+        result
+            .get_type()
+            .name()
+            .map_or("?".into(), |n| n.to_string())
+    };
+    let masked = || {
+        MASKED
+            .import(py, "numpy.ma", "MaskedArray")
+            .is_ok_and(|m| result.is_instance(m).unwrap_or(false))
+    };
+    // the common case: a float64 array of n, any strides
+    if let Ok(a) = result.cast::<PyArray1<f64>>() {
+        if a.len() == n && !masked() {
+            let r = a.readonly();
+            let v = r.as_array();
+            out.iter_mut().zip(v.iter()).for_each(|(o, v)| *o = *v);
+            return Ok(());
+        }
+    }
+    if result.is_instance_of::<PyBytes>() || result.is_instance_of::<PyByteArray>() {
+        return Err(format!("{} (a sequence of byte codes)", name()));
+    }
+    if result.is_instance_of::<PyString>() {
+        return Err("str".into());
+    }
+    if masked() {
+        return Err("a masked array (its mask would be ignored)".into());
+    }
+    // anything else NumPy takes as an array: a list, a tuple, an array of another dtype
+    let array = numpy::get_array_module(py)
+        .and_then(|np| np.call_method1("asarray", (result,)))
+        .and_then(|a| a.cast_into::<PyUntypedArray>().map_err(PyErr::from))
+        .map_err(|_| name())?;
+    let dtype = array.dtype();
+    match dtype.kind() {
+        b'f' | b'i' | b'u' => {}
+        b'c' => return Err(format!("complex numbers ({}, dtype {dtype})", name())),
+        b'b' => return Err(format!("bools ({})", name())),
+        _ => return Err(name()),
+    }
+    if array.shape() != [n] {
+        let dims: Vec<String> = array.shape().iter().map(usize::to_string).collect();
+        let shape = match dims.len() {
+            1 => format!("({},)", dims[0]),
+            _ => format!("({})", dims.join(", ")),
+        };
+        return Err(format!("{} of shape {shape}", name()));
+    }
+    let floats = array
+        .call_method1("astype", ("float64",))
+        .and_then(|a| a.cast_into::<PyArray1<f64>>().map_err(PyErr::from))
+        .map_err(|_| name())?;
+    let r = floats.readonly();
+    let v = r.as_array();
+    out.iter_mut().zip(v.iter()).for_each(|(o, v)| *o = *v);
+    Ok(())
 }
 
 /// A `TypeError` for a parameter `name` whose `func` cannot be called.

@@ -296,11 +296,13 @@ fn simulate_batch(
     inertia: Option<PyReadonlyArray2<'_, f64>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<PyBatchResult> {
-    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let (mut systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    // this run's own view of each Python torque function (its failure, its Ctrl-C)
+    let python = super::callable::PythonCalls::of(py, &mut systems);
     let options = options.inner;
     let (method, grid) = options.method_and_grid()?;
     let mut batch = batch_options(options.threads, isa)?;
-    if super::callable::calls_python(&systems) {
+    if python.any() {
         // each call of a Python torque takes the GIL: rows on several threads would only
         // queue for it (and answer Ctrl-C late); one thread runs them one after another
         batch.threads = Some(1);
@@ -314,7 +316,6 @@ fn simulate_batch(
     let keep = keep(&options, keep_frames);
     let long = watchdog::is_long(&method, &grid, m);
     // a Python torque function's failure stops the run: its own error reaches the caller
-    super::callable::reset(&systems);
     // a single run reports how far it got; a batch's rows, run on other threads, do not
     let meter = Arc::new(Meter::new());
     let mut shown = -1.0;
@@ -328,7 +329,7 @@ fn simulate_batch(
                 _ => run(),
             }
         },
-        || super::callable::stop(&systems),
+        || python.stop(),
         |py| match &progress {
             Some(report) if meter.share() != shown => {
                 shown = meter.share();
@@ -337,7 +338,7 @@ fn simulate_batch(
             _ => Ok(()),
         },
     );
-    let out = match super::callable::failure(&systems) {
+    let out = match python.failure() {
         Some(e) => return Err(e),
         None => out?,
     };

@@ -276,7 +276,7 @@ impl<const N: usize, const H: bool> Stepper<N, GeneralModel<N, H>> for ExactKick
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dynamics::{AnyPart, ConstantInertia, ConstantTorque, Frame};
+    use crate::dynamics::{ConstantInertia, ConstantTorque, Frame};
     use nalgebra::Matrix3;
 
     /// `(|H|², 2E)` of `x` in plain float64, and the attitude's norm.
@@ -293,12 +293,10 @@ mod tests {
         // and 2E drift by up to 2.3e-13 (relative) over these 2·10⁴ flows
         let moments = [1.0, 1.7, 2.3];
         let inertia = ConstantInertia::try_new(Matrix3::from_diagonal(&moments.into())).unwrap();
-        let torque = ConstantTorque::try_new([0.0; 3], Frame::Body).unwrap();
-        let model = GeneralModel::<7, true>::try_new(
-            InertiaLaw::Constant(inertia),
-            vec![AnyPart::ConstantTorque(torque)],
-        )
-        .unwrap();
+        let zero = ConstantTorque::try_new([0.0; 3], Frame::Body)
+            .unwrap()
+            .into();
+        let model = GeneralModel::<7>::try_new(InertiaLaw::Constant(inertia), vec![zero]).unwrap();
         let mut x = model.state_from(0.0, [0.4, -0.9, 0.6], [1.0, 0.0, 0.0, 0.0]);
         let (l0, e0) = invariants(&x, moments);
         let kick = ExactKick::of(&model, &x).unwrap();

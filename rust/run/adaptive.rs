@@ -38,6 +38,12 @@ pub use crate::ode::controller::{Adaptive, MIN_RTOL};
 /// Accepted steps between two looks at the cancel flag and the state's finiteness.
 const CHECK_EVERY: u64 = 1 << 10;
 
+/// The most frames a step's interpolant is read at in a run that keeps none (see
+/// [`crate::observe::Observer::keeps_frames`]): a step that spans more is read at its last
+/// frame only. Below it, a run that keeps no frames (a summary, a sweep's row) measures its
+/// drift at the frames as the run that keeps them does, bit for bit.
+pub const FRAMES_READ_IN_A_STEP: usize = 64;
+
 /// Frames (interpolated within one step) between two looks at the cancel flag.
 const FRAMES_BETWEEN_CHECKS: u64 = 1 << 16;
 
@@ -139,6 +145,7 @@ where
     };
 
     obs.frame(0, 0.0, &x0);
+    let keeps_frames = obs.keeps_frames();
     let (mut t, mut x) = (0.0, x0);
     if kinks.contains(&0.0) {
         // a kink at the start: the run integrates its far side, sampled there
@@ -187,7 +194,7 @@ where
         }
         if stats.n_steps + stats.n_rejected >= settings.max_steps {
             return Err(Error::TooLarge {
-                what: "the adaptive run",
+                what: "the adaptive run".into(),
                 needed: format!("more than {} step attempts (at t = {t:.6e})", stats.n_steps),
                 limit: crate::run::max_steps_limit(settings.max_steps),
                 hint: "raise max_steps, or loosen rtol and atol",
@@ -233,7 +240,16 @@ where
         if O::WANTS_STEPS {
             obs.step_dense(t, &x, t1, &x1, &mut at);
         }
-        // One step can span millions of frames: the cancel flag is read between them too.
+        // One step can span millions of frames: a run that keeps none is shown, of more than
+        // FRAMES_READ_IN_A_STEP, the last only (a sweep with frames = 2**31 read them all off
+        // the interpolant, for hours; its drift is then measured at fewer of them)...
+        if !keeps_frames && next_frame < grid.frames() && grid.time(next_frame) <= t1 {
+            let last = grid.frame_at_or_before(t1);
+            if last - next_frame >= FRAMES_READ_IN_A_STEP {
+                next_frame = last;
+            }
+        }
+        // ...and a run that keeps them reads the cancel flag between them too.
         while next_frame < grid.frames() && grid.time(next_frame) <= t1 {
             let tf = grid.time(next_frame);
             let xf = if tf == t1 { x1 } else { at((tf - t) / h) };
@@ -273,10 +289,40 @@ where
         }
         if stats.n_steps.is_multiple_of(CHECK_EVERY) {
             check(&x, t, t_end, cancel)?;
+            check_pace(&stats, t, wanted.max(h), t_end, settings.max_steps)?;
         }
     }
     check(&x, t, t_end, cancel)?;
     Ok((x, stats))
+}
+
+/// How many times the steps `max_steps` leaves a run may fall short of what it needs at its
+/// present step before it is refused: a run is refused only when its step has shrunk far
+/// below what the rest of the run could take (a torque spinning the body up without bound),
+/// never for a short stretch of small steps.
+pub const PACE_MARGIN: f64 = 16.0;
+
+/// Refuses a run whose present step `h` (at `t`) would take more than [`PACE_MARGIN`] times
+/// the attempts `max_steps` leaves to reach `t_end`: a torque of 1e15 spun the body up until
+/// its steps ran toward `max_steps = 1e10` for hours; now it is refused within milliseconds
+/// of its steps shrinking so.
+fn check_pace(stats: &Stats, t: f64, h: f64, t_end: f64, max_steps: u64) -> Result<()> {
+    let left = max_steps.saturating_sub(stats.n_steps + stats.n_rejected) as f64;
+    let needed = (t_end - t) / h;
+    if needed.is_nan() || needed <= PACE_MARGIN * left {
+        return Ok(());
+    }
+    Err(Error::TooLarge {
+        what: "the adaptive run".into(),
+        needed: format!(
+            "about {needed:.3e} more steps at its present step ({h:.3e} at t = {t:.6e}, after \
+             {} steps)",
+            stats.n_steps
+        ),
+        limit: crate::run::max_steps_limit(max_steps),
+        hint: "take a shorter t_end, raise max_steps, or loosen rtol and atol (a torque \
+               that spins the body up without bound needs ever smaller steps)",
+    })
 }
 
 /// Stops on the cancel flag or a state that is not finite; reports the progress (see

@@ -58,7 +58,7 @@ impl FrameGrid {
                 ),
             };
             return Err(Error::TooLarge {
-                what: "the run",
+                what: "the run".into(),
                 needed,
                 limit: max_steps_limit(max_steps),
                 hint,
@@ -89,7 +89,7 @@ impl FrameGrid {
         };
         if frames as u64 > max_steps {
             return Err(Error::TooLarge {
-                what: "the run",
+                what: "the run".into(),
                 needed: format!("{frames} frames (each is evaluated)"),
                 limit: max_steps_limit(max_steps),
                 hint: "ask for fewer frames, or raise max_steps",
@@ -139,6 +139,24 @@ impl FrameGrid {
         self.t_end * (i as f64 / (self.frames - 1) as f64)
     }
 
+    /// The last frame at or before `t` (`0 ≤ t`), at most the last frame.
+    pub fn frame_at_or_before(&self, t: f64) -> usize {
+        let last = self.frames - 1;
+        let guess = (t / self.t_end * last as f64).floor();
+        let mut i = if guess >= 0.0 {
+            (guess as usize).min(last)
+        } else {
+            0
+        };
+        while i < last && self.time(i + 1) <= t {
+            i += 1;
+        }
+        while i > 0 && self.time(i) > t {
+            i -= 1;
+        }
+        i
+    }
+
     /// The step actually taken, at most the `dt` asked for; 0 for a grid without steps.
     pub fn step_size(&self) -> f64 {
         if self.substeps == 0 {
@@ -157,7 +175,7 @@ impl FrameGrid {
 pub(crate) fn max_steps_limit(max_steps: u64) -> String {
     match max_steps {
         u64::MAX => "the most steps a run can count (2^64 - 1)".into(),
-        n => format!("max_steps = {n}"),
+        n => format!("the limit max_steps = {n}"),
     }
 }
 
@@ -178,7 +196,7 @@ mod limits {
 
     #[test]
     fn an_unlimited_max_steps_is_not_shown_as_a_number() {
-        assert_eq!(max_steps_limit(10), "max_steps = 10");
+        assert_eq!(max_steps_limit(10), "the limit max_steps = 10");
         assert!(!max_steps_limit(u64::MAX).contains("18446744073709551615"));
         let grid = FrameGrid::try_frames_within(1.0, 1 << 40, u64::MAX - 1, false);
         assert!(grid.is_ok());

@@ -343,6 +343,9 @@ fn simulate_unit<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
         true => DriftMonitor::new(sys),
         false => DriftMonitor::new(sys).watching_growth(ENERGY_GROWTH_TOL),
     };
+    if let Some(settings) = method.adaptive_settings() {
+        check_least_steps(sys, &x0, grid, &settings)?;
+    }
     let mut obs = (drift, ((recorder, LastFrame::new(sys)), tilt));
     if !method.info().takes_steps() {
         let flip_times = sys.run_exact(x0, grid, &mut obs, keep.flips, cancel)?;
@@ -383,6 +386,76 @@ fn simulate_unit<const N: usize, S: Runs<N> + FlatAxes<N>, T: TiltWatch<N>>(
     Ok(out)
 }
 
+/// The most an accepted step of an adaptive pair turns the attitude, `h |ω|` in radians, with
+/// `rtol` at most [`MEASURED_RTOL`] and `atol` below [`MEASURED_ATOL`]: far beyond what the
+/// pairs' error estimates accept there (the largest measured by tests/adaptive_bounds.rs is
+/// 12.4 radians, dop853 about a principal axis at `atol` 0.099).
+pub const MAX_TURN_PER_STEP: f64 = 100.0;
+
+/// Up to this `rtol` and below [`MEASURED_ATOL`] the steps are bounded by
+/// [`MAX_TURN_PER_STEP`] (at `rtol` 0.5 and 0.9 steps of 30 and 50 radians were accepted).
+pub const MEASURED_RTOL: f64 = 0.1;
+
+/// Below this `atol` a step's error is measured at all (the quaternion is of size 1: an
+/// `atol` near 1 accepts any attitude, and any step).
+pub const MEASURED_ATOL: f64 = 0.1;
+
+/// The fewest steps an adaptive run of the free body needs, from what its motion keeps: the
+/// rates never fall below `2E / |L|` (`ω·L = 2E` and Cauchy–Schwarz), so the attitude turns
+/// at least `t_end · 2E / |L|` radians, and no step turns it more than
+/// [`MAX_TURN_PER_STEP`]. `None` for other models (their pace is watched as they run) and
+/// for tolerances that accept anything.
+pub fn least_adaptive_steps<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    t_end: f64,
+    settings: &Adaptive,
+) -> Option<(f64, f64)> {
+    use crate::dynamics::Kinds;
+    if sys.kinds() != Kinds::FREE || settings.atol >= MEASURED_ATOL || settings.rtol > MEASURED_RTOL
+    {
+        return None;
+    }
+    let (energy, momentum) = (sys.energy(0.0, x0), sys.momentum_body(0.0, x0).norm());
+    if !(energy > 0.0 && momentum > 0.0) {
+        return None;
+    }
+    let turns = t_end * (2.0 * energy / momentum);
+    Some((turns / MAX_TURN_PER_STEP, turns))
+}
+
+/// Refuses up front an adaptive run that needs more steps than `max_steps` allows (see
+/// [`least_adaptive_steps`]): rates of 1e20 or 1e300, or `t_end = 1e300`, ran toward
+/// `max_steps` for hours, where RK4 is refused by its planned step.
+fn check_least_steps<const N: usize, S: Model<N>>(
+    sys: &S,
+    x0: &[f64; N],
+    grid: &FrameGrid,
+    settings: &Adaptive,
+) -> Result<()> {
+    let Some((least, turns)) = least_adaptive_steps(sys, x0, grid.t_end(), settings) else {
+        return Ok(());
+    };
+    if least <= settings.max_steps as f64 {
+        return Ok(());
+    }
+    let needed = match least.is_finite() {
+        true => format!(
+            "at least {least:.3e} steps (its attitude turns {turns:.3e} radians, at most \
+             {MAX_TURN_PER_STEP} in a step)"
+        ),
+        false => "more steps than float64 counts (its attitude turns more radians than \
+                  float64 holds)"
+            .into(),
+    };
+    Err(Error::TooLarge {
+        what: "the adaptive run".into(),
+        needed,
+        limit: max_steps_limit(settings.max_steps),
+        hint: "take a shorter t_end, or raise max_steps",
+    })
+}
+
 /// The grid and method of a run from `omega0` in the units of `scale` (see [`crate::float`]):
 /// times (the span, an adaptive method's first step) multiplied by `2^e`.
 ///
@@ -397,7 +470,7 @@ pub(crate) fn to_unit(
     let t_end = scale.time_to_unit(grid.t_end());
     if !t_end.is_finite() {
         return Err(Error::TooLarge {
-            what: "the run",
+            what: "the run".into(),
             needed: format!(
                 "t_end · max|omega0| = {:.3e} · {:.3e} radians",
                 grid.t_end(),
@@ -484,7 +557,7 @@ pub(crate) fn evaluate_exact<O: Observer<7>>(
         let x = motion.state_at(t);
         if !x.iter().all(|v| v.is_finite()) {
             return Err(Error::TooLarge {
-                what: "the exact solution",
+                what: "the exact solution".into(),
                 needed: format!("its phase at t = {t:.3e} (t_end · max|omega0| radians)"),
                 limit: "what float64 holds".into(),
                 hint: "take a shorter t_end",

@@ -145,6 +145,11 @@ impl MethodInfo {
         self.handles.contains(model.traits) && model.traits.contains(self.needs)
     }
 
+    /// Whether it runs every model of `kinds` (a system's).
+    pub fn runs_all(&self, kinds: Kinds) -> bool {
+        kinds.models().all(|m| self.runs(m))
+    }
+
     /// The models it runs, in [`crate::dynamics::MODELS`]' order.
     pub fn models(&self) -> Vec<&'static str> {
         (crate::dynamics::MODELS.iter())

@@ -162,7 +162,7 @@ pub fn step_for_accuracy(model: ErrorModel, rate: f64, t_end: f64, rtol: f64) ->
     let turns = (rate * t_end).max(1.0);
     if !turns.is_finite() {
         return Err(Error::TooLarge {
-            what: "the run",
+            what: "the run".into(),
             needed: format!("t_end · Ω = {t_end:.3e} · {rate:.3e} radians"),
             limit: "what float64 holds".into(),
             hint: "take a shorter t_end",
@@ -171,10 +171,18 @@ pub fn step_for_accuracy(model: ErrorModel, rate: f64, t_end: f64, rtol: f64) ->
     let h_rate = model.step_rate(turns, rtol);
     let h = (h_rate / rate).min(t_end);
     if h.is_nan() || h <= 0.0 {
+        // a step below float64's smallest: more steps than a run can count
+        let steps = turns / h_rate;
+        let needed = match steps.is_finite() {
+            true => format!("{steps:.3e} steps (t_end · Ω / {h_rate:.3e}, at Ω = {rate:.3e})"),
+            false => format!(
+                "more steps than float64 counts (steps of {h_rate:.3e} / Ω, at Ω = {rate:.3e})"
+            ),
+        };
         return Err(Error::TooLarge {
-            what: "the run",
-            needed: format!("steps of {h_rate:.3e} / Ω = {h_rate:.3e} / {rate:.3e}"),
-            limit: "the smallest step float64 holds".into(),
+            what: "the run".into(),
+            needed,
+            limit: super::grid::max_steps_limit(u64::MAX),
             hint: "take a larger rtol or a shorter t_end",
         });
     }
@@ -204,7 +212,7 @@ pub fn reaching(
     let turns = (rate * t_end).max(1.0);
     METHODS
         .iter()
-        .filter(|m| kinds.models().all(|model| m.runs(model)))
+        .filter(|m| m.runs_all(kinds))
         .filter_map(|m| {
             let model = error_model(m)?;
             (model.least_error(turns) <= rtol)
@@ -310,7 +318,7 @@ mod tests {
         let free = crate::dynamics::Kinds::FREE;
         assert_eq!(reaching(free, rate, t_end, rtol), Some("splitting6"));
         // a damped body has RK4 and its projection only
-        let damped = free.union(crate::dynamics::Kinds::named("damper").unwrap());
+        let damped = crate::dynamics::Damper::KIND;
         assert_eq!(reaching(damped, rate, t_end, rtol), Some("rk4_projected"));
         assert_eq!(reaching(damped, rate, 1e6, rtol), None);
     }

@@ -103,6 +103,7 @@ enum Built {
     G7(GeneralModel<7>, [f64; 7]),
     G8(GeneralModel<8>, [f64; 8]),
     G10(GeneralModel<10>, [f64; 10]),
+    G11(GeneralModel<11>, [f64; 11]),
     G12(GeneralModel<12>, [f64; 12]),
     G14(GeneralModel<14>, [f64; 14]),
     G16(GeneralModel<16>, [f64; 16]),
@@ -119,6 +120,7 @@ macro_rules! each_size {
             Built::G7($model, $x0) => $e,
             Built::G8($model, $x0) => $e,
             Built::G10($model, $x0) => $e,
+            Built::G11($model, $x0) => $e,
             Built::G12($model, $x0) => $e,
             Built::G14($model, $x0) => $e,
             Built::G16($model, $x0) => $e,
@@ -170,6 +172,15 @@ fn build(
 ) -> Result<(Built, Edge, i32)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    // the copies of its knots the model makes: room for them, or an error (not an abort)
+    let bytes = system.model_bytes();
+    if bytes >= 1 << 20 {
+        crate::buffer::ensure_room(
+            bytes as f64,
+            "a run's copies of its knots",
+            "give fewer knots",
+        )?;
+    }
     // the moments over a power of two near the largest, before any is inverted
     let m = moment_exponent(system);
     let scaled = |x: f64| ldexp(x, -m);
@@ -219,6 +230,7 @@ fn build(
         7 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G7(m, x)),
         8 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G8(m, x)),
         10 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G10(m, x)),
+        11 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G11(m, x)),
         12 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G12(m, x)),
         14 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G14(m, x)),
         16 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G16(m, x)),
@@ -301,19 +313,64 @@ pub fn plan_system(
     rtol: f64,
 ) -> Result<StepPlan> {
     method.for_kinds(system.kinds())?;
-    let (built, _, _) = build(system, omega0, q0, t_end)?;
+    let (built, _, _) =
+        build(system, omega0, q0, t_end).map_err(|e| blame_sizes(system, omega0, e))?;
     let (rate, stiffness) = each_size!(&built,
-        model, x0 => (rate_in_units(model, x0)?, model.stiffness()),
+        model, x0 => (rate_in_units(model, x0), model.stiffness()),
         Built::Free(body, omega, q) => {
             let model = FreeRigidBody::new(*body);
-            (rate_in_units(&model, &state_from(*omega, *q))?, 0.0)
+            (rate_in_units(&model, &state_from(*omega, *q)), 0.0)
         }
     );
+    let rate = rate.map_err(|e| blame_sizes(system, omega0, e))?;
     let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
     if plan.out_of_reach {
         plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
     }
     Ok(plan)
+}
+
+/// `error`, if it blames `omega0` for a size float64 cannot hold, blaming instead what of
+/// `system` and the start is largest as a rate — the start's rates (times √(I_max / I_min)), or
+/// the largest rate a part brings ([`crate::dynamics::Part::largest_rate`]: a wheel's momentum
+/// over the least moment, an orbit's rate) — with the value the user gave (a wheel's momentum
+/// of 1e308 and an orbit rate of 1e200 were reported as `omega0`, with the momenta the run
+/// computes from them).
+fn blame_sizes(system: &System, omega0: [f64; 3], error: Error) -> Error {
+    if !matches!(&error, Error::InvalidArgument { name: "omega0", .. }) {
+        return error;
+    }
+    let moments = system.tensor_at(0.0).symmetric_eigenvalues();
+    let (least, largest) = (moments.min(), moments.max());
+    let spin = omega0.iter().fold(0.0_f64, |m, w| m.max(w.abs())) * (largest / least).sqrt();
+    let part = (system.parts().iter())
+        .filter_map(|p| p.largest_rate(least))
+        .fold(None, |m: Option<(&str, f64, f64)>, r| match m {
+            Some(m) if m.2 >= r.2 => Some(m),
+            _ => Some(r),
+        });
+    match part {
+        Some((name, value, rate)) if rate > 0.0 && rate >= spin => Error::invalid(
+            name,
+            match name {
+                "orbit_rate" => {
+                    "must give, with the body's moments, a rate bound that float64 holds (the \
+                     gravity gradient's potential is 3 n² I)"
+                }
+                "momentum" => {
+                    "must give, over the body's least moment of inertia, a rate that float64 \
+                     holds (a wheel's momentum, a schedule's largest)"
+                }
+                _ => "must give a rate that float64 holds",
+            },
+            value,
+        ),
+        _ => Error::invalid(
+            "omega0",
+            "must give a rate bound √(2E / I_min) (and an angular momentum) that float64 holds",
+            omega0,
+        ),
+    }
 }
 
 /// The model's rate bound from `x0`, taken in the motion's own units (where its squares stay

@@ -35,23 +35,48 @@ pub fn is_long(method: &Method, grid: &FrameGrid, runs: usize) -> bool {
     method.is_adaptive() || work > LONG_RUN_STEPS
 }
 
+/// The address space a helper thread takes as it starts: its stack (Rust's 2 MiB) and, on
+/// its first use of a thread-local of this library, a block glibc allocates for them, whose
+/// failure aborts the process ("cannot allocate memory for thread-local data"), with room to
+/// spare for the allocator's own bookkeeping.
+const THREAD_ROOM: f64 = (4 << 20) as f64;
+
 /// Runs `work` on a scoped helper thread while this thread calls `stop()` every [`POLL`];
 /// once `stop()` returns true, `work`'s cancel flag is set (and `stop` no longer called), so
 /// that it returns soon after. Returns what `work` returned, or `Err` with the panic's payload
 /// if it panicked.
+///
+/// A thread that cannot be had is [`crate::Error::TooLarge`], not an abort: under an
+/// address-space limit nearly reached (by the caller's own allocations) the helper's start
+/// is checked first.
 pub fn watch<T: Send>(
     work: impl FnOnce(&AtomicBool) -> Result<T> + Send,
     mut stop: impl FnMut() -> bool,
 ) -> std::thread::Result<Result<T>> {
+    const HINT: &str = "free some memory, or ask for less";
+    if let Err(e) = crate::buffer::ensure_room(THREAD_ROOM, "a helper thread", HINT) {
+        return Ok(Err(e));
+    }
     let cancel = AtomicBool::new(false);
     std::thread::scope(|scope| {
         let (done_tx, done_rx) = mpsc::channel::<()>();
         let cancel = &cancel;
-        let handle = scope.spawn(move || {
+        let spawned = std::thread::Builder::new().spawn_scoped(scope, move || {
             let result = work(cancel);
             let _ = done_tx.send(());
             result
         });
+        let handle = match spawned {
+            Ok(handle) => handle,
+            Err(e) => {
+                return Ok(Err(crate::Error::TooLarge {
+                    what: "starting a helper thread".into(),
+                    needed: format!("a thread ({e})"),
+                    limit: "what this process can start".into(),
+                    hint: HINT,
+                }))
+            }
+        };
         let mut stopped = false;
         while let Err(mpsc::RecvTimeoutError::Timeout) = done_rx.recv_timeout(POLL) {
             if !stopped && stop() {

@@ -1727,4 +1727,6 @@ NOT_CALLED = {
     "load": "reads a file: every file of the corpus (test_hostile.py::"
             "test_every_reader_on_every_file) and test_io.py",
     "ReadError": "an exception class, raised by the readers (the file corpus)",
+    "MODELS": "a read-only mapping of the core's declarations (test_model_registry.py)",
+    "ModelInfo": "the class of MODELS' values, made by the core only",
 }

@@ -365,6 +365,14 @@ def test_a_failure_in_a_drawing_process_is_one_line_and_nothing_is_written(tmp_p
     assert [p.name for p in tmp_path.iterdir()] == []
 
 
+def assert_none_left(mark: str) -> None:
+    """No process marked `mark` is left within 10 s (the killed ones take a moment to go)."""
+    deadline = time.monotonic() + 10
+    while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+
+
 def processes_marked(mark: str) -> list[int]:
     """The processes whose environment holds `mark`."""
     found = []
@@ -468,10 +476,7 @@ def test_ctrl_c_during_paper_ends_its_drawing_processes_and_writes_nothing(tmp_p
         assert code == 130, rest
         assert "dzhanibekov: interrupted; nothing written" in rest and "Traceback" not in rest
         assert not out.exists()
-        deadline = time.monotonic() + 10
-        while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
-            time.sleep(0.1)
-        assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+        assert_none_left(mark)
     finally:
         child.kill()
 
@@ -510,9 +515,6 @@ def test_a_drawing_process_killed_by_the_system_is_one_line_and_nothing_is_writt
         assert code == 2, rest
         one_line_error(rest, "was killed by SIGKILL before it was done")
         assert not out.exists()
-        deadline = time.monotonic() + 10
-        while processes_marked(f"DZ_TEST_MARK={mark}") and time.monotonic() < deadline:
-            time.sleep(0.1)
-        assert processes_marked(f"DZ_TEST_MARK={mark}") == []
+        assert_none_left(mark)
     finally:
         child.kill()

@@ -169,7 +169,8 @@ def test_the_sharper_messages_of_round_4(tmp_path):
     assert repr(table).startswith("TabulatedTorque(times=[1.0 … 2.0], knots=2")
     # a torque function returning two numbers is told it returned two
     two = dz.System(dz.Body((1, 2, 3)), torques=[dz.CallableTorque(lambda t, q, w: (1.0, 2.0))])
-    with pytest.raises(ValueError, match=r"must return three numbers .*, got a tuple of 2 at "):
+    with pytest.raises(ValueError, match=r"must return three real numbers .*, "
+                                         r"got tuple of shape \(2,\) at "):
         dz.simulate(two, (0.1, 0.2, 0.3), t_end=1.0, frames=3, dt=0.1)
     # an AEM file without its frame says which frame and why
     with pytest.raises(TypeError, match=r"write_aem\(\) needs `ref_frame_a`: the inertial frame "

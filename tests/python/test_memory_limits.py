@@ -201,6 +201,13 @@ BATCH_KINDS = {
     "tensor": "dz.Body.from_tensor([[2.0, 0.3, 0.0], [0.3, 1.0, 0.0], [0.0, 0.0, 3.0]])",
     "deployment": "dz.Deployment([0.5, 1.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])",
     "damper": "dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Damper(0.1, 0.05)])",
+    # a system with torques: each row's copy holds its list of torques (uncounted, a batch
+    # of 10⁶ rows aborted under 700 MiB)
+    "gravity": "dz.System(dz.Body((1.0, 2.0, 3.0)), torques=[dz.GravityGradient(0.1)])",
+    "tabulated": "dz.System(dz.Body((1.0, 2.0, 3.0)), torques=[dz.TabulatedTorque([0.0, 1.0], "
+                 "[(0, 0, 0), (0, 0, 1.0)])])",
+    "wheels": "dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[dz.Wheel((0, 1, 0), 0.5), "
+              "dz.Wheel((1, 0, 0), ([0.0, 0.2], [0.0, 0.1]))])",
 }
 
 
@@ -226,3 +233,75 @@ def test_a_batch_of_every_kind_under_shrinking_limits(kind):
         assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
     assert lines[-1].endswith("RETURNED"), lines
     assert any("MemoryError" in line for line in lines), lines
+
+
+@pytest.mark.parametrize("kind", ["gravity", "tabulated"])
+def test_a_million_rows_with_a_torque_under_limits_near_their_need(kind):
+    """10⁶ rows of a system with a torque (frames=2) under limits from what the process holds
+    plus 300 MB (below the starts' own size) to 420 MB: each call returns or raises a
+    TooLargeError naming its size. The rows' copies of the system were counted without their
+    list of torques, and the helper thread that watches for Ctrl-C was started without
+    checking for its room: the batch aborted the interpreter ("memory allocation of 136 bytes
+    failed" under `prlimit --as` 700 MiB; "cannot allocate memory for thread-local data")."""
+    lines = in_child(f"""
+        system = {BATCH_KINDS[kind]}
+        omega = np.tile([0.01, 0.01, 1.0], (10**6, 1))
+        run = lambda omega: dz.simulate(system, omega, t_end=0.5, frames=2, dt=0.05,
+                                        progress=False)
+        run(omega[:1000])  # the thread pool and NumPy's caches, outside the limits
+        for headroom in (300, 306, 312, 318, 324, 336, 360, 400):
+            print(headroom, limited(headroom * {MB}, lambda: run(omega)))
+    """)
+    assert len(lines) == 8, lines
+    for line in lines:
+        headroom, outcome = line.split(" ", 1)
+        assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
+
+
+def test_rotate_allocates_nothing_beside_its_output():
+    """2·10⁶ quaternions rotating 3 points (an output of 144 MB) with a few MB more than the
+    output to spare: the core made a table of every frame's matrix besides (72 bytes a frame,
+    infallibly), which aborted the interpreter past the output's size check (10⁷ frames under
+    1.3 GB; `dzhanibekov run spin-up --frames 10000000` under 3 GB, in its figure's
+    `rotate`)."""
+    lines = in_child(f"""
+        n = 2 * 10**6
+        q = np.tile([1.0, 0.1, -0.2, 0.3], (n, 1))
+        points = np.eye(3)
+        dz.rotate(q[:10], points)
+        for headroom in (150, 160, 200, 300):
+            print(headroom, limited(headroom * {MB}, lambda: dz.rotate(q, points)))
+    """)
+    assert len(lines) == 4, lines
+    for line in lines:
+        headroom, outcome = line.split(" ", 1)
+        assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
+    assert lines[-1].endswith("RETURNED"), lines
+
+
+def test_a_wheel_schedule_of_many_knots_under_limits_near_its_need():
+    """A wheel's schedule of 10⁶ knots built and run under limits from 60 MB to 300 MB
+    above what the process holds (its arrays made before): each returns or raises a
+    MemoryError. The run's model copied the schedule infallibly (10⁷ knots aborted under 2.2
+    and 2.6 GB, on a 240 MB allocation: the table cloned whole, then its values mapped); the
+    knots are now shared by the copies, the copies a run makes counted
+    (`System::model_bytes`, checked against measured peaks in tests/heap_bytes.rs) and
+    allocated fallibly."""
+    lines = in_child(f"""
+        n = 10**6
+        t, h = np.arange(n) * 1e-6, np.linspace(0.0, 1.0, n)
+        dz.simulate(dz.Body((1.0, 2.0, 3.0)), (0.01, 0.01, 1.0), t_end=0.5, frames=2, dt=0.05)
+
+        def run():
+            wheel = dz.Wheel((0, 1, 0), (t, h))
+            system = dz.System(dz.Body((1.0, 2.0, 3.0)), parts=[wheel])
+            dz.simulate(system, (0.01, 0.01, 1.0), t_end=0.5, frames=2, dt=0.05)
+
+        for headroom in range(60, 301, 20):
+            print(headroom, limited(headroom * {MB}, run))
+    """)
+    assert len(lines) == 13, lines
+    for line in lines:
+        headroom, outcome = line.split(" ", 1)
+        assert outcome == "RETURNED" or ("MemoryError" in outcome and "Panic" not in outcome), line
+    assert lines[-1].endswith("RETURNED"), lines

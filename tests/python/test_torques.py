@@ -371,10 +371,10 @@ def test_a_callable_that_fails_stops_the_run_with_its_own_error():
     # the same system runs again once the failure is past (nothing kept between runs)
     ok = dz.System(body, torques=[dz.CallableTorque(lambda t, q, w: np.zeros(3))])
     assert np.isfinite(dz.simulate(ok, W0, t_end=1.0).omega).all()
-    for bad, match in [(lambda t, q, w: np.zeros(2), "three numbers"),
-                       (lambda t, q, w: np.zeros((3, 1)), "three numbers"),
-                       (lambda t, q, w: "abc", "three numbers"),
-                       (lambda t, q, w: None, "three numbers"),
+    for bad, match in [(lambda t, q, w: np.zeros(2), r"three real numbers.*shape \(2,\)"),
+                       (lambda t, q, w: np.zeros((3, 1)), r"three real numbers.*\(3, 1\)"),
+                       (lambda t, q, w: "abc", "three real numbers"),
+                       (lambda t, q, w: None, "three real numbers"),
                        (lambda t, q, w: (0.0, math.nan, 0.0), "finite")]:
         with pytest.raises(ValueError, match=f"`torque` function must return .*{match}"):
             dz.simulate(dz.System(body, torques=[bad]), W0, t_end=1.0, method="rk4")

@@ -5,6 +5,9 @@ cannot reproduce its start is refused by `method="exact"`."""
 
 from __future__ import annotations
 
+import re
+import subprocess
+import sys
 import warnings
 
 import numpy as np
@@ -91,3 +94,90 @@ def test_every_exact_start_of_a_sample_begins_at_the_start(rng):
             traj = dz.simulate(dz.Body(inertia), omega, t_end=1.0, frames=2, method="exact")
             np.testing.assert_allclose(traj.omega[0], omega, rtol=1e-12,
                                        atol=1e-12 * np.abs(omega).max())
+
+
+UNBOUNDED = """
+import sys, time
+import dzhanibekov as dz
+body = dz.Body((1.0, 2.0, 3.0))
+torque = lambda frame: dz.System(body, torques=[dz.ConstantTorque((0.0, 0.0, 1e15), frame)])
+cases = {
+    "rates 1e20": (body, (1e20, 1e19, 1e18), 100.0),
+    "rates 1e300": (body, (1e300, 1e299, 1e298), 100.0),
+    "t_end 1e300": (body, (0.01, 0.01, 1.0), 1e300),
+    "torque 1e15 body": (torque("body"), (0.01, 0.01, 1.0), 100.0),
+    "torque 1e15 world": (torque("world"), (0.01, 0.01, 1.0), 100.0),
+}
+for method in ("dop853", "dopri5"):
+    for name, (system, omega0, t_end) in cases.items():
+        start = time.process_time()
+        try:
+            dz.simulate(system, omega0, t_end=t_end, method=method, frames=2)
+            outcome = "returned"
+        except dz.TooLargeError as exc:
+            outcome = "refused: " + str(exc)
+        print(f"{method} {name} | {time.process_time() - start:.3f} | {outcome}", flush=True)
+"""
+
+
+def test_an_adaptive_run_that_cannot_finish_is_refused_at_once():
+    """dop853 and dopri5 at rates of 1e20 or 1e300, to t_end = 1e300, or under a torque of
+    1e15 ran toward max_steps = 1e10 for hours (Ctrl-C worked); RK4 is refused by its planned
+    step in well under a second. Now the free body's runs are refused up front from the
+    fewest steps they need (the rates never fall below 2E/|L|, and no accepted step turns the
+    attitude by more than MAX_TURN_PER_STEP: tests/adaptive_bounds.rs), and a run whose steps
+    shrink without bound (the torque spins the body up) as soon as its pace cannot reach
+    t_end within max_steps. Run in a child with a timeout: before, the first case hung."""
+    done = subprocess.run([sys.executable, "-c", UNBOUNDED], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.strip().splitlines()
+    assert len(lines) == 10, lines
+    for line in lines:
+        case, cpu, outcome = line.split(" | ")
+        assert outcome.startswith("refused: the adaptive run needs"), line
+        assert "more than the limit max_steps = 10000000000" in outcome, line
+        assert float(cpu) < 0.5, line
+        if "torque" in case:
+            assert "at its present step" in outcome, line
+        else:
+            assert re.search(r"needs at least [\d.]+e\d+ steps \(its attitude turns", outcome), line
+
+
+FRAMES_NOT_KEPT = """
+import time
+import numpy as np
+import dzhanibekov as dz
+deployment = dz.Deployment([1.0, 2.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
+for method in ("dop853", "dopri5"):
+    system = [deployment]
+    out = {}
+    for frames in (11, 2**31):
+        start = time.process_time()
+        s = dz.sweep(system, [(0.01, 0.01, 1.0)], t_end=10.0, frames=frames, method=method,
+                     progress=False)
+        out[frames] = (time.process_time() - start, s)
+    (_, few), (cpu, many) = out[11], out[2**31]
+    # what the frames do not change: where the runs end, so the verdict
+    ends = ("omega_deployed", "flip_period")
+    same = all(np.array_equal(getattr(few, e), getattr(many, e), equal_nan=True) for e in ends)
+    small = all(np.all(np.asarray(d) < 1e-6) for d in many.drift[1:4])  # (|L|, L, |q|)
+    print(method, f"{cpu:.3f}", str(many.status.tolist()), same and small, flush=True)
+"""
+
+
+def test_frames_a_sweep_never_keeps_are_not_evaluated():
+    """A deployment sweep with frames=2**31 ran past 600 s interpolating frames it never
+    keeps. A run that keeps no frames now reads, of a step that spans more than 64 frames,
+    the last only, whatever `frames` is: the runs end where they did (the frames never moved
+    a step) and their drift is measured all the same, at fewer points. In a child with a
+    timeout: before, it ran past it."""
+    done = subprocess.run([sys.executable, "-c", FRAMES_NOT_KEPT], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    lines = done.stdout.strip().splitlines()
+    assert len(lines) == 2, lines
+    for line in lines:
+        method, cpu, status, same = line.split(" ", 3)
+        assert float(cpu) < 0.5 and status == "['ok']", line
+        assert same == "True", line

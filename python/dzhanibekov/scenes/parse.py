@@ -30,10 +30,11 @@ from typing import Any
 import numpy as np
 
 from .._args import as_array, as_float, as_int, run_options
-from ..body import Body
+from ..body import Body, InertiaWarning
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
+from ..lvlh import lvlh_start
 from ..methods import DEFAULT_MAX_STEPS, METHODS
 from ..orbit import ConstantTorque, GravityGradient, Wheel
 from ..shapes import Shape, box_shape
@@ -159,7 +160,7 @@ class Draw:
 TABLES: dict[str, tuple[str, ...]] = {
     "body": ("inertia", "box", "mass", "signal_point") + ("tensor", "cylinder", "sphere",
              "ellipsoid", "mesh", "density", "parts", "preset"),
-    "start": ("omega", "q"),
+    "start": ("omega", "q", "frame"),
     "run": ("t_end", "frames", "dt", "method", "rtol", "atol"),
     "ask": ("flips",),
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
@@ -283,12 +284,36 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     if "orbit" in data:
         kwargs["orbit"] = _model(source, "orbit", GravityGradient, ("rate",), tables["orbit"],
                                  {"orbit_rate": "rate"})
+    frame = tables["start"].get("frame", "world")
+    if frame not in START_FRAMES:
+        raise fail("start.frame", f"must be one of {list(START_FRAMES)}, got {frame!r}")
+    if frame == "lvlh":
+        kwargs["omega0"], kwargs["q0"] = _lvlh_start(source, kwargs, tables["start"])
     if "torque" in data:
         torque = tables["torque"]
         frame = torque.get("frame", "body")
         kwargs["torque"] = _model(source, "torque", ConstantTorque, ("vector", "frame"),
                                   {**torque, "frame": frame})
     return kwargs
+
+
+START_FRAMES = ("world", "lvlh")
+"""What a file's ``[start]`` is relative to: the world (inertial) frame, or the orbiting
+frame (LVLH) of its ``[orbit]`` at ``t = 0``."""
+
+
+def _lvlh_start(source: str, kwargs: Mapping[str, Any],
+                start: Mapping[str, Any]) -> tuple[np.ndarray, np.ndarray]:
+    """The world start of a ``[start]`` given relative to LVLH (``frame = "lvlh"``):
+    :func:`~dzhanibekov.lvlh_start` of the orbit's rate, ``q`` (LVLH-from-body) and ``omega``
+    (rates relative to the orbiting frame, body axes)."""
+    orbit = kwargs.get("orbit")
+    if orbit is None:
+        raise SceneError(source, "start.frame", "is \"lvlh\", relative to the orbiting frame, "
+                         "but the scene has no [orbit] to give its rate")
+    omega = _vector(source, "start.omega", start["omega"], 3)
+    q = _quaternion(source, "start.q", start.get("q", (1.0, 0.0, 0.0, 0.0)))
+    return lvlh_start(orbit.orbit_rate, q, omega)
 
 
 _WHEEL_SCHEDULE = ("times", "values")
@@ -380,12 +405,13 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     about = _text(src, "about", v["about"], required=False)
 
     spec, built, inertia_given = v["body_spec"], None, v["inertia"]
+    caught: list[warnings.WarningMessage] = []
     if spec is not None:
         if not isinstance(spec, Mapping):
             raise SceneError(src, "body", f"must be a table, got {spec!r}")
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
                 built = build_body(spec)
         except (TypeError, ValueError, ImportError) as exc:
             key = next((k for k in BODY_KEYS if k in spec), "body")
@@ -393,19 +419,19 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
         spec, inertia_given = dict(spec), built.inertia
     inertia = _triple(src, "body.inertia", inertia_given, positive=True)
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
             plain = Body(inertia)
     except (TypeError, ValueError) as exc:
         raise SceneError(src, "body.inertia", str(exc).replace("`inertia` ", "")) from None
+    if spec is None:
+        caught = seen
     given = v["given"]
     body = (scene_body(given, None, inertia) if given is not None
             else built if built is not None else plain)
 
     omega0 = _vector(src, "start.omega", v["omega0"], 3)
-    q0 = _vector(src, "start.q", v["q0"], 4)
-    if not any(q0):
-        raise SceneError(src, "start.q", "must be a non-zero quaternion (Q, U, V, W)")
+    q0 = _quaternion(src, "start.q", v["q0"])
     run = _run(src, v)
 
     box = None if v["box"] is None else _triple(src, "body.box", v["box"], positive=True)
@@ -452,6 +478,8 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     fields = v | run | models | dict(
         title=title, about=about, body_spec=spec, inertia=inertia, omega0=omega0, q0=q0,
         box=box, signal_point=signal_point, flips=flips, draw=draw, ellipsoid=ellipsoid)
+    # a scene that is refused does not also warn
+    _warn_inertia(src, "body" if spec is not None else "body.inertia", caught)
     return fields, body
 
 
@@ -564,6 +592,18 @@ def _table(source: str, key: str, value: Any, kind: type) -> Mapping[str, Any]:
 # -- the body and what is drawn of it -----------------------------------------------------
 
 
+def _warn_inertia(source: str, key: str, caught: list[warnings.WarningMessage]) -> None:
+    """Each `InertiaWarning` the scene's body raised when built, raised again naming the scene
+    and its key: moments no mass distribution has, or a nearly symmetric top, warn in a scene
+    as they do in Python (the body is built with warnings caught, so that nothing else it says
+    reaches the user twice)."""
+    said = set()
+    for w in caught:
+        if issubclass(w.category, InertiaWarning) and str(w.message) not in said:
+            said.add(str(w.message))
+            warnings.warn(f"{source}: `{key}`: {w.message}", InertiaWarning, stacklevel=4)
+
+
 def scene_body(given: System | None, body_spec: Mapping[str, Any] | None,
                inertia: tuple[float, ...]) -> Body:
     """The body a scene names: the given system's (a deployment's at ``t = 0``), the one
@@ -640,6 +680,14 @@ def _flag(source: str, key: str, value: Any) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise SceneError(source, key, f"must be true or false, got {value!r}")
     return bool(value)
+
+
+def _quaternion(source: str, key: str, value: Any) -> tuple[float, ...]:
+    """An attitude: four finite numbers, not all zero (scalar first, normalised later)."""
+    q = _vector(source, key, value, 4)
+    if not any(q):
+        raise SceneError(source, key, "must be a non-zero quaternion (Q, U, V, W)")
+    return q
 
 
 def _vector(source: str, key: str, value: Any, n: int) -> tuple[float, ...]:

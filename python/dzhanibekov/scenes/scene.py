@@ -14,6 +14,7 @@ your own from one of them (``dzhanibekov scenes --show fig3a > my.toml``). A fil
     [start]
     omega = [0.01, 0.01, 1.0]              # body angular velocity (u0, v0, w0)
     q = [1.0, 0.0, 0.0, 0.0]               # attitude, scalar first
+    # frame = "lvlh"                       # both relative to the orbiting frame ([orbit])
 
     [run]
     t_end = 100.0
