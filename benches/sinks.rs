@@ -5,7 +5,9 @@
 //! the throughput of independent ones. Each part runs two ways: through the general joint
 //! solve of any parts (what a part carries, the mass matrix, its `LDLᵀ` and Schur complement,
 //! the element's velocity) and through its closed form alone on its hub (`LoneSpring`,
-//! `LoneHinge`, `LoneSlosh`). Timed twice: in CPU time of the thread
+//! `LoneHinge`, `LoneSlosh`). The general solve runs in a buffer sized for the part (`/general`:
+//! 1 rate, 2 for the pendulum) and in the general model's one capacity, [`MAX_RATES`]
+//! (`/general_max`), as a run of several parts takes it. Timed twice: in CPU time of the thread
 //! (`/proc/thread-self/schedstat`, group `sinks_cpu`; wall time where it is absent) and in
 //! wall time (`sinks_wall`). The groups `rk4_cpu` and `rk4_wall` take one RK4 step (`h =
 //! 10⁻³`) of the whole state — `H`, the part's, the attitude quaternion — with each closed
@@ -18,7 +20,7 @@ use criterion::measurement::{Measurement, ValueFormatter, WallTime};
 use criterion::{criterion_group, criterion_main, Criterion};
 use nalgebra::{Matrix3, Vector3};
 
-use dzhanibekov::dynamics::multibody::{motion, Carried, Hub};
+use dzhanibekov::dynamics::multibody::{motion, Carried, Hub, MAX_RATES};
 use dzhanibekov::dynamics::{Hinge, LoneHinge, LoneSlosh, LoneSpring, Rod, Slosh, SpringMass};
 
 /// Nanoseconds of CPU time of this thread so far (wall time where Linux's schedstat is absent).
@@ -103,6 +105,59 @@ fn tank() -> Slosh {
 /// The start: `H` of a spin about the major axis, slightly off, and each part a little moved.
 const H0: [f64; 3] = [0.01, 0.02, 3.0];
 
+/// An Euler step of `H` over the spring's general joint solve in a buffer of `K` rates.
+#[inline(always)]
+fn spring_general<const K: usize>(
+    part: &SpringMass,
+    hub: &Hub,
+    (hm, x, p): (Vector3<f64>, f64, f64),
+) -> (Vector3<f64>, f64, f64) {
+    let carried = [part.carried(x)];
+    let mut momenta = [0.0; K];
+    momenta[0] = p;
+    let moved = motion::<K>(hub, &carried, &hm, &momenta);
+    let (velocity, _) = moved.element(&carried[0], 0);
+    let v = moved.rates[0];
+    let dp = part.momentum_rate(x, v, &moved.omega, &velocity);
+    (hm + hm.cross(&moved.omega) * H, x + v * H, p + dp * H)
+}
+
+/// The same for the hinge.
+#[inline(always)]
+fn hinge_general<const K: usize>(
+    part: &Hinge,
+    hub: &Hub,
+    (hm, beta, p): (Vector3<f64>, f64, f64),
+) -> (Vector3<f64>, f64, f64) {
+    let pose = part.pose(beta);
+    let carried = [part.carried(&pose)];
+    let mut momenta = [0.0; K];
+    momenta[0] = p;
+    let moved = motion::<K>(hub, &carried, &hm, &momenta);
+    let (velocity, spin) = moved.element(&carried[0], 0);
+    let v = moved.rates[0];
+    let dp = part.momentum_rate(&pose, beta, v, &moved.omega, &velocity, &spin);
+    (hm + hm.cross(&moved.omega) * H, beta + v * H, p + dp * H)
+}
+
+/// The same for the pendulum.
+#[inline(always)]
+fn slosh_general<const K: usize>(
+    part: &Slosh,
+    hub: &Hub,
+    (hm, n, pi): (Vector3<f64>, Vector3<f64>, Vector3<f64>),
+) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+    let rod = Rod::along(&n);
+    let carried: [Carried; 1] = [part.carried(&rod)];
+    let mut momenta = [0.0; K];
+    momenta[..2].copy_from_slice(&part.momenta(&rod, &pi));
+    let moved = motion::<K>(hub, &carried, &hm, &momenta);
+    let (velocity, _) = moved.element(&carried[0], 0);
+    let nu = rod.spin([moved.rates[0], moved.rates[1]]);
+    let (dn, dpi) = part.rates(&n, &pi, &rod, &nu, &moved.omega, &velocity);
+    (hm + hm.cross(&moved.omega) * H, n + dn * H, pi + dpi * H)
+}
+
 fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     let mut g = c.benchmark_group(group);
     g.sample_size(20);
@@ -121,15 +176,11 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     let hub1 = hub(part.mass());
     let mut state = (Vector3::from(H0), 0.01, 0.0);
     g.bench_function("spring_mass/general", |b| {
-        b.iter(|| {
-            let (hm, x, p) = black_box(state);
-            let carried = [part.carried(x)];
-            let moved = motion::<1>(&hub1, &carried, &hm, &[p]);
-            let (velocity, _) = moved.element(&carried[0], 0);
-            let v = moved.rates[0];
-            let dp = part.momentum_rate(x, v, &moved.omega, &velocity);
-            state = (hm + hm.cross(&moved.omega) * H, x + v * H, p + dp * H);
-        })
+        b.iter(|| state = spring_general::<1>(&part, &hub1, black_box(state)))
+    });
+    let mut state = (Vector3::from(H0), 0.01, 0.0);
+    g.bench_function("spring_mass/general_max", |b| {
+        b.iter(|| state = spring_general::<MAX_RATES>(&part, &hub1, black_box(state)))
     });
     let lone = LoneSpring::new(&hub1, part);
     let mut state = (Vector3::from(H0), 0.01, 0.0);
@@ -146,16 +197,11 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     let hub1 = hub(part.mass());
     let mut state = (Vector3::from(H0), 0.05, 0.0);
     g.bench_function("hinge/general", |b| {
-        b.iter(|| {
-            let (hm, beta, p) = black_box(state);
-            let pose = part.pose(beta);
-            let carried = [part.carried(&pose)];
-            let moved = motion::<1>(&hub1, &carried, &hm, &[p]);
-            let (velocity, spin) = moved.element(&carried[0], 0);
-            let v = moved.rates[0];
-            let dp = part.momentum_rate(&pose, beta, v, &moved.omega, &velocity, &spin);
-            state = (hm + hm.cross(&moved.omega) * H, beta + v * H, p + dp * H);
-        })
+        b.iter(|| state = hinge_general::<1>(&part, &hub1, black_box(state)))
+    });
+    let mut state = (Vector3::from(H0), 0.05, 0.0);
+    g.bench_function("hinge/general_max", |b| {
+        b.iter(|| state = hinge_general::<MAX_RATES>(&part, &hub1, black_box(state)))
     });
     let lone = LoneHinge::new(&hub1, part);
     let mut state = (Vector3::from(H0), 0.05, 0.0);
@@ -177,16 +223,11 @@ fn bench<M: Measurement>(c: &mut Criterion<M>, group: &str) {
     );
     let mut state = start;
     g.bench_function("slosh/general", |b| {
-        b.iter(|| {
-            let (hm, n, pi) = black_box(state);
-            let rod = Rod::along(&n);
-            let carried: [Carried; 1] = [part.carried(&rod)];
-            let moved = motion::<2>(&hub1, &carried, &hm, &part.momenta(&rod, &pi));
-            let (velocity, _) = moved.element(&carried[0], 0);
-            let nu = rod.spin([moved.rates[0], moved.rates[1]]);
-            let (dn, dpi) = part.rates(&n, &pi, &rod, &nu, &moved.omega, &velocity);
-            state = (hm + hm.cross(&moved.omega) * H, n + dn * H, pi + dpi * H);
-        })
+        b.iter(|| state = slosh_general::<2>(&part, &hub1, black_box(state)))
+    });
+    let mut state = start;
+    g.bench_function("slosh/general_max", |b| {
+        b.iter(|| state = slosh_general::<MAX_RATES>(&part, &hub1, black_box(state)))
     });
     let lone = LoneSlosh::new(&hub1, part);
     let mut state = start;

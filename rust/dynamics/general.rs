@@ -41,9 +41,7 @@ use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
-use super::multibody::{
-    self, capacity_for, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES,
-};
+use super::multibody::{self, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
 use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
@@ -275,12 +273,21 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     samples: Vec<(f64, usize)>,
     /// The run's end: sample times are laid out up to it.
     horizon: f64,
-    /// The parts whose mass moves in the body, the hub they move in (its mass) and the joint
-    /// solve's capacity for their rates (see [`super::multibody`]): the one extension of the
-    /// model for such parts.
-    movers: Vec<Placed>,
+    /// The parts whose mass moves in the body and the hub they move in: the one extension of
+    /// the model for such parts (see [`Moving`]).
+    moving: Moving,
+}
+
+/// The parts whose mass moves in the body (see [`super::multibody`]), the hub they move in
+/// and the other parts with state as the joint solve's right-hand side takes them. Nothing in
+/// it depends on the state's size `N`, and its joint solve is out of line: it is compiled once,
+/// not once per state size and per stage of every method (generic over `N` and over four
+/// buffer sizes, and inlined, it had made a release build of the module 4× as long).
+#[derive(Debug, Clone, PartialEq, Default)]
+struct Moving {
+    parts: Vec<Placed>,
+    /// The hub (the body's mass and tensor), once the body's mass is given.
     hub: Option<Hub>,
-    capacity: usize,
     /// A single such part, the system's only one on a body of constant inertia, in its
     /// closed form (see [`super::Part::alone`]).
     alone: Option<AloneSolve>,
@@ -300,7 +307,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         let mut at = 3;
         let (mut stores, mut torques, mut states) = (Vec::new(), Vec::new(), Vec::new());
         let (mut dissipators, mut sampled, mut dims) = (Vec::new(), Vec::new(), Vec::new());
-        let mut movers: Vec<Placed> = Vec::new();
+        let mut moving = Moving::default();
         let (mut stored, mut body_torque, mut world_torque) = (None, None, None);
         let mut torqued = false;
         let mut placed_all = Vec::new();
@@ -340,7 +347,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 dims.extend(std::iter::repeat_n(field.dim, field.width));
             }
             if info.traits.contains(Traits::MOVING_MASS) {
-                movers.push(placed.clone());
+                moving.parts.push(placed.clone());
             }
             if width > 0 {
                 states.push(placed.clone());
@@ -393,16 +400,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             knots: Vec::new(),
             samples: Vec::new(),
             horizon: 0.0,
-            capacity: 0,
-            alone: None,
-            fixed_states: Vec::new(),
-            fixed_dissipators: Vec::new(),
-            movers,
-            hub: None,
+            moving,
         };
         let still = |p: &&Placed| !p.part.info().traits.contains(Traits::MOVING_MASS);
-        model.fixed_states = model.states.iter().filter(still).cloned().collect();
-        model.fixed_dissipators = model.dissipators.iter().filter(still).cloned().collect();
+        model.moving.fixed_states = model.states.iter().filter(still).cloned().collect();
+        model.moving.fixed_dissipators = model.dissipators.iter().filter(still).cloned().collect();
         model.lay_out();
         Ok(model)
     }
@@ -412,7 +414,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     /// # Errors
     /// Such parts and no mass; more rates than the joint solve holds.
     pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
-        if self.movers.is_empty() {
+        if self.moving.parts.is_empty() {
             return Ok(self);
         }
         let Some(mass) = mass else {
@@ -422,22 +424,22 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 "no mass",
             ));
         };
-        let carried: f64 = self.movers.iter().map(|p| p.part.moving_mass()).sum();
-        let hub = Hub::try_new(self.inertia.tensor_at(0.0), mass, carried)?;
-        self.hub = Some(hub);
-        let constant = matches!(self.inertia, InertiaLaw::Constant(_));
-        let only = self.parts.len() == 1 && self.stored.is_none() && !self.torqued;
-        self.alone = (constant && only)
-            .then(|| self.movers[0].part.alone(&hub))
-            .flatten();
-        let k: usize = self.movers.iter().map(|p| p.part.moving_rates()).sum();
-        self.capacity = capacity_for(k).ok_or_else(|| {
-            Error::invalid(
+        let movers = &self.moving.parts;
+        let k: usize = movers.iter().map(|p| p.part.moving_rates()).sum();
+        if k > MAX_RATES {
+            return Err(Error::invalid(
                 "parts",
                 format!("must have at most {MAX_RATES} degrees of freedom"),
                 k,
-            )
-        })?;
+            ));
+        }
+        let carried: f64 = movers.iter().map(|p| p.part.moving_mass()).sum();
+        let hub = Hub::try_new(self.inertia.tensor_at(0.0), mass, carried)?;
+        let constant = matches!(self.inertia, InertiaLaw::Constant(_));
+        let only = self.parts.len() == 1 && self.stored.is_none() && !self.torqued;
+        let alone = (constant && only).then(|| movers[0].part.alone(&hub));
+        self.moving.alone = alone.flatten();
+        self.moving.hub = Some(hub);
         Ok(self)
     }
 
@@ -495,12 +497,12 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         for p in &self.stores {
             h += p.part.momentum(t0, p.of(&x));
         }
-        if let Some(hub) = self.hub_at(t0) {
+        if let Some(hub) = self.moving.hub_at(&self.inertia, t0) {
             // the parts' start rates into momenta, by the mass matrix at the start
             let mut carried = Vec::new();
             let mut v = [0.0; MAX_RATES];
             let mut row = 0;
-            for m in &self.movers {
+            for m in &self.moving.parts {
                 let c = m.part.carried(m.of(&x)).unwrap_or_default().0;
                 let r = m.part.start_rates(m.of(&x));
                 let n = c.rates.min(MAX_RATES - row);
@@ -511,7 +513,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             let (body, p) = MassMatrix::<MAX_RATES>::assemble(&hub, &carried).apply(&omega, &v);
             h += body - self.inertia.tensor_at(t0) * omega;
             let mut row = 0;
-            for (m, c) in self.movers.iter().zip(&carried) {
+            for (m, c) in self.moving.parts.iter().zip(&carried) {
                 m.part
                     .set_momenta(&mut x[m.at..m.at + m.width], &p[row..row + c.rates]);
                 row += c.rates;
@@ -634,53 +636,58 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     }
 }
 
-/// What the joint solve gives at one state: the motion and what each moving part carries.
-struct Joint<const K: usize> {
-    motion: multibody::Motion<K>,
-    carried: [Carried; K],
+/// What the joint solve gives at one state: the motion, what each moving part carries, and
+/// their momenta.
+struct Joint {
+    motion: multibody::Motion<MAX_RATES>,
+    carried: [Carried; MAX_RATES],
+    momenta: [f64; MAX_RATES],
 }
 
-/// # Parts whose mass moves (see [`super::multibody`])
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+/// # The joint solve (see [`super::multibody`]), whatever the state's size
+impl Moving {
     /// The hub at `t` (a deployment's tensor then).
     #[inline(always)]
-    fn hub_at(&self, t: f64) -> Option<Hub> {
+    fn hub_at(&self, inertia: &InertiaLaw, t: f64) -> Option<Hub> {
         let hub = self.hub?;
-        Some(match &self.inertia {
+        Some(match inertia {
             InertiaLaw::Constant(_) => hub,
             InertiaLaw::Schedule(d) => hub.with_inertia(d.inertia_at(t)),
         })
     }
 
-    /// The joint solve at `(t, x)`, in a buffer of `K` rates.
-    #[inline(always)]
-    fn joint<const K: usize>(&self, t: f64, x: &[f64; N]) -> (Joint<K>, [f64; K]) {
-        let mut carried = [Carried::default(); K];
-        let mut p = [0.0; K];
+    /// The joint solve at `(t, x)`, `l` the body's own momentum `H − Σ h_k` there.
+    #[inline(never)]
+    fn joint(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> Joint {
+        let mut carried = [Carried::default(); MAX_RATES];
+        let mut p = [0.0; MAX_RATES];
         let mut row = 0;
-        for (k, m) in self.movers.iter().enumerate().take(K) {
+        for (k, m) in self.parts.iter().enumerate().take(MAX_RATES) {
             let (c, mo) = m.part.carried(m.of(x)).unwrap_or_default();
-            let n = c.rates.min(K - row);
+            let n = c.rates.min(MAX_RATES - row);
             p[row..row + n].copy_from_slice(&mo[..n]);
             row += c.rates;
             carried[k] = c;
         }
-        let n = self.movers.len().min(K);
-        let h = self.body_momentum(t, x);
-        let motion = match self.hub_at(t) {
-            Some(hub) => multibody::motion::<K>(&hub, &carried[..n], &h, &p),
+        let n = self.parts.len().min(MAX_RATES);
+        let motion = match self.hub_at(inertia, t) {
+            Some(hub) => multibody::motion(&hub, &carried[..n], l, &p),
             None => multibody::Motion {
-                omega: self.inertia.omega_from(t, &h),
-                rates: [0.0; K],
+                omega: inertia.omega_from(t, l),
+                rates: [0.0; MAX_RATES],
                 drift: Vector3::zeros(),
             },
         };
-        (Joint { motion, carried }, p)
+        Joint {
+            motion,
+            carried,
+            momenta: p,
+        }
     }
 
     /// What the joint solve gives mover `k`, whose rates start at `row`.
     #[inline(always)]
-    fn moved<'j, const K: usize>(&self, j: &'j Joint<K>, k: usize, row: usize) -> Moved<'j> {
+    fn moved(j: &Joint, k: usize, row: usize) -> Moved<'_> {
         let c = &j.carried[k];
         let (velocity, spin) = j.motion.element(c, row);
         let mut rates = [0.0; PART_RATES];
@@ -695,10 +702,49 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         }
     }
 
-    /// `s · x'` with the joint solve in a buffer of `K` rates.
-    #[inline(always)]
-    fn increment_moving<const K: usize>(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
-        let (j, _) = self.joint::<K>(t, x);
+    /// `s ×` the rates of every part with state into `dx` (a state's places), given what
+    /// the parts see `c` and the joint solve `j` at `x`; the power they dissipate.
+    #[inline(never)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], j: &Joint, s: f64, dx: &mut [f64]) -> f64 {
+        let mut power = 0.0;
+        for p in &self.fixed_states {
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(c, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+        }
+        for p in &self.fixed_dissipators {
+            power += p.part.dissipation(c, p.of(x));
+        }
+        let mut row = 0;
+        for (k, p) in self.parts.iter().enumerate().take(MAX_RATES) {
+            let moved = Ctx {
+                moving: Some(Self::moved(j, k, row)),
+                ..*c
+            };
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(&moved, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+            power += p.part.dissipation(&moved, p.of(x));
+            row += j.carried[k].rates;
+        }
+        power
+    }
+
+    /// The kinetic energy `½ (ω · l + v · p)` at `(t, x)`, `l` the body's own momentum.
+    fn kinetic(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> f64 {
+        let j = self.joint(inertia, t, x, l);
+        let k = j.carried.iter().map(|c| c.rates).sum();
+        multibody::kinetic_energy(&j.motion.omega, &j.motion.rates, l, &j.momenta, k)
+    }
+}
+
+/// # Parts whose mass moves (see [`Moving`])
+impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+    /// `s · x'` with the joint solve: out of line, so that a method's stages each call it
+    /// rather than each hold a copy.
+    #[inline(never)]
+    fn increment_moving(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        let j = (self.moving).joint(&self.inertia, t, x, &self.body_momentum(t, x));
         let omega = j.motion.omega;
         let h = Vector3::new(x[0], x[1], x[2]);
         let mut dh = h.cross(&omega);
@@ -707,28 +753,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         }
         let mut dx = [0.0; N];
         dx[..3].copy_from_slice((dh * s).as_slice());
-        let c = self.ctx(t, x, omega);
-        let mut power = 0.0;
-        for p in &self.fixed_states {
-            let d = &mut dx[p.at..p.at + p.width];
-            p.part.rates(&c, p.of(x), d);
-            d.iter_mut().for_each(|v| *v *= s);
-        }
-        for p in &self.fixed_dissipators {
-            power += p.part.dissipation(&c, p.of(x));
-        }
-        let mut row = 0;
-        for (k, p) in self.movers.iter().enumerate().take(K) {
-            let moved = Ctx {
-                moving: Some(self.moved(&j, k, row)),
-                ..c
-            };
-            let d = &mut dx[p.at..p.at + p.width];
-            p.part.rates(&moved, p.of(x), d);
-            d.iter_mut().for_each(|v| *v *= s);
-            power += p.part.dissipation(&moved, p.of(x));
-            row += j.carried[k].rates;
-        }
+        let power = (self.moving).rates(&self.ctx(t, x, omega), x, &j, s, &mut dx);
         if let Some(k) = self.balance {
             dx[k] = power * s;
         }
@@ -741,7 +766,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment_alone(&self, alone: &AloneSolve, x: &[f64; N], s: f64) -> [f64; N] {
         let h = Vector3::new(x[0], x[1], x[2]);
-        let p = &self.movers[0];
+        let p = &self.moving.parts[0];
         let mut dx = [0.0; N];
         let (omega, power) = alone
             .0
@@ -755,41 +780,16 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         dx[N - 4..].copy_from_slice(&dq);
         dx
     }
-
-    #[inline(always)]
-    fn omega_moving<const K: usize>(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.joint::<K>(t, x).0.motion.omega
-    }
-
-    /// The kinetic energy `½ (ω · (H − Σ h_k) + v · p)` with the joint solve.
-    fn kinetic_moving<const K: usize>(&self, t: f64, x: &[f64; N]) -> f64 {
-        let (j, p) = self.joint::<K>(t, x);
-        let k = j.carried.iter().map(|c| c.rates).sum();
-        let h = self.body_momentum(t, x);
-        multibody::kinetic_energy(&j.motion.omega, &j.motion.rates, &h, &p, k)
-    }
-}
-
-/// `$self.$f::<K>(…)` for the joint solve's capacity `K` (see [`multibody::CAPACITIES`]).
-macro_rules! by_capacity {
-    ($self:ident, $f:ident ( $($arg:expr),* )) => {
-        match $self.capacity {
-            1 => $self.$f::<1>($($arg),*),
-            2 => $self.$f::<2>($($arg),*),
-            3 | 4 => $self.$f::<4>($($arg),*),
-            _ => $self.$f::<MAX_RATES>($($arg),*),
-        }
-    };
 }
 
 impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
-        if let (true, Some(alone)) = (HOT, &self.alone) {
+        if let (true, Some(alone)) = (HOT, &self.moving.alone) {
             return self.increment_alone(alone, x, s);
         }
-        if HOT && !self.movers.is_empty() {
-            return by_capacity!(self, increment_moving(t, x, s));
+        if HOT && !self.moving.parts.is_empty() {
+            return self.increment_moving(t, x, s);
         }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
@@ -850,13 +850,14 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        if let (true, Some(alone)) = (HOT, &self.alone) {
-            let p = &self.movers[0];
+        if let (true, Some(alone)) = (HOT, &self.moving.alone) {
+            let p = &self.moving.parts[0];
             return alone.0.omega(&Vector3::new(x[0], x[1], x[2]), p.of(x));
         }
-        match !HOT || self.movers.is_empty() {
-            true => self.inertia.omega_from(t, &self.body_momentum(t, x)),
-            false => by_capacity!(self, omega_moving(t, x)),
+        let l = self.body_momentum(t, x);
+        match !HOT || self.moving.parts.is_empty() {
+            true => self.inertia.omega_from(t, &l),
+            false => self.moving.joint(&self.inertia, t, x, &l).motion.omega,
         }
     }
 
@@ -889,10 +890,11 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `½ lᵀ I⁻¹ l` of the body's own momentum `l`, plus the parts' own energies.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(t, x);
-        let body = match (self.movers.is_empty(), &self.alone) {
+        let moving = &self.moving;
+        let body = match (moving.parts.is_empty(), &moving.alone) {
             (true, _) => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
-            (false, Some(alone)) => alone.0.kinetic(&l, self.movers[0].of(x)),
-            (false, None) => by_capacity!(self, kinetic_moving(t, x)),
+            (false, Some(alone)) => alone.0.kinetic(&l, moving.parts[0].of(x)),
+            (false, None) => moving.kinetic(&self.inertia, t, x, &l),
         };
         (self.states.iter()).fold(body, |e, p| e + p.part.energy(t, p.of(x)))
     }
@@ -923,7 +925,7 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             (self.parts.iter()).find_map(|p| p.rate_bound(least, largest, j, stored))
         });
         let free = free.max(bound.unwrap_or(0.0));
-        (self.movers.iter()).fold(free, |m, p| m.max(p.part.frequency(free)))
+        (self.moving.parts.iter()).fold(free, |m, p| m.max(p.part.frequency(free)))
     }
 
     /// The size of `H` over the run (and of rate-like parts' state): the absolute tolerance's
@@ -1030,7 +1032,7 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             .collect::<Result<Vec<_>>>()?;
         // the kinks and sample times follow the laws' times, rebuilt in the run's units
         Ok(Self::try_new(inertia, parts)?
-            .with_hub_mass(self.hub.map(|h| h.mass()))?
+            .with_hub_mass(self.moving.hub.map(|h| h.mass()))?
             .until(scale.time_to_unit(self.horizon)))
     }
 }

@@ -190,19 +190,11 @@ impl Carried {
     }
 }
 
-/// The most rates all the parts of one body may have together: the largest capacity `K` a
-/// model picks among [`CAPACITIES`].
+/// The most rates all the parts of one body may have together: the capacity `K` of the
+/// general model's joint solve. It is compiled for this one capacity (a part alone on its hub
+/// takes its closed form instead, see [`Alone`]); the solve's loops run over the rates there
+/// are, `K` only sizes its buffers.
 pub const MAX_RATES: usize = 8;
-
-/// The capacities `K` the joint solve is compiled for: a model takes the least that holds its
-/// parts' rates (one spring or hinge: 1, one pendulum: 2), so that its buffers are no larger
-/// than they must be and their loops unroll.
-pub const CAPACITIES: [usize; 4] = [1, 2, 4, MAX_RATES];
-
-/// The least of [`CAPACITIES`] that holds `k` rates.
-pub fn capacity_for(k: usize) -> Option<usize> {
-    CAPACITIES.iter().copied().find(|&c| c >= k)
-}
 
 /// The rates of the hub and its parts, with what the parts' equations read of them.
 #[derive(Debug, Clone, Copy, PartialEq)]
