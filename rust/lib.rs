@@ -15,11 +15,12 @@
 //! row has a sign error (see [`dynamics`]).
 //!
 //! The crate is Python-free unless the `python` feature is on; then the `python` module
-//! (rust/python.rs) holds the bindings and nothing else.
+//! (rust/python/) holds the bindings and nothing else.
 //!
-//! The modules in their one-way order, each using only those before it: [`error`], [`float`],
-//! [`buffer`], [`isa`] → [`body`] → [`dynamics`], [`kinematics`], [`mesh`] → [`ode`] → [`integrators`]
-//! → [`rigid`] → [`exact`] → [`observe`] → [`run`] → [`ensemble`] → `python`.
+//! The modules in layers, each using only the layers before it (tests/python/test_import_order.py
+//! checks this line against the code): [`error`], [`isa`] → [`pool`], [`body`], [`buffer`],
+//! [`ode`] → [`kinematics`], [`float`], [`mesh`], [`integrators`] → [`dynamics`] → [`exact`],
+//! [`observe`] → [`rigid`] → [`run`] → [`ensemble`] → `python`.
 
 pub mod body;
 pub mod buffer;

@@ -23,7 +23,7 @@ import numpy as np
 from . import _core
 from . import _tables
 from ._args import check_size
-from .body import Body, principal_body, tensor_moments
+from .body import Body, tensor_moments
 from .rotations import to_rotation
 from .system import System, Systems
 
@@ -642,11 +642,6 @@ def _moments(system: System) -> tuple[float, float, float]:
     if isinstance(body, Body):
         return body.inertia
     return tensor_moments(system.tensor_at(0.0))
-
-
-def trusted_body(inertia: np.ndarray) -> Body:
-    """A Body of moments the core has already accepted (no second warning)."""
-    return principal_body(inertia)
 
 
 class _Statuses:

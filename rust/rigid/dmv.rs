@@ -5,14 +5,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{amax, dot, scale_momentum, solve3, Norms};
-
-/// Newton's iteration stops once its correction is below this fraction of the unknown: the
-/// error left is then about the square of it, round-off.
-const NEWTON_TOL: f64 = 1.0 / (1u64 << 27) as f64;
-/// More corrections than this and the step is refused (the state becomes NaN, which the driver
-/// reports as a step far too large): Newton takes 2–5 at any step the method can take.
-const NEWTON_MAX: u32 = 50;
+use super::lie::{dot, newton3, scale_momentum, Norms, NEWTON_MAX};
 
 /// The discrete Moser–Veselov algorithm (DMV) for the free rigid body, in its quaternion form,
 /// working on `[L, q]` (observers see `[ω, q]`); with `MODIFIED`, McLachlan & Zanna's
@@ -141,10 +134,8 @@ impl<const MODIFIED: bool> DiscreteMoserVeselov<MODIFIED> {
         c[0] = a[0] + f[0] * a[1] * a[2];
         c[1] = a[1] + f[1] * c[0] * a[2];
         c[2] = a[2] + f[2] * c[0] * c[1];
-        let mut n = 0;
-        loop {
-            n += 1;
-            let alpha = 1.0 + dot(&c, &c);
+        let Some((c, n)) = newton3(c, |c| {
+            let alpha = 1.0 + dot(c, c);
             let r = [
                 c[0] - alpha * a[0] - f[0] * c[1] * c[2],
                 c[1] - alpha * a[1] - f[1] * c[0] * c[2],
@@ -168,20 +159,11 @@ impl<const MODIFIED: bool> DiscreteMoserVeselov<MODIFIED> {
                     1.0 - 2.0 * a[2] * c[2],
                 ],
             ];
-            let Some(delta) = solve3(&jac, &r) else {
-                *x = [f64::NAN; 7];
-                return NEWTON_MAX + 1;
-            };
-            c = [c[0] - delta[0], c[1] - delta[1], c[2] - delta[2]];
-            // NaN fails the comparison and goes on to the cap
-            if amax(&delta) <= NEWTON_TOL * amax(&c) {
-                break;
-            }
-            if n >= NEWTON_MAX {
-                *x = [f64::NAN; 7];
-                return NEWTON_MAX + 1;
-            }
-        }
+            (r, jac)
+        }) else {
+            *x = [f64::NAN; 7];
+            return NEWTON_MAX + 1;
+        };
         let norm = 1.0 / (1.0 + dot(&c, &c)).sqrt();
         let p = [norm, norm * c[0], norm * c[1], norm * c[2]];
         self.norms.turn(x, &p, &l);

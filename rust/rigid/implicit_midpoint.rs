@@ -5,14 +5,7 @@ use crate::body::RigidBody;
 use crate::dynamics::{FreeRigidBody, State};
 use crate::ode::Stepper;
 
-use super::lie::{amax, dot, mul, rotate_back, scale_momentum, solve3, Norms};
-
-/// Newton's iteration stops once its correction is below this fraction of the unknown: the
-/// error left is then about the square of it, round-off.
-const NEWTON_TOL: f64 = 1.0 / (1u64 << 27) as f64;
-/// More corrections than this and the step is refused (the state becomes NaN, which the driver
-/// reports as a step far too large).
-const NEWTON_MAX: u32 = 50;
+use super::lie::{dot, mul, newton3, rotate_back, scale_momentum, Norms, NEWTON_MAX};
 
 /// The implicit midpoint rule `y₁ = y₀ + h f((y₀ + y₁)/2)` applied to eq. 1 in the variables
 /// `[L, q]` (`L = I ω`; observers see `[ω, q]`), solved by Newton's method.
@@ -79,14 +72,12 @@ impl ImplicitMidpoint {
         let half = 0.5 * h;
         let e = self.euler.map(|e| half * e);
         let f0 = self.f(&l0);
-        let mut y = [
+        let start = [
             l0[0] + half * f0[0],
             l0[1] + half * f0[1],
             l0[2] + half * f0[2],
         ];
-        let mut n = 0;
-        loop {
-            n += 1;
+        let Some((y, n)) = newton3(start, |y| {
             // r(y) = y − (h/2) f(y) − L₀, ∂r/∂y = I − (h/2) ∂f/∂y
             let r = [
                 y[0] - e[0] * y[1] * y[2] - l0[0],
@@ -98,20 +89,11 @@ impl ImplicitMidpoint {
                 [-e[1] * y[2], 1.0, -e[1] * y[0]],
                 [-e[2] * y[1], -e[2] * y[0], 1.0],
             ];
-            let Some(delta) = solve3(&jac, &r) else {
-                *x = [f64::NAN; 7];
-                return NEWTON_MAX + 1;
-            };
-            y = [y[0] - delta[0], y[1] - delta[1], y[2] - delta[2]];
-            // NaN fails the comparison and goes on to the cap
-            if amax(&delta) <= NEWTON_TOL * amax(&y) {
-                break;
-            }
-            if n >= NEWTON_MAX {
-                *x = [f64::NAN; 7];
-                return NEWTON_MAX + 1;
-            }
-        }
+            (r, jac)
+        }) else {
+            *x = [f64::NAN; 7];
+            return NEWTON_MAX + 1;
+        };
         let w = &self.inv_inertia;
         let omega_m = [y[0] * w[0], y[1] * w[1], y[2] * w[2]];
         // L₁ = R(p)ᵀ L₀, p = (1, hω_m/2)/√(1 + |hω_m/2|²)

@@ -143,6 +143,33 @@ pub(crate) fn amax(x: &[f64; 3]) -> f64 {
     x[0].abs().max(x[1].abs()).max(x[2].abs())
 }
 
+/// Newton's iteration stops once its correction is below this fraction of the unknown: the
+/// error left is then about the square of it, round-off.
+const NEWTON_TOL: f64 = 1.0 / (1u64 << 27) as f64;
+/// More corrections than this and the step is refused (the state becomes NaN, which the driver
+/// reports as a step far too large): Newton takes 2–5 at any step the methods can take.
+pub(crate) const NEWTON_MAX: u32 = 50;
+
+/// The root of three equations by Newton's method from `y`, the implicit methods' one solve:
+/// `system(y)` gives the residual `r(y)` and its Jacobian. The root and the corrections it
+/// took, or `None` for a singular Jacobian or no convergence in [`NEWTON_MAX`] corrections.
+#[inline(always)]
+pub(crate) fn newton3(
+    mut y: [f64; 3],
+    system: impl Fn(&[f64; 3]) -> ([f64; 3], [[f64; 3]; 3]),
+) -> Option<([f64; 3], u32)> {
+    for n in 1..=NEWTON_MAX {
+        let (r, jac) = system(&y);
+        let delta = solve3(&jac, &r)?;
+        y = [y[0] - delta[0], y[1] - delta[1], y[2] - delta[2]];
+        // NaN fails the comparison and goes on to the cap
+        if amax(&delta) <= NEWTON_TOL * amax(&y) {
+            return Some((y, n));
+        }
+    }
+    None
+}
+
 /// The norms a rotation keeps in exact arithmetic, `|L|` and `|q|`, pulled back by one Newton
 /// step of the inverse square root, `x ← x (3 − |x|²/|x₀|²) / 2`, whenever their squares have
 /// wandered more than 1e-14 from the start (the splitting's rule, which it explains).

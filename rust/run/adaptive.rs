@@ -196,7 +196,7 @@ where
             return Err(Error::TooLarge {
                 what: "the adaptive run".into(),
                 needed: format!("more than {} step attempts (at t = {t:.6e})", stats.n_steps),
-                limit: crate::run::max_steps_limit(settings.max_steps),
+                limit: crate::run::grid::max_steps_limit(settings.max_steps),
                 hint: "raise max_steps, or loosen rtol and atol",
             });
         }
@@ -319,7 +319,7 @@ fn check_pace(stats: &Stats, t: f64, h: f64, t_end: f64, max_steps: u64) -> Resu
              {} steps)",
             stats.n_steps
         ),
-        limit: crate::run::max_steps_limit(max_steps),
+        limit: crate::run::grid::max_steps_limit(max_steps),
         hint: "take a shorter t_end, raise max_steps, or loosen rtol and atol (a torque \
                that spins the body up without bound needs ever smaller steps)",
     })

@@ -3,6 +3,7 @@
 //! ([`step_size`]).
 
 pub mod adaptive;
+pub mod evaluate;
 pub mod fixed;
 pub mod grid;
 pub mod options;
@@ -12,14 +13,13 @@ pub mod step_size;
 pub(crate) mod system;
 pub mod watchdog;
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 
 use nalgebra::Vector3;
 
 use crate::body::RigidBody;
 use crate::dynamics::{state_from, FreeRigidBody, Model};
 use crate::error::{Error, Result};
-use crate::exact::ExactMotion;
 use crate::float::RateScale;
 use crate::kinematics::normalized;
 use crate::observe::tilt::TiltMonitor;
@@ -531,43 +531,6 @@ pub(crate) fn error_from_unit(error: Error, scale: RateScale, t_end: f64) -> Err
             ratio,
         },
         other => other,
-    }
-}
-
-/// The free body's frames evaluated from the closed form at the frame times: no steps, the
-/// same observers, flip times from the solution by the detector's definition.
-pub(crate) fn evaluate_exact<O: Observer<7>>(
-    body: &RigidBody,
-    x0: [f64; 7],
-    grid: &FrameGrid,
-    obs: &mut O,
-    flips: bool,
-    cancel: &AtomicBool,
-) -> Result<Vec<f64>> {
-    let omega0 = [x0[0], x0[1], x0[2]];
-    let motion = ExactMotion::try_new(body, omega0, [x0[3], x0[4], x0[5], x0[6]])?;
-    for i in 0..grid.frames() {
-        let t = grid.time(i);
-        if (i as u64).is_multiple_of(CHECK_EVERY) {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(Error::Interrupted);
-            }
-            progress::report(t, grid.t_end());
-        }
-        let x = motion.state_at(t);
-        if !x.iter().all(|v| v.is_finite()) {
-            return Err(Error::TooLarge {
-                what: "the exact solution".into(),
-                needed: format!("its phase at t = {t:.3e} (t_end · max|omega0| radians)"),
-                limit: "what float64 holds".into(),
-                hint: "take a shorter t_end",
-            });
-        }
-        obs.frame(i, t, &x);
-    }
-    match flips {
-        true => motion.flip_times(grid.t_end()),
-        false => Ok(Vec::new()),
     }
 }
 

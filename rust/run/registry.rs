@@ -767,7 +767,7 @@ impl Runs<7> for FreeRigidBody {
         flips: bool,
         cancel: &AtomicBool,
     ) -> Result<Vec<f64>> {
-        crate::run::evaluate_exact(self.body(), x0, grid, obs, flips, cancel)
+        crate::run::evaluate::evaluate_exact(self.body(), x0, grid, obs, flips, cancel)
     }
 }
 

@@ -57,9 +57,10 @@ def rust_modules() -> dict[str, Path]:
 
 def _code(text: str) -> str:
     """`text` without comments (doc links name modules without using them) and strings."""
-    text = re.sub(r"//[^\n]*", "", text)
-    text = re.sub(r'"(?:[^"\\]|\\.)*"', '""', text)
-    return re.sub(r"#\[cfg\(test\)\]\s*mod tests\s*\{.*", "", text, flags=re.S)  # tests last
+    # one pass, so a `//` inside a string ("https://…") is not taken for a comment
+    text = re.sub(r'//[^\n]*|"(?:[^"\\]|\\.)*"|\'(?:[^\'\\]|\\.)\'',
+                  lambda m: "" if m.group().startswith("//") else '""', text, flags=re.S)
+    return re.sub(r"#\[cfg\(test\)\]\s*mod \w+\s*\{.*", "", text, flags=re.S)  # tests last
 
 
 def _expand(prefix: str, body: str) -> list[str]:
@@ -133,6 +134,11 @@ def test_the_rust_modules_import_one_way():
     assert find_cycle(graph) is None, find_cycle(graph)
 
 
+def test_the_rust_walk_reads_past_slashes_and_quotes_in_strings():
+    text = 'let u = "https://x \\\n y"; let c = \'"\'; crate::pool::install(|| ());\n'
+    assert crate_paths(text) == ["pool::install"]
+
+
 def test_the_rust_walk_sees_uses_in_groups():
     text = "use crate::run::{grid::FrameGrid, registry::{Method, METHODS}};\n// crate::python\n"
     assert sorted(crate_paths(text)) == ["run::grid::FrameGrid", "run::registry::METHODS",
@@ -198,3 +204,21 @@ def test_the_python_walk_sees_function_local_imports(tmp_path):
     modules = {"dzhanibekov.simulate": f, "dzhanibekov._core": f}
     assert python_imports("dzhanibekov.x", f, modules) == {"dzhanibekov.simulate",
                                                             "dzhanibekov._core"}
+
+
+def declared_layers() -> list[set[str]]:
+    """The layers rust/lib.rs declares ("… → …"), first the ones that use nothing."""
+    doc = " ".join(line.removeprefix("//!").strip() for line in
+                   (RUST / "lib.rs").read_text().splitlines() if line.startswith("//!"))
+    order = doc[doc.index("The modules in layers"):].split(":", 1)[1].split(".")[0]
+    return [set(re.findall(r"`(\w+)`", layer)) for layer in order.split("→")]
+
+
+def test_the_rust_folders_follow_the_layers_lib_rs_declares():
+    layers = declared_layers()
+    level = {name: k for k, layer in enumerate(layers) for name in layer}
+    graph = rust_graph("folder")
+    assert set(level) == {name.split("::")[0] for name in rust_modules()}  # every folder placed
+    upward = [(src, dst) for src, dsts in graph.items() for dst in dsts
+              if level[dst] >= level[src]]
+    assert not upward, f"uses of a module in the same or a later layer: {sorted(upward)}"

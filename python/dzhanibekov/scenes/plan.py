@@ -16,7 +16,6 @@ from __future__ import annotations
 import math
 
 from collections.abc import Mapping
-import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 from typing import NamedTuple
@@ -35,8 +34,6 @@ __all__ = ["Rotation", "Plan", "WorldPoints", "SceneResult", "make_plan", "execu
 
 PATH_TURN = np.radians(1.5)
 """The largest turn of the body between two points of a drawn path (a smooth curve)."""
-ANIMATION_TURN = np.radians(10.0)
-"""The largest turn of the body from one animation frame to the next."""
 
 POINT_SETS = ("box", "ellipsoid", "body_axes", "signal")
 """Body point sets a scene may rotate: the body's outline (the box's 8 corners, or the
@@ -231,41 +228,6 @@ class SceneResult:
         assert self.trajectory is not None
         momentum: np.ndarray = self.trajectory.invariants()["momentum_world"][0]
         return momentum
-
-
-MAX_DENSE_FRAMES = 1000
-"""The most frames an animation is drawn with (each is rendered and kept until the GIF
-is written): enough for the paper's example at 10° a frame."""
-
-
-def densified(result: SceneResult, max_turn: float = ANIMATION_TURN) -> SceneResult:
-    """The result at evenly spaced times with the body turning at most `max_turn` radians
-    from one to the next (the scene's frames among them): attitudes from the run's interpolant
-    (:mod:`dzhanibekov.dense`), every point set rotated at every time in one call to the
-    core's `rotate`. For animations, whose frames must not jump; at most
-    :data:`MAX_DENSE_FRAMES` of them (a long run's body then turns further per frame)."""
-    traj = result.trajectory
-    if traj is None:
-        raise ValueError(f"scene {result.scene.name!r} kept no frames to interpolate")
-    times = turn_grid(traj.t, traj.omega, max_turn, most=MAX_DENSE_FRAMES)
-    if len(times) == len(traj.t):
-        return result
-    q, omega = attitudes_at(traj.t, traj.omega, traj.q, times)
-    # the parts' state between frames, linearly (drawings do not show it)
-    parts = {name: np.stack([np.interp(times, traj.t, v[:, k]) for k in range(v.shape[1])],
-                            axis=1) for name, v in traj.parts.items()}
-    dense = dataclasses.replace(traj, t=times, omega=omega, q=q, parts=parts, _observed={})
-    names = tuple(result.world)
-    scene = result.scene.replace(frames=len(times))
-    sets = [body_points(scene, name, result.mesh) for name in names]
-    world: dict[str, WorldPoints] = {}
-    if sets:
-        out = rotate(q, np.concatenate(sets))
-        start = 0
-        for name, pts in zip(names, sets):
-            world[name] = WorldPoints(np.arange(len(times)), out[:, start:start + len(pts)])
-            start += len(pts)
-    return SceneResult(scene, result.plan, dense, result.summary, result.mesh, world)
 
 
 def execute(plan: Plan, trajectory: Trajectory | None = None) -> SceneResult:
