@@ -741,9 +741,11 @@ impl Moving {
 /// # Parts whose mass moves (see [`Moving`])
 impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     /// `s · x'` with the joint solve: out of line, so that a method's stages each call it
-    /// rather than each hold a copy.
+    /// rather than each hold a copy, and on a copy of the state, so that the caller's stays
+    /// in registers (see [`Hot`]).
     #[inline(never)]
-    fn increment_moving(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+    fn increment_moving(&self, t: f64, x: [f64; N], s: f64) -> [f64; N] {
+        let x = &x;
         let j = (self.moving).joint(&self.inertia, t, x, &self.body_momentum(t, x));
         let omega = j.motion.omega;
         let h = Vector3::new(x[0], x[1], x[2]);
@@ -762,9 +764,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         dx
     }
 
-    /// `s · x'` of a part alone on its hub, by its closed form.
-    #[inline(always)]
-    fn increment_alone(&self, alone: &AloneSolve, x: &[f64; N], s: f64) -> [f64; N] {
+    /// `s · x'` of a part alone on its hub, by its closed form (out of line, on a copy of
+    /// the state, as above).
+    #[inline(never)]
+    fn increment_alone(&self, alone: &AloneSolve, x: [f64; N], s: f64) -> [f64; N] {
+        let x = &x;
         let h = Vector3::new(x[0], x[1], x[2]);
         let p = &self.moving.parts[0];
         let mut dx = [0.0; N];
@@ -782,14 +786,34 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     }
 }
 
+/// # Body rates with parts whose mass moves
+impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+    /// `ω` by the lone part's closed form or the joint solve (out of line, on a copy of the
+    /// state, as [`GeneralModel::increment_moving`]).
+    #[inline(never)]
+    fn omega_moving(&self, t: f64, x: [f64; N]) -> Vector3<f64> {
+        let moving = &self.moving;
+        match &moving.alone {
+            Some(alone) => alone
+                .0
+                .omega(&Vector3::new(x[0], x[1], x[2]), moving.parts[0].of(&x)),
+            None => {
+                (moving.joint(&self.inertia, t, &x, &self.body_momentum(t, &x)))
+                    .motion
+                    .omega
+            }
+        }
+    }
+}
+
 impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
         if let (true, Some(alone)) = (HOT, &self.moving.alone) {
-            return self.increment_alone(alone, x, s);
+            return self.increment_alone(alone, *x, s);
         }
         if HOT && !self.moving.parts.is_empty() {
-            return self.increment_moving(t, x, s);
+            return self.increment_moving(t, *x, s);
         }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
@@ -850,14 +874,9 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        if let (true, Some(alone)) = (HOT, &self.moving.alone) {
-            let p = &self.moving.parts[0];
-            return alone.0.omega(&Vector3::new(x[0], x[1], x[2]), p.of(x));
-        }
-        let l = self.body_momentum(t, x);
         match !HOT || self.moving.parts.is_empty() {
-            true => self.inertia.omega_from(t, &l),
-            false => self.moving.joint(&self.inertia, t, x, &l).motion.omega,
+            true => self.inertia.omega_from(t, &self.body_momentum(t, x)),
+            false => self.omega_moving(t, *x),
         }
     }
 
