@@ -24,6 +24,10 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
+                      QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
+                      detumble_gain)
+from .pointing import detumbled_at, part_state, pointing_angle, saturation
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
 from .ensemble import Batch, BatchDrift, DeploymentSweep, Sweep, grid, sweep
@@ -58,6 +62,21 @@ __all__ = [
     "ConstantTorque",
     "TabulatedTorque",
     "CallableTorque",
+    "MagneticField",
+    "Magnetometer",
+    "Gyro",
+    "StarTracker",
+    "ResidualDipole",
+    "BDot",
+    "MomentumDumping",
+    "QuaternionFeedback",
+    "Controller",
+    "circular_orbit_rate",
+    "detumble_gain",
+    "pointing_angle",
+    "detumbled_at",
+    "part_state",
+    "saturation",
     "lvlh_frame",
     "lvlh_attitude",
     "lvlh_start",

@@ -14,6 +14,8 @@ __all__ = [
     "DEFAULT_METHOD",
     "DEFAULT_RTOL",
     "Deployment",
+    "EARTH_MOMENT",
+    "EARTH_MU",
     "ENERGY_GROWTH_TOL",
     "FLAT_SHARE",
     "MAX_MOMENT_RATIO",
@@ -61,6 +63,8 @@ MAX_MOMENT_RATIO: float
 TRIANGLE_SLACK: float
 SYMMETRY_TOLERANCE: float
 NEAR_SYMMETRY: float
+EARTH_MOMENT: float
+EARTH_MU: float
 RUN_STATUSES: tuple[str, ...]
 
 _Rows3 = list[list[float]]
@@ -319,6 +323,7 @@ def simulate_batch(
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
     progress: Callable[[float], object] | None = None,
+    first_row: int = 0,
 ) -> BatchResult: ...
 def sweep(
     systems: list[System],

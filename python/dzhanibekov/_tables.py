@@ -30,7 +30,9 @@ from typing import Any
 
 import numpy as np
 
+from ._core import model_info
 from .body import tensor_moments
+from .control import _Loop
 from .damper import Damper
 from .orbit import ConstantTorque, GravityGradient, Wheel
 from .torques import TabulatedTorque
@@ -236,6 +238,8 @@ def torque_vars(systems: list[Any], lead: tuple[str, ...]) -> dict[str, Any]:
                 kind[i, j], frame[i, j], outside[i, j] = "tabulated", torque.frame, \
                     torque.outside
                 times[i, j, :n], vectors[i, j, :n] = torque.times, torque.vectors
+            elif isinstance(torque, _Loop):   # the closed loop's: no columns (not saved)
+                kind[i, j] = torque.kind
             else:
                 kind[i, j], vector[i, j], frame[i, j] = "constant", torque.vector, torque.frame
     out = {
@@ -287,8 +291,19 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
     """A run's parts' state and what its system says of each frame."""
     out: dict[str, Any] = {}
     for name, state in run.parts.items():
-        out[name] = (prefix + ("time", "axis"), state,
-                     {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})
+        fields = model_info(name).state
+        if len(fields) == 1 and fields[0][1] == 3:   # one vector, a damper's: the part's name
+            out[name] = (prefix + ("time", "axis"), state,
+                         {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})
+            continue
+        at = 0   # a part of several fields (the closed loop's): one variable each, by name
+        for field, width, _, about in fields:
+            block = state[..., at:at + width]
+            at += width
+            dims, values = ((prefix + ("time", "axis"), block) if width == 3 else
+                            (prefix + ("time",), block[..., 0]) if width == 1 else
+                            (prefix + ("time", f"{name}_{field}_index"), block))
+            out[f"{name}_{field}"] = (dims, values, {"long_name": f"the {name}'s {about}"})
     inv = run.invariants()
     out["energy"] = (prefix + ("time",), inv["energy"],
                      {"long_name": "total kinetic energy"})

@@ -312,8 +312,10 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
         report = RunProgress(options.t_end, progress is True) \
             if m == 1 and progress is not False else None
         try:
+            # row i of the whole batch is seeded i (its parts' noise), whatever the blocks
             return _core.simulate_batch(systems, part.omega, part.q, options, keep_frames,
-                                        inertia=moments, progress=report)
+                                        inertia=moments, progress=report,
+                                        first_row=block.start or 0)
         except ValueError as exc:
             raise row_error(exc, rows, block.start or 0) from None
         finally:

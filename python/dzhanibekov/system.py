@@ -23,6 +23,7 @@ from . import _core
 from .body import Body, as_body, principal_body
 from .damper import Damper
 from .deployment import Deployment
+from .control import _Loop
 from .orbit import TORQUE_TYPES, Torque, Wheel
 from .torques import CallableTorque
 
@@ -81,14 +82,14 @@ class System:
         body = body if isinstance(body, Deployment) else as_body(body)
         parts_ = _sequence("parts", parts)
         for k, part in enumerate(parts_):
-            if not isinstance(part, (Damper, Wheel)):
+            if not isinstance(part, (Damper, Wheel, _Loop)):
                 raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
                                 f"{type(part).__name__}")
         # a plain function is a CallableTorque
         torques_ = tuple(t if isinstance(t, TORQUE_TYPES) or not callable(t)
                          else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, TORQUE_TYPES):
+            if not isinstance(torque, TORQUE_TYPES + (_Loop,)):
                 raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
                                 f"dz.ConstantTorque, a dz.TabulatedTorque or a function "
                                 f"(dz.CallableTorque), got {type(torque).__name__}")

@@ -853,8 +853,10 @@ impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     fn sample(&self, t: f64, x: &mut [f64; N]) {
         let from = self.samples.partition_point(|s| s.0 < t);
         for &(_, k) in self.samples[from..].iter().take_while(|s| s.0 == t) {
+            // each part sees the state as the parts before it left it
+            let c = self.ctx(t, x, self.omega_body(t, x));
             let p = &self.sampled[k];
-            p.part.sample(t, p.at, x);
+            p.part.sample(&c, p.at, x);
         }
     }
 }

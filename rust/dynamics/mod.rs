@@ -8,6 +8,7 @@
 //! ([`crate::run::registry`]), the binding, files and scenes read.
 
 mod callable;
+pub mod control;
 mod damper;
 mod deployment;
 mod free;

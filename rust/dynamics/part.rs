@@ -551,10 +551,11 @@ pub trait Part: Clone + Debug + PartialEq + Send + Sync + Sized {
         None
     }
 
-    /// At a sample time `t` of the part: its discrete update of the run's state `x` (the whole
+    /// At a sample time `c.t` of the part, with the run as it is then (`c`): its discrete
+    /// update of the run's state `x` (the whole
     /// state `[H, parts…, q]`; the part's own state starts at `at`), e.g. a controller's held
     /// command. Every method ends a step on the sample times, and the run calls this there.
-    fn sample(&self, _t: f64, _at: usize, _x: &mut [f64]) {}
+    fn sample(&self, _c: &Ctx<'_>, _at: usize, _x: &mut [f64]) {}
 
     /// The same part with its body-axes vectors mapped by `to_axes` (a change of body axes).
     fn in_axes(&self, _to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {

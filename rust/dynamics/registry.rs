@@ -12,6 +12,7 @@ use nalgebra::{Matrix3, Quaternion, Vector3};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 
+use super::control::{BDot, Controller, MomentumDumping, QuaternionFeedback, ResidualDipole};
 use super::kinds::{Conserved, Kinds, Traits};
 use super::multibody::{AloneSolve, Carried, Hub, PART_RATES};
 use super::part::{
@@ -252,8 +253,8 @@ macro_rules! parts {
                 match self { $(AnyPart::$ty(p) => Part::sampling(p),)* }
             }
 
-            pub fn sample(&self, t: f64, at: usize, x: &mut [f64]) {
-                match self { $(AnyPart::$ty(p) => Part::sample(p, t, at, x),)* }
+            pub fn sample(&self, c: &Ctx<'_>, at: usize, x: &mut [f64]) {
+                match self { $(AnyPart::$ty(p) => Part::sample(p, c, at, x),)* }
             }
         }
 
@@ -485,6 +486,11 @@ parts! {
     ConstantTorque,
     TabulatedTorque,
     CallableTorque,
+    ResidualDipole,
+    BDot,
+    QuaternionFeedback,
+    MomentumDumping,
+    Controller,
     SpringMass,
     Hinge,
     Slosh;

@@ -95,8 +95,9 @@ impl System {
         }
     }
 
-    /// The same system for the run of seed `seed` (its parts' noise: a study's sample `k`
-    /// draws the same whatever the threads or chunks).
+    /// The same system for the run of seed `seed`, added to each part's own seed for its
+    /// noise: a batch seeds row `i` with `i` (its number in the whole batch), so that its rows
+    /// draw different noise, the same whatever the threads or blocks.
     pub fn with_seed(mut self, seed: u64) -> Self {
         self.seed = seed;
         self

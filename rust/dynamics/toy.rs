@@ -49,7 +49,7 @@ impl Part for Counter {
         Some(self.sampling)
     }
 
-    fn sample(&self, _t: f64, at: usize, x: &mut [f64]) {
+    fn sample(&self, _c: &super::part::Ctx<'_>, at: usize, x: &mut [f64]) {
         x[at] += 1.0;
     }
 

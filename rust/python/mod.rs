@@ -195,6 +195,8 @@ fn _core(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TRIANGLE_SLACK", crate::body::TRIANGLE_SLACK)?;
     m.add("SYMMETRY_TOLERANCE", crate::body::SYMMETRY_TOLERANCE)?;
     m.add("NEAR_SYMMETRY", crate::body::NEAR_SYMMETRY)?;
+    m.add("EARTH_MU", crate::dynamics::control::EARTH_MU)?;
+    m.add("EARTH_MOMENT", crate::dynamics::control::EARTH_MOMENT)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -81,12 +81,14 @@ struct PyBatchPlan {
 /// A batch's rows as the core takes them: systems, rates, attitudes.
 type CoreRows = (Vec<System>, Vec<[f64; 3]>, Vec<[f64; 4]>);
 
-/// The systems of a batch's rows (one shared, or one each) and its starts, as the core's.
+/// The systems of a batch's rows (one shared, or one each) and its starts, as the core's;
+/// row `i` seeded `first_row + i` (its number in the whole batch: its parts' noise).
 fn rows_of(
     systems: &[PyRef<'_, PySystem>],
     inertia: Option<&PyReadonlyArray2<'_, f64>>,
     omega0: &PyReadonlyArray2<'_, f64>,
     q0: &PyReadonlyArray2<'_, f64>,
+    first_row: u64,
 ) -> PyResult<CoreRows> {
     let (omega, q) = (omega0.as_array(), q0.as_array());
     let m = omega.shape()[0];
@@ -122,7 +124,10 @@ fn rows_of(
                     .map_err(|e| e.in_row(k))?;
                 System::rigid(Inertia::from_principal(body))
             }
-            None => systems[k].inner.clone(),
+            None => systems[k]
+                .inner
+                .clone()
+                .with_seed(first_row.wrapping_add(i as u64)),
         });
         w.push([omega[[i, 0]], omega[[i, 1]], omega[[i, 2]]]);
         qs.push([q[[i, 0]], q[[i, 1]], q[[i, 2]], q[[i, 3]]]);
@@ -142,7 +147,7 @@ fn plan(
     options: &PyRunOptions,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<PyBatchPlan> {
-    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0, 0)?;
     ensure_room(
         systems.len() as f64 * (std::mem::size_of::<StepPlan>() + 32) as f64,
         "the step plans",
@@ -283,7 +288,7 @@ fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOpt
 /// Runs every row (as `plan` takes them) over one frame grid; a single long run calls
 /// `progress(share)` now and then with the share of its span done (see `run::progress`).
 #[pyfunction]
-#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, progress = None))]
+#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, progress = None, first_row = 0))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch(
     py: Python<'_>,
@@ -295,8 +300,9 @@ fn simulate_batch(
     isa: Option<&str>,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
     progress: Option<Py<PyAny>>,
+    first_row: u64,
 ) -> PyResult<PyBatchResult> {
-    let (mut systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let (mut systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0, first_row)?;
     // this run's own view of each Python torque function (its failure, its Ctrl-C)
     let python = super::callable::PythonCalls::of(py, &mut systems);
     let options = options.inner;
@@ -404,7 +410,7 @@ fn sweep(
     isa: Option<&str>,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
 ) -> PyResult<PySweepResult> {
-    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0)?;
+    let (systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0, 0)?;
     let options = options.inner;
     let (method, grid) = options.method_and_grid()?;
     let batch = batch_options(options.threads, isa)?;

@@ -87,7 +87,17 @@ where
         let inside = &kinks[kinks.partition_point(|&k| k < ta)..kinks.partition_point(|&k| k < tb)];
         if !inside.is_empty() {
             let extra;
-            (x, extra) = advance_across(method, sys, obs, x, ta, h, (n, tb), inside);
+            (x, extra) = advance_across(
+                method,
+                sys,
+                obs,
+                x,
+                ta,
+                h,
+                (n, tb),
+                inside,
+                (grid.t_end(), cancel),
+            )?;
             splits += extra;
             check(&x, tb, grid.t_end(), cancel)?;
             obs.frame(i, tb, &method.to_state(sys, &x));
@@ -199,7 +209,9 @@ where
 /// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the `kinks` (increasing,
 /// in `[ta, tb)`) split on it: the first piece ends on the kink, the second starts one
 /// float64 after it (a substep starting on a kink starts one float64 after it). Returns the
-/// state and the steps taken beyond the `n`. Frames with kinks are rare: the cancel flag waits for the frame's end.
+/// state and the steps taken beyond the `n`. The cancel flag and the state's finiteness are
+/// checked every [`CHECK_EVERY`] substeps, as between kinks: a controller sampled at every
+/// step puts kinks in every frame.
 #[allow(clippy::too_many_arguments)]
 fn advance_across<const N: usize, S, M, O>(
     method: &M,
@@ -210,7 +222,8 @@ fn advance_across<const N: usize, S, M, O>(
     h: f64,
     (n, tb): (u64, f64),
     kinks: &[f64],
-) -> ([f64; N], u64)
+    (t_end, cancel): (f64, &AtomicBool),
+) -> Result<([f64; N], u64)>
 where
     S: OdeSystem<N>,
     M: Stepper<N, S>,
@@ -247,8 +260,11 @@ where
         if t1 > t {
             piece(&mut x, t, t1);
         }
+        if (k + 1) % CHECK_EVERY == 0 {
+            check(&x, t1, t_end, cancel)?;
+        }
     }
-    (x, pieces.saturating_sub(n))
+    Ok((x, pieces.saturating_sub(n)))
 }
 
 /// The float64 just after `t` (the next step's start after a kink at `t`).

@@ -147,6 +147,51 @@ fn general<const N: usize, const HOT: bool>(
     Ok((model, x0))
 }
 
+/// The most sample times of the parts' laws a run lays out: the model lists them all (with
+/// the kinks and knots they join, about [`SAMPLE_TIME_BYTES`] each) before the run starts.
+pub const MAX_SAMPLE_TIMES: f64 = 1e8;
+/// About the bytes a sample time takes in a model: in the samples (time, part), the kinks,
+/// the knots, and the copies a run in its own units makes of them.
+const SAMPLE_TIME_BYTES: f64 = 64.0;
+
+/// The sample times the parts of `system` have in `[0, t_end]` (the user's units).
+pub fn sample_times(system: &System, t_end: f64) -> f64 {
+    (system.parts().iter().filter_map(AnyPart::sampling))
+        .filter(|s| s.period > 0.0 && s.period.is_finite() && t_end >= s.phase)
+        .map(|s| ((t_end - s.phase) / s.period).floor() + 1.0)
+        .sum()
+}
+
+/// Refuses a run whose parts' sample times over `[0, t_end]` are more than the model may list
+/// (a 1 kHz law over 10⁶ s asked for 10⁹ of them, 64 GB), before any is laid out, naming
+/// `t_end`; checks there is room for those it will list.
+fn check_sample_times(system: &System, t_end: f64) -> Result<()> {
+    let n = sample_times(system, t_end);
+    if n.is_nan() || n > MAX_SAMPLE_TIMES {
+        let periods: Vec<(&str, f64)> = (system.parts().iter())
+            .filter_map(|p| p.sampling().map(|s| (p.name(), s.period)))
+            .collect();
+        return Err(Error::invalid(
+            "t_end",
+            format!(
+                "must give the parts' laws at most {MAX_SAMPLE_TIMES:e} sample times together \
+                 (t_end / period each; a run lists them before it starts): run a shorter \
+                 t_end, in pieces, or sample less often; the parts' periods: {periods:?}"
+            ),
+            n,
+        ));
+    }
+    let bytes = n * SAMPLE_TIME_BYTES;
+    if bytes >= f64::from(1 << 20) {
+        crate::buffer::ensure_room(
+            bytes,
+            "the parts' sample times",
+            "run a shorter t_end, in pieces, or sample less often",
+        )?;
+    }
+    Ok(())
+}
+
 /// The largest moment's binary exponent, if beyond `2^±UNSCALED`: moments over `2^m` then.
 fn moment_exponent(system: &System) -> i32 {
     let largest = match system.body() {
@@ -172,6 +217,7 @@ fn build(
 ) -> Result<(Built, Edge, i32)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
+    check_sample_times(system, t_end)?;
     // the copies of its knots the model makes: room for them, or an error (not an abort)
     let bytes = system.model_bytes();
     if bytes >= 1 << 20 {
@@ -529,5 +575,77 @@ mod tests {
                 method.name()
             );
         }
+    }
+
+    /// A 1 kHz law over 10⁶ s would list 10⁹ sample times (64 GB): the run refuses it at once,
+    /// naming `t_end`, before any is laid out; the plan too. 10⁵ of them are laid out.
+    #[test]
+    fn too_many_sample_times_are_refused_before_they_are_laid_out() {
+        let fields = Fields::new()
+            .with("period", Value::Number(1e-3))
+            .with("phase", Value::Number(0.0));
+        let counter = AnyPart::from(Counter::from_fields(&fields).unwrap());
+        let body = crate::body::RigidBody::try_new([1.0, 2.0, 3.0]).unwrap();
+        let system = System::try_new(
+            SystemBody::Rigid(Inertia::from_principal(body)),
+            vec![counter],
+        )
+        .unwrap();
+        assert_eq!(sample_times(&system, 1e6), 1e9 + 1.0);
+        assert_eq!(sample_times(&system, 100.0), 1e5 + 1.0);
+        let method = Method::named("rk4", 1e-9, 1e-12, None).unwrap();
+        let grid = FrameGrid::try_new(1e6, 2, 1.0, u64::MAX).unwrap();
+        let keep = Keep {
+            frames: false,
+            flips: false,
+            tilt: false,
+        };
+        let cancel = AtomicBool::new(false);
+        let start = std::time::Instant::now();
+        for err in [
+            simulate_system(
+                &system,
+                [0.1; 3],
+                [1.0, 0.0, 0.0, 0.0],
+                &grid,
+                method,
+                keep,
+                &cancel,
+            )
+            .unwrap_err(),
+            plan_system(
+                &system,
+                [0.1; 3],
+                [1.0, 0.0, 0.0, 0.0],
+                1e6,
+                2,
+                method,
+                None,
+                1e-9,
+            )
+            .unwrap_err(),
+        ] {
+            match err {
+                Error::InvalidArgument { name, allowed, .. } => {
+                    assert_eq!(name, "t_end");
+                    assert!(allowed.contains("sample times"), "{allowed}");
+                }
+                e => panic!("not an invalid t_end: {e:?}"),
+            }
+        }
+        assert!(start.elapsed().as_secs_f64() < 1.0);
+        // at the limit's edge a run goes ahead
+        let grid = FrameGrid::try_new(1.0, 2, 1e-3, u64::MAX).unwrap();
+        let out = simulate_system(
+            &system,
+            [0.1; 3],
+            [1.0, 0.0, 0.0, 0.0],
+            &grid,
+            method,
+            keep,
+            &cancel,
+        )
+        .unwrap();
+        assert_eq!(out.end.parts, vec![1000.0]);
     }
 }

@@ -78,6 +78,13 @@ CALLS: dict[str, Callable[[], Any]] = {
     "batch-callable-torque": lambda: dz.simulate(
         dz.System(BODY, torques=[lambda t, q, w: -1e-3 * w]), BATCH_OMEGA[:2], t_end=1e6,
         frames=201, dt=1e-3),
+    # a law of the user's sampled at 1 Hz (issue 32), a run and a batch of two
+    "simulate-controller": lambda: dz.simulate(
+        dz.System(BODY, parts=[dz.Controller(lambda t, q, w, b, h: -1e-3 * w, 1.0)]), OMEGA,
+        t_end=1e6, frames=201, dt=1e-3),
+    "batch-controller": lambda: dz.simulate(
+        dz.System(BODY, parts=[dz.Controller(lambda t, q, w, b, h: -1e-3 * w, 1.0)]),
+        BATCH_OMEGA[:2], t_end=1e6, frames=201, dt=1e-3),
     # 4·10⁷ point-frames into a fresh gigabyte
     "rotate": lambda: dz.rotate(np.tile([0.9, 0.1, -0.3, 0.2], (1000, 1)),
                                 np.random.default_rng(0).normal(size=(40_000, 3))),

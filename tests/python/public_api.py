@@ -904,6 +904,44 @@ ORBIT_RUN = dz.simulate(dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityG
                         *dz.lvlh_start(1.0), t_end=1.0, frames=5, method="rk4", dt=0.01)
 """A short run in orbit, for the LVLH helpers' entries."""
 
+LOOP_FIELD = dz.MagneticField(dz.circular_orbit_rate(500e3), inclination=1.2)
+"""The field of the closed loop's entries (a 500 km orbit)."""
+NOT_A_FIELD = st.sampled_from([None, 1e-3, "B", (1e-3, 1.2), dz.Magnetometer()])
+LOOP_RUN = dz.simulate(
+    dz.System(dz.Body((2.0, 3.0, 4.0)), torques=[dz.BDot(LOOP_FIELD, 1e-5, 0.5)],
+              parts=[dz.QuaternionFeedback(0.5, 1.5, 0.5, torque_limit=1e-3)]),
+    (0.0, 0.1, 0.0), (0.8, 0.6, 0.0, 0.0), t_end=2.0, frames=5, method="rk4", dt=0.05)
+"""A short closed-loop run, for the readers' entries."""
+LOOP_KINDS = ("bdot", "quaternion_feedback")
+PERIODS = st.floats(0.01, 10.0)
+SEEDS = st.integers(0, 2**53 - 1)
+BAD_PERIODS = st.sampled_from([0.0, -1.0, math.nan, math.inf, "1 s", None])
+BAD_PHASES = st.sampled_from([-1.0, math.nan, math.inf, "0"])
+BAD_SEEDS = st.sampled_from([-1, 2**53, 0.5, True, "1", None, np.float64(3.0)])
+BAD_LIMITS = st.sampled_from([0.0, -1.0, (0.1, 0.0, 0.1), math.nan, "m", (1.0, 2.0)])
+MAGNETOMETERS = st.builds(dz.Magnetometer, st.floats(0.0, 1e-6),
+                          real_arrays((3,), st.floats(-1e-6, 1e-6)))
+GYROS = st.builds(dz.Gyro, st.floats(0.0, 1e-4), real_arrays((3,), st.floats(-1e-3, 1e-3)))
+STAR_TRACKERS = st.builds(dz.StarTracker, st.floats(0.0, 1e-3))
+WHEEL_AXES = st.sampled_from([((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)),
+                              ((1.0, 1.0, 0.0), (0.0, 1.0, 1.0), (1.0, 0.0, 1.0))])
+BAD_AXES = st.sampled_from([((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (1.0, 1.0, 0.0)), "a",
+                            np.ones(3), ((math.nan, 0.0, 0.0), (0.0, 1.0, 0.0), (0, 0, 1))])
+BAD_MOMENTA = st.sampled_from([(math.nan, 0.0, 0.0), (1.0, 0.0), "h"])
+
+
+def _loop_part(kw: dict[str, Any], part: Any, kind: str, external: bool) -> None:
+    """A closed-loop part keeps what it was given and makes its model in a system."""
+    for name in ("gain", "period", "phase"):
+        if name in kw:
+            _assert(getattr(part, name) == kw[name])
+    _assert(getattr(part, "seed", 0) == kw.get("seed", 0))
+    if "field" in kw and kw["field"] is not None:
+        _assert(part.field == kw["field"])
+    system = dz.System(dz.Body((1.0, 2.0, 3.0)),
+                       **{"torques" if external else "parts": [part]})
+    _assert(system.kinds == (kind,))
+
 
 def _assert(condition: bool) -> None:
     assert condition
@@ -1404,6 +1442,243 @@ ENTRIES: dict[str, Entry] = {
         check=lambda kw, rate, _: _assert(abs(rate - kw["orbit_rate"])
                                           <= 1e-12 * kw["orbit_rate"]),
         covers=(dz.pitch_libration_rate,),
+        min_success=0.9,
+    ),
+    "circular_orbit_rate": Entry(
+        call=dz.circular_orbit_rate,
+        valid=st.fixed_dictionaries({"altitude": st.floats(0.0, 1e8)}),
+        hostile={"altitude": st.sampled_from([-7e6, math.nan, math.inf, "500 km", None]),
+                 "mu": st.sampled_from([0.0, -1.0, math.nan, "mu"]),
+                 "radius": st.sampled_from([0.0, -1.0, math.inf, "R"])},
+        # Kepler: n² R³ = μ (WGS 84: μ = 3.986004418e14 m³/s², R_E = 6378137 m)
+        check=lambda kw, n, _: _assert(abs(n * n * (6378137.0 + kw["altitude"]) ** 3
+                                           / 3.986004418e14 - 1) < 1e-12),
+        covers=(dz.circular_orbit_rate,),
+        min_success=0.9,
+    ),
+    "detumble_gain": Entry(
+        call=dz.detumble_gain,
+        valid=st.fixed_dictionaries({"orbit_rate": st.floats(1e-5, 1e-2),
+                                     "inclination": st.floats(0.0, math.pi),
+                                     "least_moment": st.floats(1e-4, 1e4)}),
+        hostile={"orbit_rate": st.sampled_from([0.0, -1e-3, math.nan, "n", None]),
+                 "inclination": st.sampled_from([math.nan, math.inf, "polar", None]),
+                 "least_moment": st.sampled_from([0.0, -1.0, math.inf, "J", None])},
+        # Avanzini & Giulietti (JGCD 35(4), 2012): k* = 2 n (1 + sin ξ_m) J_min
+        check=lambda kw, k, _: _assert(abs(k - 2 * kw["orbit_rate"] * (
+            1 + math.sin(kw["inclination"])) * kw["least_moment"]) <= 1e-14 * abs(k)),
+        covers=(dz.detumble_gain,),
+        min_success=0.9,
+    ),
+    "MagneticField": Entry(
+        call=dz.MagneticField,
+        valid=st.fixed_dictionaries(
+            {"orbit_rate": st.floats(1e-5, 1e-2), "inclination": st.floats(0.0, math.pi)},
+            optional={"moment": st.floats(1e14, 1e17), "mu": st.floats(1e13, 1e15),
+                      "tilt": st.floats(0.0, math.pi), "earth_rate": st.floats(-1e-4, 1e-4),
+                      "longitude": st.floats(-10.0, 10.0)}),
+        hostile={"orbit_rate": st.sampled_from([0.0, -1e-3, math.nan, math.inf, "n", None]),
+                 "inclination": st.sampled_from([-0.1, 4.0, math.nan, "i", None]),
+                 "moment": st.sampled_from([0.0, -1.0, math.inf, "m"]),
+                 "mu": st.sampled_from([0.0, -1.0, math.nan, "mu"]),
+                 "tilt": st.sampled_from([-0.1, 3.5, math.nan, "t", None]),
+                 "earth_rate": st.sampled_from([math.nan, math.inf, "w", None]),
+                 "longitude": st.sampled_from([math.nan, -math.inf, "l", None])},
+        # kept as given, and a part in that field is made (the core checks it again)
+        check=lambda kw, f, _: _assert(
+            all(getattr(f, k) == v for k, v in kw.items())
+            and dz.ResidualDipole(f, (0.0, 0.0, 1e-3)).field == f),
+        covers=(dz.MagneticField,),
+        min_success=0.9,
+    ),
+    "Magnetometer": Entry(
+        call=dz.Magnetometer,
+        valid=st.fixed_dictionaries({}, optional={
+            "noise": st.floats(0.0, 1e-5), "bias": real_arrays((3,), st.floats(-1e-5, 1e-5))}),
+        hostile={"noise": st.sampled_from([-1e-7, math.nan, math.inf, "s", None]),
+                 "bias": st.sampled_from([(math.nan, 0.0, 0.0), (1.0, 0.0), "b", None])},
+        check=lambda kw, m, _: _assert(m.noise == kw.get("noise", 0.0) and np.array_equal(
+            m.bias, kw.get("bias", np.zeros(3)))),
+        covers=(dz.Magnetometer,),
+        min_success=0.9,
+    ),
+    "Gyro": Entry(
+        call=dz.Gyro,
+        valid=st.fixed_dictionaries({}, optional={
+            "angle_random_walk": st.floats(0.0, 1e-3),
+            "bias": real_arrays((3,), st.floats(-1e-3, 1e-3))}),
+        hostile={"angle_random_walk": st.sampled_from([-1e-7, math.nan, math.inf, "s", None]),
+                 "bias": st.sampled_from([(math.nan, 0.0, 0.0), (1.0, 0.0), "b", None])},
+        check=lambda kw, g, _: _assert(
+            g.angle_random_walk == kw.get("angle_random_walk", 0.0)
+            and np.array_equal(g.bias, kw.get("bias", np.zeros(3)))),
+        covers=(dz.Gyro,),
+        min_success=0.9,
+    ),
+    "StarTracker": Entry(
+        call=dz.StarTracker,
+        valid=st.fixed_dictionaries({}, optional={"noise": st.floats(0.0, 1e-2)}),
+        hostile={"noise": st.sampled_from([-1e-7, math.nan, math.inf, "s", None])},
+        check=lambda kw, t, _: _assert(t.noise == kw.get("noise", 0.0)),
+        covers=(dz.StarTracker,),
+        min_success=0.9,
+    ),
+    "ResidualDipole": Entry(
+        call=dz.ResidualDipole,
+        valid=st.fixed_dictionaries({"field": st.just(LOOP_FIELD),
+                                     "dipole": real_arrays((3,), st.floats(-1.0, 1.0))}),
+        hostile={"field": NOT_A_FIELD,
+                 "dipole": st.sampled_from([(math.nan, 0.0, 0.0), (1.0, 0.0), "m", None,
+                                            np.ones((2, 3))])},
+        check=lambda kw, r, _: (_assert(np.array_equal(r.dipole, kw["dipole"])),
+                                _loop_part(kw, r, "residual_dipole", True)) and None,
+        covers=(dz.ResidualDipole,),
+        min_success=0.9,
+    ),
+    "BDot": Entry(
+        call=dz.BDot,
+        valid=st.fixed_dictionaries(
+            {"field": st.just(LOOP_FIELD), "gain": st.floats(0.0, 1e-3), "period": PERIODS},
+            optional={"phase": st.floats(0.0, 10.0), "max_dipole": st.floats(1e-3, 1.0),
+                      "rates": st.sampled_from(["magnetometer", "gyro"]),
+                      "magnetometer": MAGNETOMETERS, "gyro": GYROS, "seed": SEEDS}),
+        hostile={"field": NOT_A_FIELD,
+                 "gain": st.sampled_from([-1.0, math.nan, math.inf, "k", None]),
+                 "period": BAD_PERIODS, "phase": BAD_PHASES, "max_dipole": BAD_LIMITS,
+                 "rates": st.sampled_from(["sun sensor", "", 1]),
+                 "magnetometer": st.sampled_from([dz.Gyro(), "m", 1e-6]),
+                 "gyro": st.sampled_from([dz.Magnetometer(), "g", 1e-6]),
+                 "seed": BAD_SEEDS},
+        check=lambda kw, b, _: _loop_part(kw, b, "bdot", True),
+        covers=(dz.BDot,),
+        min_success=0.9,
+    ),
+    "MomentumDumping": Entry(
+        call=dz.MomentumDumping,
+        valid=st.fixed_dictionaries(
+            {"field": st.just(LOOP_FIELD), "gain": st.floats(0.0, 1.0), "period": PERIODS},
+            optional={"phase": st.floats(0.0, 10.0), "max_dipole": st.floats(1e-3, 1.0),
+                      "magnetometer": MAGNETOMETERS, "seed": SEEDS}),
+        hostile={"field": NOT_A_FIELD,
+                 "gain": st.sampled_from([-1.0, math.nan, math.inf, "k", None]),
+                 "period": BAD_PERIODS, "phase": BAD_PHASES, "max_dipole": BAD_LIMITS,
+                 "magnetometer": st.sampled_from([dz.Gyro(), "m", 1e-6]),
+                 "seed": BAD_SEEDS},
+        check=lambda kw, m, _: _loop_part(kw, m, "momentum_dumping", True),
+        covers=(dz.MomentumDumping,),
+        min_success=0.9,
+    ),
+    "QuaternionFeedback": Entry(
+        call=dz.QuaternionFeedback,
+        valid=st.fixed_dictionaries(
+            {"kp": st.floats(1e-3, 10.0), "kd": st.floats(0.0, 10.0), "period": PERIODS},
+            optional={"target": quaternions(), "phase": st.floats(0.0, 10.0),
+                      "feedforward": st.sampled_from(["none", "gyroscopic"]),
+                      "axes": WHEEL_AXES, "momentum": real_arrays((3,), st.floats(-1.0, 1.0)),
+                      "torque_limit": st.floats(1e-3, 10.0),
+                      "momentum_limit": st.floats(1.0, 100.0),
+                      "star_tracker": STAR_TRACKERS, "gyro": GYROS, "seed": SEEDS}),
+        hostile={"kp": st.sampled_from([-1.0, math.nan, "k", None, (1.0, 2.0)]),
+                 "kd": st.sampled_from([-1.0, math.inf, "k", None]),
+                 "period": BAD_PERIODS, "phase": BAD_PHASES,
+                 "target": st.sampled_from([(0.0, 0.0, 0.0, 0.0), (1.0, 0.0), "q",
+                                            (math.nan, 0.0, 0.0, 1.0)]),
+                 "frame": st.sampled_from(["orbit", "", 1, "lvlh"]),
+                 "feedforward": st.sampled_from(["all", "", 1]),
+                 "axes": BAD_AXES, "momentum": BAD_MOMENTA,
+                 "torque_limit": st.sampled_from([0.0, -1.0, math.nan, "t"]),
+                 "momentum_limit": st.sampled_from([0.0, -1.0, math.nan, "h"]),
+                 "star_tracker": st.sampled_from([dz.Gyro(), "s", 1e-3]),
+                 "gyro": st.sampled_from([dz.StarTracker(), "g", 1e-3]),
+                 "seed": BAD_SEEDS},
+        # "lvlh" without an orbit rate is refused naming the rate
+        aliases={"frame": ("orbit_rate",)},
+        check=lambda kw, p, _: _loop_part(kw, p, "quaternion_feedback", False),
+        covers=(dz.QuaternionFeedback,),
+        min_success=0.9,
+    ),
+    "Controller": Entry(
+        call=dz.Controller,
+        valid=st.fixed_dictionaries(
+            {"law": st.sampled_from([lambda t, q, w, b, h: -w,
+                                     lambda t, q, w, b, h: (np.zeros(3), np.ones(3)),
+                                     print]),
+             "period": PERIODS},
+            optional={"field": st.just(LOOP_FIELD), "phase": st.floats(0.0, 10.0),
+                      "axes": WHEEL_AXES, "torque_limit": st.floats(1e-3, 10.0),
+                      "momentum_limit": st.floats(1.0, 100.0),
+                      "max_dipole": st.floats(1e-3, 1.0), "star_tracker": STAR_TRACKERS,
+                      "gyro": GYROS, "magnetometer": MAGNETOMETERS, "seed": SEEDS}),
+        hostile={"law": st.sampled_from([None, 3.0, "law", (1.0, 2.0, 3.0)]),
+                 "period": BAD_PERIODS, "phase": BAD_PHASES,
+                 "field": st.sampled_from([1e-3, "B", dz.Gyro()]),
+                 "axes": BAD_AXES, "momentum": BAD_MOMENTA,
+                 "torque_limit": st.sampled_from([0.0, -1.0, math.nan, "t"]),
+                 "momentum_limit": st.sampled_from([0.0, -1.0, math.nan, "h"]),
+                 "max_dipole": BAD_LIMITS,
+                 "star_tracker": st.sampled_from([dz.Gyro(), "s"]),
+                 "gyro": st.sampled_from([dz.StarTracker(), "g"]),
+                 "magnetometer": st.sampled_from([dz.Gyro(), "m"]),
+                 "seed": BAD_SEEDS},
+        check=lambda kw, c, _: (_assert(c.law is kw["law"]),
+                                _loop_part(kw, c, "controller", True)) and None,
+        covers=(dz.Controller,),
+        min_success=0.9,
+    ),
+    "pointing_angle": Entry(
+        call=dz.pointing_angle,
+        valid=st.fixed_dictionaries({"traj": st.just(LOOP_RUN)}),
+        hostile={"traj": st.one_of(st.sampled_from([None, "traj", np.ones((3, 4)), ORBIT_RUN]),
+                                   st.floats(), st.integers())},
+        # the start is 2 atan2(0.6, 0.8) from the identity target (the initial attitude's)
+        check=lambda kw, a, _: _assert(a.shape == LOOP_RUN.t.shape and abs(
+            a[0] - 2 * math.atan2(0.6, 0.8)) < 1e-12 and bool(np.all((a >= 0) & (a <= math.pi)))),
+        covers=(dz.pointing_angle,),
+        min_success=0.9,
+    ),
+    "detumbled_at": Entry(
+        call=dz.detumbled_at,
+        valid=st.fixed_dictionaries({"traj": st.just(LOOP_RUN), "rate": st.floats(1e-6, 10.0)}),
+        hostile={"traj": st.one_of(st.sampled_from([None, "traj", np.ones((3, 3))]),
+                                   st.floats(), st.integers()),
+                 "rate": st.one_of(st.sampled_from([math.nan, math.inf, "fast", None]),
+                                   st.floats(max_value=0.0))},
+        # the first frame's time from which |ω| stays below `rate` (inf: never), recomputed
+        check=lambda kw, t, _: _assert(
+            t == next((float(LOOP_RUN.t[k]) for k in range(len(LOOP_RUN.t))
+                       if np.all(np.linalg.norm(LOOP_RUN.omega[k:], axis=1) < kw["rate"])),
+                      math.inf)),
+        covers=(dz.detumbled_at,),
+        min_success=0.9,
+    ),
+    "part_state": Entry(
+        call=dz.part_state,
+        valid=st.fixed_dictionaries({"traj": st.just(LOOP_RUN),
+                                     "kind": st.sampled_from(LOOP_KINDS)}),
+        hostile={"traj": st.one_of(st.sampled_from([None, "traj", np.ones((3, 3))]),
+                                   st.floats(), st.integers()),
+                 "kind": st.one_of(st.sampled_from(["damper", "", None, "BDot"]), st.text(),
+                                   st.integers())},
+        # the fields side by side are the run's state of the part
+        check=lambda kw, s, _: _assert(np.array_equal(
+            np.concatenate(list(s.values()), axis=1), LOOP_RUN.parts[kw["kind"]])),
+        covers=(dz.part_state,),
+        min_success=0.9,
+    ),
+    "saturation": Entry(
+        call=dz.saturation,
+        valid=st.fixed_dictionaries({"traj": st.just(LOOP_RUN),
+                                     "kind": st.sampled_from(LOOP_KINDS)}),
+        hostile={"traj": st.one_of(st.sampled_from([None, "traj", np.ones((3, 3))]),
+                                   st.floats(), st.integers()),
+                 "kind": st.one_of(st.sampled_from(["damper", "", None, "residual_dipole"]),
+                                   st.text(), st.integers())},
+        # each flag is its bit of the saturated field, decoded here
+        check=lambda kw, s, _: _assert(all(
+            np.array_equal(v, (LOOP_RUN.parts[kw["kind"]][:, -1:].astype(int)
+                               >> (3 * k + np.arange(3)) & 1).astype(bool))
+            for k, v in enumerate(s.values()))),
+        covers=(dz.saturation,),
         min_success=0.9,
     ),
     "dual_spin_threshold": Entry(

@@ -20,6 +20,8 @@ ATLAS = ("splitting6", "implicit_midpoint", "dmv", "dmv_modified", "rkmk4", "cro
 CALLS += [f"{kind}-{m}" for m in ATLAS for kind in ("simulate", "batch")]
 # a Python-callable torque's run and batch (issue 21)
 CALLS += ["simulate-callable-torque", "batch-callable-torque"]
+# a law of the user's, called once a sample (issue 32)
+CALLS += ["simulate-controller", "batch-controller"]
 
 
 def interrupted(call: str) -> dict:

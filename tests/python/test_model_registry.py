@@ -17,12 +17,18 @@ PARTS = {
     "damper": dz.Damper(0.1, 0.05),
     "wheel": dz.Wheel((0.0, 1.0, 0.0), 0.5),
     "wheel_schedule": dz.Wheel((1.0, 0.0, 0.0), ([0.0, 1.0], [0.0, 0.2])),
+    "quaternion_feedback": dz.QuaternionFeedback(0.1, 0.3, period=0.05),
 }
+FIELD = dz.MagneticField(dz.circular_orbit_rate(500e3), inclination=1.2)
 TORQUES = {
     "gravity_gradient": dz.GravityGradient(0.3),
     "constant_torque": dz.ConstantTorque((0.0, 0.0, 0.01)),
     "tabulated_torque": dz.TabulatedTorque([0.0, 1.0], [(0.0, 0.0, 0.0), (0.0, 0.01, 0.0)]),
     "callable_torque": dz.CallableTorque(lambda t, q, w: np.zeros(3)),
+    "residual_dipole": dz.ResidualDipole(FIELD, (0.0, 0.0, 1e-3)),
+    "bdot": dz.BDot(FIELD, gain=1e-5, period=0.05),
+    "momentum_dumping": dz.MomentumDumping(FIELD, gain=1e-3, period=0.05),
+    "controller": dz.Controller(lambda t, q, w, b, h: np.zeros(3), period=0.05),
 }
 
 

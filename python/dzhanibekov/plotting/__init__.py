@@ -18,6 +18,7 @@ from .figures import (
     polhode_figure,
     wheel_off_figure,
 )
+from .control import detumble_figure, pointing_figure
 from .stability import dual_spin_figure, gravity_gradient_figure
 from .study import study_figure
 
@@ -39,5 +40,7 @@ __all__ = [
     "polhode_figure",
     "lvlh_figure",
     "wheel_off_figure",
+    "detumble_figure",
+    "pointing_figure",
     "FIGURE_FUNCTIONS",
 ]
