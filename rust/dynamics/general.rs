@@ -30,6 +30,8 @@
 //! parts only dissipate falls by exactly `W`: its energy balance `E + W` is kept, and its drift
 //! measures the run's error as the free body's energy drift does.
 
+use std::fmt::Debug;
+
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
@@ -236,7 +238,7 @@ impl Hot {
 /// are all folded (constant wheels and torques, or none: a deployment): its right-hand side is
 /// compiled without any part's code (see [`GeneralModel::is_lean`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct GeneralModel<const N: usize, const HOT: bool = true> {
+pub struct GeneralModel<const N: usize, const HOT: bool = true, M: Movers = NoMoving> {
     inertia: InertiaLaw,
     /// Every part, in the user's order (in the run's axes and units).
     parts: Vec<AnyPart>,
@@ -274,8 +276,8 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     /// The run's end: sample times are laid out up to it.
     horizon: f64,
     /// The parts whose mass moves in the body and the hub they move in: the one extension of
-    /// the model for such parts (see [`Moving`]).
-    moving: Moving,
+    /// the model for such parts ([`Moving`]), or nothing ([`NoMoving`], every other model).
+    moving: M,
 }
 
 /// The parts whose mass moves in the body (see [`super::multibody`]), the hub they move in
@@ -284,7 +286,7 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
 /// not once per state size and per stage of every method (generic over `N` and over four
 /// buffer sizes, and inlined, it had made a release build of the module 4× as long).
 #[derive(Debug, Clone, PartialEq, Default)]
-struct Moving {
+pub struct Moving {
     parts: Vec<Placed>,
     /// The hub (the body's mass and tensor), once the body's mass is given.
     hub: Option<Hub>,
@@ -296,8 +298,74 @@ struct Moving {
     fixed_dissipators: Vec<Placed>,
 }
 
+/// What a general model holds of parts whose mass moves, chosen once when the run builds it:
+/// [`Moving`], or [`NoMoving`] for every other model. `NoMoving` holds nothing and its
+/// [`Movers::get`] is a constant `None`, so such a model's layout and right-hand side are
+/// those of a model without the extension: a body pays nothing for parts it does not have.
+pub trait Movers: Debug + Clone + PartialEq + Send + Sync + Sized {
+    /// The moving parts of `moving` as this type holds them; `None` if it holds none and
+    /// there are some (a bug in the caller: the run picks the type).
+    fn from_moving(moving: Moving) -> Option<Self>;
+    /// The moving parts, if the type holds them.
+    fn get(&self) -> Option<&Moving>;
+    fn get_mut(&mut self) -> Option<&mut Moving>;
+    /// `model` as a model without moving parts, if it is one (what the splittings run).
+    fn plain<const N: usize, const HOT: bool>(
+        model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>>;
+}
+
+/// No part whose mass moves (see [`Movers`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NoMoving;
+
+impl Movers for NoMoving {
+    fn from_moving(moving: Moving) -> Option<Self> {
+        moving.parts.is_empty().then_some(NoMoving)
+    }
+    #[inline(always)]
+    fn get(&self) -> Option<&Moving> {
+        None
+    }
+    #[inline(always)]
+    fn get_mut(&mut self) -> Option<&mut Moving> {
+        None
+    }
+    fn plain<const N: usize, const HOT: bool>(
+        model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>> {
+        Some(model)
+    }
+}
+
+impl Movers for Moving {
+    fn from_moving(moving: Moving) -> Option<Self> {
+        Some(moving)
+    }
+    #[inline(always)]
+    fn get(&self) -> Option<&Moving> {
+        Some(self)
+    }
+    #[inline(always)]
+    fn get_mut(&mut self) -> Option<&mut Moving> {
+        Some(self)
+    }
+    fn plain<const N: usize, const HOT: bool>(
+        _model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>> {
+        None
+    }
+}
+
+impl Moving {
+    /// Whether `parts` has one whose mass moves: the run then builds a model with [`Moving`].
+    pub fn needed(parts: &[AnyPart]) -> bool {
+        (parts.iter()).any(|p| p.info().traits.contains(Traits::MOVING_MASS))
+    }
+}
+
 /// # Construction
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// A body of inertia `inertia` with `parts` (in the run's axes and units), in the user's
     /// order.
     ///
@@ -375,6 +443,16 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
             ));
         }
+        let still = |p: &&Placed| !p.part.info().traits.contains(Traits::MOVING_MASS);
+        moving.fixed_states = states.iter().filter(still).cloned().collect();
+        moving.fixed_dissipators = dissipators.iter().filter(still).cloned().collect();
+        let Some(moving) = M::from_moving(moving) else {
+            return Err(Error::invalid(
+                "parts",
+                "must not move mass in a model without moving parts (a bug: the run picks it)",
+                parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
+            ));
+        };
         let changing = matches!(inertia, InertiaLaw::Schedule(_));
         let kinds = kinds_of(changing, &parts);
         let works = kinds.models().any(|m| m.energy == EnergyRole::DoesWork);
@@ -402,9 +480,6 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             horizon: 0.0,
             moving,
         };
-        let still = |p: &&Placed| !p.part.info().traits.contains(Traits::MOVING_MASS);
-        model.moving.fixed_states = model.states.iter().filter(still).cloned().collect();
-        model.moving.fixed_dissipators = model.dissipators.iter().filter(still).cloned().collect();
         model.lay_out();
         Ok(model)
     }
@@ -414,9 +489,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     /// # Errors
     /// Such parts and no mass; more rates than the joint solve holds.
     pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
-        if self.moving.parts.is_empty() {
+        let (inertia, only) = (&self.inertia, self.parts.len() == 1);
+        let only = only && self.stored.is_none() && !self.torqued;
+        let Some(moving) = self.moving.get_mut().filter(|m| !m.parts.is_empty()) else {
             return Ok(self);
-        }
+        };
         let Some(mass) = mass else {
             return Err(Error::invalid(
                 "body",
@@ -424,7 +501,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 "no mass",
             ));
         };
-        let movers = &self.moving.parts;
+        let movers = &moving.parts;
         let k: usize = movers.iter().map(|p| p.part.moving_rates()).sum();
         if k > MAX_RATES {
             return Err(Error::invalid(
@@ -434,12 +511,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             ));
         }
         let carried: f64 = movers.iter().map(|p| p.part.moving_mass()).sum();
-        let hub = Hub::try_new(self.inertia.tensor_at(0.0), mass, carried)?;
-        let constant = matches!(self.inertia, InertiaLaw::Constant(_));
-        let only = self.parts.len() == 1 && self.stored.is_none() && !self.torqued;
+        let hub = Hub::try_new(inertia.tensor_at(0.0), mass, carried)?;
+        let constant = matches!(inertia, InertiaLaw::Constant(_));
         let alone = (constant && only).then(|| movers[0].part.alone(&hub));
-        self.moving.alone = alone.flatten();
-        self.moving.hub = Some(hub);
+        moving.alone = alone.flatten();
+        moving.hub = Some(hub);
         Ok(self)
     }
 
@@ -497,12 +573,13 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         for p in &self.stores {
             h += p.part.momentum(t0, p.of(&x));
         }
-        if let Some(hub) = self.moving.hub_at(&self.inertia, t0) {
+        let moving = self.moving.get();
+        if let Some((moving, hub)) = moving.and_then(|m| Some((m, m.hub_at(&self.inertia, t0)?))) {
             // the parts' start rates into momenta, by the mass matrix at the start
             let mut carried = Vec::new();
             let mut v = [0.0; MAX_RATES];
             let mut row = 0;
-            for m in &self.moving.parts {
+            for m in &moving.parts {
                 let c = m.part.carried(m.of(&x)).unwrap_or_default().0;
                 let r = m.part.start_rates(m.of(&x));
                 let n = c.rates.min(MAX_RATES - row);
@@ -513,7 +590,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             let (body, p) = MassMatrix::<MAX_RATES>::assemble(&hub, &carried).apply(&omega, &v);
             h += body - self.inertia.tensor_at(t0) * omega;
             let mut row = 0;
-            for (m, c) in self.moving.parts.iter().zip(&carried) {
+            for (m, c) in moving.parts.iter().zip(&carried) {
                 m.part
                     .set_momenta(&mut x[m.at..m.at + m.width], &p[row..row + c.rates]);
                 row += c.rates;
@@ -549,7 +626,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
 }
 
 /// # Evaluation
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// What the parts see at `(t, x)` with body rates `omega`.
     #[inline(always)]
     fn ctx(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Ctx<'_> {
@@ -739,14 +816,14 @@ impl Moving {
 }
 
 /// # Parts whose mass moves (see [`Moving`])
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// `s · x'` with the joint solve: out of line, so that a method's stages each call it
     /// rather than each hold a copy, and on a copy of the state, so that the caller's stays
     /// in registers (see [`Hot`]).
     #[inline(never)]
-    fn increment_moving(&self, t: f64, x: [f64; N], s: f64) -> [f64; N] {
+    fn increment_moving(&self, moving: &Moving, t: f64, x: [f64; N], s: f64) -> [f64; N] {
         let x = &x;
-        let j = (self.moving).joint(&self.inertia, t, x, &self.body_momentum(t, x));
+        let j = moving.joint(&self.inertia, t, x, &self.body_momentum(t, x));
         let omega = j.motion.omega;
         let h = Vector3::new(x[0], x[1], x[2]);
         let mut dh = h.cross(&omega);
@@ -755,7 +832,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         }
         let mut dx = [0.0; N];
         dx[..3].copy_from_slice((dh * s).as_slice());
-        let power = (self.moving).rates(&self.ctx(t, x, omega), x, &j, s, &mut dx);
+        let power = moving.rates(&self.ctx(t, x, omega), x, &j, s, &mut dx);
         if let Some(k) = self.balance {
             dx[k] = power * s;
         }
@@ -767,10 +844,16 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     /// `s · x'` of a part alone on its hub, by its closed form (out of line, on a copy of
     /// the state, as above).
     #[inline(never)]
-    fn increment_alone(&self, alone: &AloneSolve, x: [f64; N], s: f64) -> [f64; N] {
+    fn increment_alone(
+        &self,
+        moving: &Moving,
+        alone: &AloneSolve,
+        x: [f64; N],
+        s: f64,
+    ) -> [f64; N] {
         let x = &x;
         let h = Vector3::new(x[0], x[1], x[2]);
-        let p = &self.moving.parts[0];
+        let p = &moving.parts[0];
         let mut dx = [0.0; N];
         let (omega, power) = alone
             .0
@@ -787,12 +870,11 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
 }
 
 /// # Body rates with parts whose mass moves
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// `ω` by the lone part's closed form or the joint solve (out of line, on a copy of the
     /// state, as [`GeneralModel::increment_moving`]).
     #[inline(never)]
-    fn omega_moving(&self, t: f64, x: [f64; N]) -> Vector3<f64> {
-        let moving = &self.moving;
+    fn omega_moving(&self, moving: &Moving, t: f64, x: [f64; N]) -> Vector3<f64> {
         match &moving.alone {
             Some(alone) => alone
                 .0
@@ -806,14 +888,14 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     }
 }
 
-impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N, HOT, M> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
-        if let (true, Some(alone)) = (HOT, &self.moving.alone) {
-            return self.increment_alone(alone, *x, s);
-        }
-        if HOT && !self.moving.parts.is_empty() {
-            return self.increment_moving(t, *x, s);
+        if let (true, Some(moving)) = (HOT, self.moving.get()) {
+            return match &moving.alone {
+                Some(alone) => self.increment_alone(moving, alone, *x, s),
+                None => self.increment_moving(moving, t, *x, s),
+            };
         }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
@@ -861,7 +943,7 @@ impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     }
 }
 
-impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> Model<N> for GeneralModel<N, HOT, M> {
     /// `|H|` and `H` in space at the start.
     type Kept = MomentumProjection;
 
@@ -876,9 +958,9 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        match !HOT || self.moving.parts.is_empty() {
-            true => self.inertia.omega_from(t, &self.body_momentum(t, x)),
-            false => self.omega_moving(t, *x),
+        match self.moving.get() {
+            Some(moving) if HOT => self.omega_moving(moving, t, *x),
+            _ => self.inertia.omega_from(t, &self.body_momentum(t, x)),
         }
     }
 
@@ -911,11 +993,12 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `½ lᵀ I⁻¹ l` of the body's own momentum `l`, plus the parts' own energies.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(t, x);
-        let moving = &self.moving;
-        let body = match (moving.parts.is_empty(), &moving.alone) {
-            (true, _) => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
-            (false, Some(alone)) => alone.0.kinetic(&l, moving.parts[0].of(x)),
-            (false, None) => moving.kinetic(&self.inertia, t, x, &l),
+        let body = match self.moving.get() {
+            None => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
+            Some(m) => match &m.alone {
+                Some(alone) => alone.0.kinetic(&l, m.parts[0].of(x)),
+                None => m.kinetic(&self.inertia, t, x, &l),
+            },
         };
         (self.states.iter()).fold(body, |e, p| e + p.part.energy(t, p.of(x)))
     }
@@ -946,7 +1029,10 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             (self.parts.iter()).find_map(|p| p.rate_bound(least, largest, j, stored))
         });
         let free = free.max(bound.unwrap_or(0.0));
-        (self.moving.parts.iter()).fold(free, |m, p| m.max(p.part.frequency(free)))
+        let movers = self.moving.get().map_or(&[][..], |m| &m.parts[..]);
+        movers
+            .iter()
+            .fold(free, |m, p| m.max(p.part.frequency(free)))
     }
 
     /// The size of `H` over the run (and of rate-like parts' state): the absolute tolerance's
@@ -1053,7 +1139,7 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             .collect::<Result<Vec<_>>>()?;
         // the kinks and sample times follow the laws' times, rebuilt in the run's units
         Ok(Self::try_new(inertia, parts)?
-            .with_hub_mass(self.moving.hub.map(|h| h.mass()))?
+            .with_hub_mass(self.moving.get().and_then(|m| m.hub).map(|h| h.mass()))?
             .until(scale.time_to_unit(self.horizon)))
     }
 }

@@ -34,7 +34,10 @@ pub use callable::CallableTorque;
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;
-pub use general::{ConstantInertia, GeneralModel, InertiaLaw, MAX_PARTS_STATE, STATE_SIZES};
+pub use general::{
+    ConstantInertia, GeneralModel, InertiaLaw, Movers, Moving, NoMoving, MAX_PARTS_STATE,
+    STATE_SIZES,
+};
 pub use gravity::GravityGradient;
 pub use hinge::{Hinge, LoneHinge, Pose};
 pub use kinds::{Conserved, Kinds, Traits};
