@@ -42,6 +42,7 @@ from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
 from .models import MODELS, ModelInfo
 from .montecarlo import MonteCarlo, StudyError, monte_carlo
+from .options import RunKeywords, RunOptions
 from .simulate import rotate, simulate
 from .stability import (DualSpinMap, GravityGradientMap, dual_spin_map, gravity_gradient_map,
                         gravity_gradient_moments, gravity_gradient_region)
@@ -99,7 +100,7 @@ __all__ = [
     "TooLargeError",
     "Trajectory",
     "Drift",
-    "simulate",
+    "simulate", "RunOptions", "RunKeywords",
     "rotate",
     "flip_period",
     "METHODS",

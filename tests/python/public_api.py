@@ -2004,4 +2004,8 @@ NOT_CALLED = {
     "ReadError": "an exception class, raised by the readers (the file corpus)",
     "MODELS": "a read-only mapping of the core's declarations (test_model_registry.py)",
     "ModelInfo": "the class of MODELS' values, made by the core only",
+    "RunOptions": "a frozen record of run options, checked when a run starts: simulate's, "
+                  "summarize's and sweep's entries pass every option (test_run_options.py: "
+                  "options= and the keywords agree)",
+    "RunKeywords": "a TypedDict, for typing only",
 }
