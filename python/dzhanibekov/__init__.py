@@ -24,6 +24,7 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .parts import Hinge, Slosh, SpringMassDamper
 from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
                       QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
                       detumble_gain)
@@ -58,6 +59,9 @@ __all__ = [
     "Deployment",
     "System",
     "Damper",
+    "SpringMassDamper",
+    "Hinge",
+    "Slosh",
     "Wheel",
     "GravityGradient",
     "ConstantTorque",

@@ -100,8 +100,10 @@ class System:
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)
+        # the body's mass: parts whose mass moves in it (a spring-mass damper) need it
         object.__setattr__(self, "_core", _core.System(
-            body._core, [p._core for p in parts_] + [t._core for t in torques_]))
+            body._core, [p._core for p in parts_] + [t._core for t in torques_],
+            getattr(body, "mass", None)))
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise AttributeError("a System is immutable")

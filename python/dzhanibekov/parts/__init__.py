@@ -1,5 +1,6 @@
 """The parts of a system, one class per family of the core's models, each following the
-core's declaration of its kind (see :mod:`._spec`): :class:`Damper`, :class:`Wheel` (the
+core's declaration of its kind (see :mod:`._spec`): :class:`Damper`, the energy sinks whose mass moves in the
+body (:class:`SpringMassDamper`, :class:`Hinge`, :class:`Slosh`), :class:`Wheel` (the
 models ``wheel`` and ``wheel_schedule``), and the external torques :class:`GravityGradient`,
 :class:`ConstantTorque`, :class:`TabulatedTorque`, :class:`CallableTorque`.
 
@@ -22,10 +23,13 @@ from .. import _core
 from ._knots import BYTES_PER_KNOT, interpolate, knot_fraction, knot_times
 from ._spec import REGISTRY, Param, Part, choice, params_of
 from .damper import Damper
+from .hinge import Hinge
+from .slosh import Slosh
+from .spring_mass import SpringMassDamper
 from .torques import CallableTorque, ConstantTorque, GravityGradient, TabulatedTorque
 from .wheels import Wheel
 
-__all__ = ["Part", "Param", "Damper", "Wheel", "GravityGradient", "ConstantTorque",
+__all__ = ["Part", "Param", "Damper", "SpringMassDamper", "Hinge", "Slosh", "Wheel", "GravityGradient", "ConstantTorque",
            "TabulatedTorque", "CallableTorque", "SPECS", "TORQUE_TYPES", "from_fields", "example",
            "knot_times", "knot_fraction", "interpolate", "choice", "params_of",
            "BYTES_PER_KNOT"]
