@@ -11,7 +11,8 @@ use nalgebra::Matrix3;
 
 use dzhanibekov::body::Inertia;
 use dzhanibekov::dynamics::{
-    AnyPart, ConstantTorque, Damper, Deployment, Frame, GravityGradient, System, SystemBody, Wheel,
+    AnyPart, ConstantTorque, Damper, Deployment, Fields, Frame, GravityGradient, Hinge, Part,
+    Slosh, SpringMass, System, SystemBody, Value, Wheel,
 };
 use dzhanibekov::run::{simulate, simulate_system, FrameGrid, Keep, Method};
 use dzhanibekov::RigidBody;
@@ -61,6 +62,12 @@ fn models(c: &mut Criterion) {
         System::try_new(rigid(), parts).unwrap()
     };
     let gravity: AnyPart = GravityGradient::try_new(0.1).unwrap().into();
+    let moving = |part: AnyPart| {
+        System::try_new(rigid(), vec![part])
+            .unwrap()
+            .with_mass(Some(5.0))
+            .unwrap()
+    };
     let systems = [
         ("wheel", System::try_new(rigid(), vec![wheel()]).unwrap()),
         ("gravity_gradient", torqued(vec![], gravity.clone())),
@@ -99,6 +106,10 @@ fn models(c: &mut Criterion) {
             )
             .unwrap(),
         ),
+        // the energy sinks (issue 31), each alone on a hub of mass 5 (the sinks bench's parts)
+        ("spring_mass", moving(spring_mass())),
+        ("hinge", moving(hinge())),
+        ("slosh", moving(slosh())),
     ];
     for (name, system) in &systems {
         group.bench_with_input(BenchmarkId::new(*name, steps), &grid, |b, grid| {
@@ -110,6 +121,39 @@ fn models(c: &mut Criterion) {
         });
     }
     group.finish();
+}
+
+/// A mass of 0.1 on a spring along z, at rest 0.5 out along x.
+fn spring_mass() -> AnyPart {
+    SpringMass::try_new(0.1, [0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0, 0.05)
+        .unwrap()
+        .into()
+}
+
+/// A rod of 0.1 hinged 0.5 out along x, flapping about y.
+fn hinge() -> AnyPart {
+    let rod = Hinge::try_new(
+        0.1,
+        [0.0, 0.003, 0.003],
+        [0.5, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [1.0, 0.0, 0.0],
+        0.3,
+        0.5,
+        0.01,
+    );
+    rod.unwrap().into()
+}
+
+/// A pendulum of 0.1 on a rod of 0.3 pivoted 0.5 out along x, hanging a little off x.
+fn slosh() -> AnyPart {
+    let fields = Fields::new()
+        .with("mass", Value::Number(0.1))
+        .with("pivot", Value::Vector([0.5, 0.0, 0.0]))
+        .with("length", Value::Number(0.3))
+        .with("damping", Value::Number(0.01))
+        .with("direction0", Value::Vector([1.0, 0.1, 0.0]));
+    Slosh::from_fields(&fields).unwrap().into()
 }
 
 criterion_group!(benches, models);

@@ -10,7 +10,8 @@ Every run: moments (1, 2, 3), ω₀ = (0.01, 0.01, 1), dt = 1e-3, 201 frames, `f
 over t ∈ [100, 110] (diagonal knots) or to a tilted tensor; a damper (j = 0.05, c = 0.02); a
 wheel (h = 0.5 along y); the gravity gradient (n = 0.1), with the wheel too; constant torques
 in body and world axes; a tabulated body torque and a wheel schedule of 101 knots over the
-run. Each figure is the median of `--repeat` runs of ns per step in CPU time (wall time
+run; in builds with the energy sinks, each sink alone on a hub of mass 5 and a spring–mass
+damper with a constant torque (the general joint solve of parts whose mass moves). Each figure is the median of `--repeat` runs of ns per step in CPU time (wall time
 beside it): CPU time holds on a loaded machine where wall time does not.
 
 With `--baseline DIR` (a directory holding another build's `dzhanibekov` package, say a copy
@@ -62,6 +63,26 @@ def systems(dz: Any, t_end: float) -> dict[str, Any]:
         "tabulated_torque": dz.System(body, torques=[dz.TabulatedTorque(knots, vectors)]),
         "wheel_schedule": dz.System(body, parts=[
             dz.Wheel((0.0, 1.0, 0.0), (knots, 0.5 + 0.1 * np.sin(knots)))]),
+        **sinks(dz),
+    }
+
+
+def sinks(dz: Any) -> dict[str, Any]:
+    """The energy sinks (issue 31), in builds that have them: each alone on a hub of mass 5
+    (a closed form each), and a spring with a constant torque (the general joint solve)."""
+    if not hasattr(dz, "SpringMassDamper"):
+        return {}
+    hub = dz.Body.from_tensor(np.diag(MOMENTS), mass=5.0)
+    spring = dz.SpringMassDamper(0.1, (0.5, 0.0, 0.0), (0.0, 0.0, 1.0), 2.0, 0.05)
+    return {
+        "spring_mass": dz.System(hub, parts=[spring]),
+        "hinge": dz.System(hub, parts=[dz.Hinge(0.1, (0.0, 0.003, 0.003), (0.5, 0.0, 0.0),
+                                                (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), 0.3, 0.5,
+                                                0.01)]),
+        "slosh": dz.System(hub, parts=[dz.Slosh(0.1, (0.5, 0.0, 0.0), 0.3, 0.01,
+                                                (1.0, 0.1, 0.0))]),
+        "spring_mass_torque": dz.System(hub, parts=[spring], torques=[
+            dz.ConstantTorque((0, 0, 1e-4), "body")]),
     }
 
 
@@ -119,6 +140,9 @@ def main() -> None:
     for name in names:
         line = f"{name:24s}"
         for build in builds:
+            if name not in runs[build][0]:   # (a model that build does not have)
+                line += f" {'—':>22s} {'':>7s}"
+                continue
             cpu = statistics.median(r[name][0] for r in runs[build])
             wall = statistics.median(r[name][1] for r in runs[build])
             free = statistics.median(r["free"][0] for r in runs[build])

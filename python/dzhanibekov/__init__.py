@@ -24,6 +24,7 @@ from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper
 from .deployment import Deployment
 from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
 from .system import System
+from .parts import Hinge, Slosh, SpringMassDamper
 from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
                       QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
                       detumble_gain)
@@ -42,6 +43,7 @@ from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
 from .models import MODELS, ModelInfo
 from .montecarlo import MonteCarlo, StudyError, monte_carlo
+from .options import RunKeywords, RunOptions
 from .simulate import rotate, simulate
 from .stability import (DualSpinMap, GravityGradientMap, dual_spin_map, gravity_gradient_map,
                         gravity_gradient_moments, gravity_gradient_region)
@@ -57,6 +59,9 @@ __all__ = [
     "Deployment",
     "System",
     "Damper",
+    "SpringMassDamper",
+    "Hinge",
+    "Slosh",
     "Wheel",
     "GravityGradient",
     "ConstantTorque",
@@ -99,7 +104,7 @@ __all__ = [
     "TooLargeError",
     "Trajectory",
     "Drift",
-    "simulate",
+    "simulate", "RunOptions", "RunKeywords",
     "rotate",
     "flip_period",
     "METHODS",

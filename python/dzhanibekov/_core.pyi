@@ -115,7 +115,9 @@ class Part:
 
 @final
 class System:
-    def __new__(cls, body: RigidBody | Deployment, parts: list[Part] = ...) -> System: ...
+    def __new__(
+        cls, body: RigidBody | Deployment, parts: list[Part] = ..., mass: float | None = None
+    ) -> System: ...
     @property
     def kinds(self) -> tuple[str, ...]: ...
     @property

@@ -1,7 +1,8 @@
 """Results as labelled tables: xarray datasets and pandas data frames (the ``io`` extra).
 
-A leaf: it reads the results' attributes and imports none of the package, so the result
-classes can offer ``to_xarray()`` and ``to_dataframe()`` by calling in here. xarray and
+It reads the results' attributes and imports of the package only the bodies and the parts'
+declarations (no result class), so the result classes can offer ``to_xarray()`` and
+``to_dataframe()`` by calling in here. xarray and
 pandas are imported on first use, with an error naming the extra when they are missing.
 
 Layout (names follow the package; units are the user's own, consistent set, so variables in
@@ -12,7 +13,9 @@ them carry no CF ``units`` and the attribute ``unit_system`` says so; quaternion
   ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``; each part's state
   (``damper(time, axis)``); ``energy(time)``, ``momentum_body(time, axis)`` and
   ``momentum_world(time, axis)`` as the run's system defines them; and the system itself
-  (see :func:`system_vars`).
+  (see :func:`system_vars`): the body, and each part's fields under its model
+  (``part_kind(part)``, ``part_<model>_<parameter>(part_<model>, …)``, see
+  :mod:`dzhanibekov.parts._columns`).
 - ``Batch``: the same with a leading ``run``; ``flip_times(run, flip)`` padded with NaN
   beyond each run's ``flips``.
 - ``DeploymentSweep``: per run (dim ``run``) its verdict, the deployed moments and rates,
@@ -30,18 +33,14 @@ from typing import Any
 
 import numpy as np
 
-from ._core import model_info
+from . import _core
 from .body import tensor_moments
-from .control import _Loop
-from .damper import Damper
-from .orbit import ConstantTorque, GravityGradient, Wheel
-from .torques import TabulatedTorque
+from .parts import _columns
 
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
            "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
-           "system_vars", "knot_vars", "wheel_vars", "torque_vars", "unstorable", "DRIFTS",
-           "OPTIONAL_DRIFTS",
-           "QUATERNION", "AXIS", "TORQUE_KINDS", "TORQUE_FRAMES", "TORQUE_OUTSIDE"]
+           "system_vars", "knot_vars", "unstorable", "DRIFTS", "OPTIONAL_DRIFTS",
+           "QUATERNION", "AXIS"]
 
 AXIS = ("x", "y", "z")
 QUATERNION = ("Q", "U", "V", "W")
@@ -92,29 +91,7 @@ def _coords(t: np.ndarray) -> dict[str, Any]:
             "axis": ("axis", list(AXIS)), "quaternion": ("quaternion", list(QUATERNION))}
 
 
-TORQUE_KINDS = ("gravity_gradient", "constant", "tabulated")
-"""What ``torque_kind`` names: one row of the torque table per torque, its parameters in the
-columns of its kind (NaN, or ``""`` for text, in the others'; see :func:`system_vars`)."""
-
-TORQUE_FRAMES = ("body", "world")
-TORQUE_OUTSIDE = ("zero", "hold")
-"""What ``torque_outside`` names for a tabulated torque (its value outside its knots)."""
-
-
-def unstorable(system: Any) -> list[str]:
-    """What of `system` a file cannot hold (its parameters would be lost, and the file would
-    load as another system): the parts and torques of kinds the layout has no columns for
-    (a :class:`~dzhanibekov.CallableTorque`: a file cannot hold code), by their type's name
-    and the model they make (``system.kinds``). Empty when the whole system can be saved."""
-    out: list[str] = []
-    for part in getattr(system, "parts", ()):
-        if not isinstance(part, (Damper, Wheel)):
-            out.append(type(part).__name__)
-    for torque in getattr(system, "torques", ()):
-        if type(torque) not in (GravityGradient, ConstantTorque, TabulatedTorque):
-            name = type(torque).__name__
-            out.append(f"{name} (callable_torque)" if name == "CallableTorque" else name)
-    return out
+unstorable = _columns.unstorable
 
 
 def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
@@ -122,9 +99,8 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
     index of the leading dims `lead`: ``()`` for one run, ``("run",)`` for a batch), so that
     a file rebuilds each run's own system (`dzhanibekov.io`): the body's tensor in its own
     axes (with its mass and centre of mass), or a deployment's knots (NaN-padded between
-    runs); each damper's sphere, coefficient and start (NaN: co-rotating); the wheels (dim
-    ``wheel``) and the torques (dim ``torque``), see :func:`wheel_vars` and
-    :func:`torque_vars`."""
+    runs); and every part's fields under its model, whatever the model
+    (:mod:`dzhanibekov.parts._columns`)."""
     items = list(systems)
     first = items[0]
     kinds = tuple(first.kinds)
@@ -142,128 +118,41 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
         out["body_mass"] = (lead, squeeze(mass), {"long_name": "mass (NaN: not given)"})
         out["body_center_of_mass"] = (lead + ("axis",), squeeze(com),
                                       {"long_name": "centre of mass, body coordinates"})
-    if "damper" in kinds:
-        dampers = [next(p for p in s.parts if type(p).__name__ == "Damper") for s in items]
-        sigma0 = np.array([(np.nan,) * 3 if d.sigma0 is None else d.sigma0 for d in dampers])
-        out["damper_inertia"] = (lead, squeeze(np.array([d.inertia for d in dampers])),
-                                 {"long_name": "damper sphere's moment of inertia"})
-        out["damper_damping"] = (lead, squeeze(np.array([d.damping for d in dampers])),
-                                 {"long_name": "damper's viscous coefficient"})
-        out["damper_sigma0"] = (lead + ("axis",), squeeze(sigma0),
-                                {"long_name": "damper sphere's initial rate, body axes (NaN: "
-                                 "co-rotating)"})
-    out |= wheel_vars(items, lead) | torque_vars(items, lead)
+        out |= shape_vars([s.body for s in items])
+    for name, (dims, values, about) in _columns.columns(items).items():
+        out[name] = (lead + dims, squeeze(values), {"long_name": about})
     return out
 
 
-def wheel_vars(systems: list[Any], lead: tuple[str, ...]) -> dict[str, Any]:
-    """The wheels of each system, one row per wheel (dim ``wheel``, padded between runs):
-    ``wheel_axis`` as given (not normalised), ``wheel_momentum`` (a constant momentum; NaN
-    for a wheel with a schedule), and ``wheel_position``, the wheel's index in
-    ``System.parts`` (the damper, if any, takes the index left free), so that the loaded
-    system has its parts in their order. Padding: NaN, position −1. When a wheel has a
-    momentum schedule, also ``wheel_times`` and ``wheel_values`` (dims ``wheel``,
-    ``wheel_knot``): each scheduled wheel's knots first, then NaN; all NaN in the rows of
-    constant wheels. None when no system has a wheel."""
-    wheels = [[(k, p) for k, p in enumerate(s.parts) if isinstance(p, Wheel)] for s in systems]
-    w = max(len(row) for row in wheels)
-    if not w:
+def shape_vars(bodies: list[Any]) -> dict[str, Any]:
+    """The outline the pictures draw of the bodies (a box's edges, an ellipsoid's sections, a
+    composite's or a mesh's own), when every run's body has the same one: its points
+    ``body_vertices(body_vertex, axis)`` about the centre of mass in the body's own axes, the
+    lines ``body_edges(body_edge, body_edge_end)`` joining them and, for a surface, the
+    triangles ``body_faces(body_face, body_face_corner)``. None for a body given only by its
+    moments or tensor (drawn as a box of its moments), or when the runs' outlines differ."""
+    shape = bodies[0].shape
+    if shape is None or any(b.shape is not shape and not _same_shape(b.shape, shape)
+                            for b in bodies[1:]):
         return {}
-    squeeze = _squeeze(lead)
-    axis = np.full((len(systems), w, 3), np.nan)
-    momentum = np.full((len(systems), w), np.nan)
-    position = np.full((len(systems), w), -1, dtype=np.int64)
-    knots = max((len(p.momentum[0]) for row in wheels for _, p in row
-                 if isinstance(p.momentum, tuple)), default=0)
-    times = np.full((len(systems), w, knots), np.nan)
-    values = np.full((len(systems), w, knots), np.nan)
-    for i, row in enumerate(wheels):
-        for j, (k, wheel) in enumerate(row):
-            axis[i, j], position[i, j] = wheel.axis, k
-            if isinstance(wheel.momentum, tuple):
-                t, v = wheel.momentum
-                times[i, j, : len(t)], values[i, j, : len(t)] = t, v
-            else:
-                momentum[i, j] = wheel.momentum
-    out = {
-        "wheel_axis": (lead + ("wheel", "axis"), squeeze(axis),
-                       {"long_name": "wheel's spin axis, body axes, as given (NaN-padded)"}),
-        "wheel_momentum": (lead + ("wheel",), squeeze(momentum),
-                           {"long_name": "wheel's constant angular momentum relative to the "
-                            "body along its axis (NaN: padding, or a schedule)"}),
-        "wheel_position": (lead + ("wheel",), squeeze(position),
-                           {"long_name": "wheel's index among the system's parts (-1: "
-                            "padding)"}),
-    }
-    if knots:
-        out["wheel_times"] = (lead + ("wheel", "wheel_knot"), squeeze(times),
-                              {"long_name": "knot times of a wheel's momentum schedule "
-                               "(NaN-padded; all NaN: a constant momentum)"})
-        out["wheel_values"] = (lead + ("wheel", "wheel_knot"), squeeze(values),
-                               {"long_name": "a wheel's scheduled momentum at each knot, "
-                                "linear between them (NaN-padded)"})
+    out = {"body_vertices": (("body_vertex", "axis"), np.asarray(shape.vertices, np.float64),
+                             {"long_name": "points of the body's outline, body axes about "
+                              "the centre of mass"}),
+           "body_edges": (("body_edge", "body_edge_end"), np.asarray(shape.edges, np.int64),
+                          {"long_name": "lines of the outline: indices of body_vertices"})}
+    if shape.faces is not None:
+        out["body_faces"] = (("body_face", "body_face_corner"),
+                             np.asarray(shape.faces, np.int64),
+                             {"long_name": "triangles of the surface: indices of "
+                              "body_vertices"})
     return out
 
 
-def torque_vars(systems: list[Any], lead: tuple[str, ...]) -> dict[str, Any]:
-    """The external torques of each system, one row per torque in their order (dim
-    ``torque``, padded between runs): ``torque_kind`` (one of :data:`TORQUE_KINDS`, ``""``
-    for padding) and the columns of each kind, NaN (or ``""``) in the rows of the others:
-    ``torque_orbit_rate`` (a gravity gradient's), ``torque_vector`` (a constant torque's),
-    ``torque_frame`` (a constant or a tabulated torque's), and, when a torque is tabulated,
-    ``torque_outside`` (one of :data:`TORQUE_OUTSIDE`), ``torque_times`` (dims ``torque``,
-    ``torque_knot``) and ``torque_vectors`` (``torque``, ``torque_knot``, ``axis``), its knots
-    first, then NaN. None when no system has a torque. A new kind of torque is a new value
-    of ``torque_kind`` and its own columns."""
-    rows = [list(s.torques) for s in systems]
-    m = max(len(row) for row in rows)
-    if not m:
-        return {}
-    squeeze = _squeeze(lead)
-    knots = max((len(t.times) for row in rows for t in row if isinstance(t, TabulatedTorque)),
-                default=0)
-    kind = np.full((len(systems), m), "", dtype=object)
-    frame = np.full((len(systems), m), "", dtype=object)
-    outside = np.full((len(systems), m), "", dtype=object)
-    rate = np.full((len(systems), m), np.nan)
-    vector = np.full((len(systems), m, 3), np.nan)
-    times = np.full((len(systems), m, knots), np.nan)
-    vectors = np.full((len(systems), m, knots, 3), np.nan)
-    for i, row in enumerate(rows):
-        for j, torque in enumerate(row):
-            if isinstance(torque, GravityGradient):
-                kind[i, j], rate[i, j] = "gravity_gradient", torque.orbit_rate
-            elif isinstance(torque, TabulatedTorque):
-                n = len(torque.times)
-                kind[i, j], frame[i, j], outside[i, j] = "tabulated", torque.frame, \
-                    torque.outside
-                times[i, j, :n], vectors[i, j, :n] = torque.times, torque.vectors
-            elif isinstance(torque, _Loop):   # the closed loop's: no columns (not saved)
-                kind[i, j] = torque.kind
-            else:
-                kind[i, j], vector[i, j], frame[i, j] = "constant", torque.vector, torque.frame
-    out = {
-        "torque_kind": (lead + ("torque",), squeeze(kind.astype(str)),
-                        {"long_name": "kind of external torque ('' : padding)"}),
-        "torque_orbit_rate": (lead + ("torque",), squeeze(rate),
-                              {"long_name": "gravity gradient's orbit rate (NaN: another "
-                               "kind)"}),
-        "torque_vector": (lead + ("torque", "axis"), squeeze(vector),
-                          {"long_name": "constant torque (NaN: another kind)"}),
-        "torque_frame": (lead + ("torque",), squeeze(frame.astype(str)),
-                         {"long_name": "axes a constant or tabulated torque is given in: body "
-                          "or world ('' : another kind)"}),
-    }
-    if knots:
-        out["torque_outside"] = (lead + ("torque",), squeeze(outside.astype(str)),
-                                 {"long_name": "a tabulated torque outside its knots: zero or "
-                                  "hold ('' : another kind)"})
-        out["torque_times"] = (lead + ("torque", "torque_knot"), squeeze(times),
-                               {"long_name": "a tabulated torque's knot times (NaN-padded)"})
-        out["torque_vectors"] = (lead + ("torque", "torque_knot", "axis"), squeeze(vectors),
-                                 {"long_name": "a tabulated torque at its knots, in its frame "
-                                  "(NaN-padded)"})
-    return out
+def _same_shape(a: Any, b: Any) -> bool:
+    return (a is not None and np.array_equal(a.vertices, b.vertices)
+            and np.array_equal(a.edges, b.edges)
+            and (a.faces is None) == (b.faces is None)
+            and (a.faces is None or np.array_equal(a.faces, b.faces)))
 
 
 def _squeeze(lead: tuple[str, ...]) -> Callable[[np.ndarray], np.ndarray]:
@@ -291,7 +180,7 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
     """A run's parts' state and what its system says of each frame."""
     out: dict[str, Any] = {}
     for name, state in run.parts.items():
-        fields = model_info(name).state
+        fields = _core.model_info(name).state
         if len(fields) == 1 and fields[0][1] == 3:   # one vector, a damper's: the part's name
             out[name] = (prefix + ("time", "axis"), state,
                          {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})

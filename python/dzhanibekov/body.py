@@ -300,12 +300,14 @@ class Body:
         return body
 
     @classmethod
-    def _restored(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray) -> Body:
-        """A body as a file keeps it: its tensor, mass and centre of mass (not its shape)."""
+    def _restored(cls, tensor: np.ndarray, mass: float | None, com: np.ndarray,
+                  shape: Shape | None = None) -> Body:
+        """A body as a file keeps it: its tensor, mass, centre of mass and the outline the
+        pictures draw (not a composite's parts)."""
         with warnings.catch_warnings():  # warned about when it was made
             warnings.simplefilter("ignore", InertiaWarning)
             body = cls._of_tensor(np.asarray(tensor, dtype=np.float64), mass,
-                                  np.asarray(com, dtype=np.float64), None, (), "body_tensor")
+                                  np.asarray(com, dtype=np.float64), shape, (), "body_tensor")
         return body
 
     @classmethod
@@ -677,7 +679,9 @@ class Body:
         return f"Body.from_tensor({self.tensor.tolist()!r}{extra})"
 
     def __eq__(self, other: object) -> bool:
-        return (isinstance(other, Body) and self.inertia == other.inertia
+        if not isinstance(other, Body):
+            return NotImplemented  # a System without parts compares with its body
+        return (self.inertia == other.inertia
                 and np.array_equal(self.tensor, other.tensor)
                 and np.array_equal(self.principal_axes, other.principal_axes))
 

@@ -35,6 +35,7 @@ import numpy as np
 
 from . import _core
 from ._args import as_array, as_float
+from .parts import Param, Part
 
 __all__ = ["MagneticField", "Magnetometer", "Gyro", "StarTracker", "ResidualDipole", "BDot",
            "MomentumDumping", "QuaternionFeedback", "Controller", "circular_orbit_rate",
@@ -145,38 +146,6 @@ def _vector(name: str, value: Any) -> tuple[float, float, float]:
     return (float(v[0]), float(v[1]), float(v[2]))
 
 
-def _coerce(name: str, kind: str, choices: list[str], value: Any) -> Any:
-    """`value` as the core's parameter `name` of kind `kind` holds it: a float, three floats,
-    a tuple of floats or of three-float tuples, a word, a function; None if left out."""
-    if name == "seed":   # always given (0 by default)
-        return _seed(value)
-    if value is None:
-        return None
-    if kind == "scalar":
-        return as_float(name, value)
-    if kind == "vector":
-        return _vector(name, value)
-    if kind == "values":
-        v = as_array(name, value, "(K,)", last=int(np.size(value)), ndim=(1,))
-        return tuple(float(x) for x in v)
-    if kind == "vectors":
-        v = as_array(name, value, "(K, 3)", last=3, ndim=(2,))
-        return tuple((float(r[0]), float(r[1]), float(r[2])) for r in v)
-    if kind == "choice":
-        options = " or ".join(repr(c) for c in choices)
-        if not isinstance(value, str):
-            raise TypeError(f"`{name}` must be {options}, got {type(value).__name__}")
-        if value not in choices:
-            raise ValueError(f"`{name}` must be {options}, got {value!r}")
-        return value
-    if kind == "function":
-        if not callable(value):
-            raise TypeError(f"`{name}` must be callable, got {type(value).__name__}")
-        return value
-    raise TypeError(f"`{name}`: the core declares a kind of parameter this package does not "
-                    f"know ({kind!r}); update the package")
-
-
 def _deviation(name: str, value: Any) -> float:
     """A standard deviation: finite, not negative."""
     x = as_float(name, value)
@@ -192,18 +161,6 @@ def _seed(value: Any) -> int:
     if not 0 <= value < 2**53:
         raise ValueError(f"`seed` must be an int in [0, 2**53), got {value}")
     return int(value)
-
-
-def _shown(v: Any) -> str:
-    if callable(v):
-        return str(getattr(v, "__qualname__", None) or repr(v))
-    return repr(v)
-
-
-def _rebuild(cls: type[_Loop], fields: dict[str, Any]) -> _Loop:
-    part = cls.__new__(cls)
-    part._store(fields)
-    return part
 
 
 @dataclass(frozen=True)
@@ -255,58 +212,41 @@ class StarTracker:
         return {"star_tracker_noise": self.noise}
 
 
-class _Loop:
-    """A part of the closed loop: its values are the core's parameters of its kind (read from
-    ``dz.MODELS``), taken from objects (a field, sensors) and plain values, coerced by the
-    kind of each (kinds and shapes here, ranges by the core, which builds the part at once);
-    frozen, compared and hashed by them."""
+class _Loop(Part):
+    """A part of the closed loop: a :class:`~dzhanibekov.parts.Part` whose constructor takes
+    objects (a field, sensors) and plain values and stores them as the core's flat parameters
+    of its kind (``dz.MODELS``); coercion, ``==``, ``hash``, ``repr``, pickling, files and
+    scenes follow from the declaration as for every part."""
 
-    kind: ClassVar[str]
-    _core: _core.Part
-    _fields: dict[str, Any]
+    declares_types = False
+    lists = ("parts", "torques")  # on board, some acting from outside: either list
 
     def _build(self, values: Mapping[str, Any], *objects: Any) -> None:
         flat = dict(values)
         for obj in objects:
             if obj is not None:
                 flat.update(obj.fields())
-        self._store(flat)
-
-    def _store(self, flat: Mapping[str, Any]) -> None:
-        params = _core.model_info(self.kind).params
-        unknown = set(flat) - {p[0] for p in params}
+        unknown = set(flat) - {p.name for p in self.params}
         assert not unknown, f"{self.kind} has no parameters {sorted(unknown)}"
-        fields = {name: _coerce(name, kind, choices, flat.get(name))
-                  for name, kind, _, _, choices in params}
-        object.__setattr__(self, "_fields", fields)
-        for name, value in fields.items():
-            object.__setattr__(self, name, value)
-        # tables go to the core as float64 arrays; the part keeps tuples (hashable)
-        tables = {name for name, kind, *_ in params if kind in ("values", "vectors")}
-        object.__setattr__(self, "_core", _core.Part(self.kind, {
-            k: np.array(v, dtype=np.float64) if k in tables else v
-            for k, v in fields.items() if v is not None}))
+        if "seed" in flat:   # given by the constructors (0 by default): None is refused
+            flat["seed"] = _seed(flat["seed"])
+        self._store(self.kind, flat)
 
-    def __setattr__(self, name: str, value: Any) -> None:
-        raise AttributeError(f"a {type(self).__name__} is immutable")
+    def _coerce(self, param: Param, value: Any, knots: int | None) -> Any:
+        if param.name == "seed":   # a whole number, kept exactly (a file's column: a float)
+            if isinstance(value, (float, np.floating)) and float(value).is_integer():
+                value = int(value)
+            return _seed(value)
+        return super()._coerce(param, value, knots)
 
-    def __eq__(self, other: object) -> bool:
-        return type(other) is type(self) and other._fields == self._fields
-
-    def __hash__(self) -> int:
-        return hash((type(self).__name__, tuple(self._fields.items())))
-
-    def __repr__(self) -> str:
-        shown = ", ".join(f"{k}={_shown(getattr(self, k))}"
-                          for k, v in self._fields.items() if v is not None)
-        return f"{type(self).__name__}({shown})"
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (_rebuild, (type(self), self._fields))
-
-    def fields(self) -> dict[str, Any]:
-        """The part's parameters by name, as the core declares them (None: left out)."""
-        return dict(self._fields)
+    @classmethod
+    def from_fields(cls, kind: str, fields: Mapping[str, Any]) -> Part:
+        if kind != cls.kind:
+            raise ValueError(f"a {cls.__name__} makes a {cls.kind!r}, not a {kind!r}")
+        cls._require(kind, fields)
+        part = cls.__new__(cls)
+        part._store(kind, {k: v for k, v in fields.items() if v is not None})
+        return part
 
     # the objects the flat parameters make, for reading back
 
@@ -374,6 +314,7 @@ class ResidualDipole(_Loop):
     """
 
     kind = "residual_dipole"
+    examples = {"residual_dipole": {"orbit_rate": 1.1e-3, "inclination": 1.2, "dipole": (0.0, 0.0, 1e-3)}}
 
     def __init__(self, field: MagneticField, dipole: Any) -> None:
         _need("field", field, MagneticField)
@@ -434,6 +375,7 @@ class BDot(_Loop):
     """
 
     kind = "bdot"
+    examples = {"bdot": {"orbit_rate": 1.1e-3, "inclination": 1.2, "gain": 1e-5, "period": 0.05}}
 
     def __init__(self, field: MagneticField, gain: float, period: float, *,
                  phase: float = 0.0, max_dipole: Any = None, rates: str = "magnetometer",
@@ -469,6 +411,7 @@ class MomentumDumping(_Loop):
     """
 
     kind = "momentum_dumping"
+    examples = {"momentum_dumping": {"orbit_rate": 1.1e-3, "inclination": 1.2, "gain": 1e-3, "period": 0.05}}
 
     def __init__(self, field: MagneticField, gain: float, period: float, *,
                  phase: float = 0.0, max_dipole: Any = None,
@@ -531,6 +474,9 @@ class QuaternionFeedback(_Loop):
     """
 
     kind = "quaternion_feedback"
+    examples = {"quaternion_feedback": {"kp": (0.1, 0.1, 0.1), "kd": (0.3, 0.3, 0.3), "period": 0.05,
+                                   "target": (1.0, 0.0, 0.0, 0.0),
+                                   "axes": ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))}}
     target: np.ndarray | None
     frame: str
     orbit_rate: float | None
@@ -576,6 +522,12 @@ class _Law:
                                    np.asarray(out[1], dtype=np.float64).reshape(-1)])
         a = np.asarray(out, dtype=np.float64).reshape(-1)
         return np.concatenate([a, np.zeros(3)]) if a.shape == (3,) else a
+
+
+def _example_law(t: float, q: np.ndarray, omega: np.ndarray, field: np.ndarray,
+                 momentum: np.ndarray) -> np.ndarray:
+    """A rate damper, ``τ = −0.1 ω`` (the controller's example)."""
+    return -0.1 * omega
 
 
 class Controller(_Loop):
@@ -625,6 +577,7 @@ class Controller(_Loop):
     """
 
     kind = "controller"
+    examples = {"controller": {"law": _example_law, "period": 0.05}}
 
     def __init__(self, law: Any, period: float, *, field: MagneticField | None = None,
                  axes: Any = None, momentum: Any = None, torque_limit: float | None = None,
@@ -644,9 +597,9 @@ class Controller(_Loop):
                     _optional("gyro", gyro, Gyro),
                     _optional("magnetometer", magnetometer, Magnetometer))
 
-    def _store(self, flat: Mapping[str, Any]) -> None:
+    def _store(self, kind: str, values: Mapping[str, Any]) -> None:
         # the core calls the law through a wrapper that accepts a torque or a pair
-        law = flat["law"]
+        law = values["law"]
         wrapped = law if isinstance(law, _Law) else _Law(law)
-        super()._store({**flat, "law": wrapped})
+        super()._store(kind, {**values, "law": wrapped})
         object.__setattr__(self, "law", wrapped.func)

@@ -13,80 +13,13 @@ from ._args import as_array, as_float
 from .accuracy import StepSizeWarning
 from .methods import DEFAULT_METHOD, METHODS
 from .body import Body, as_body
+from .parts import Damper
 
 __all__ = ["Damper", "FLAT_SHARE", "axis_shares", "flat_spin_time", "flat_spin_estimate",
            "StiffDamperWarning", "STIFF_RATIO", "ENERGY_GROWTH_TOL", "damper_rate"]
 
 FLAT_SHARE: float = _core.FLAT_SHARE
 """A spin is flat once the major axis carries this share of ``|L|``."""
-
-
-class Damper:
-    """A spherical viscous nutation damper: a sphere of moment `inertia` in a spherical
-    cavity of the body, the fluid between them exerting the torque ``damping · (σ − ω)``
-    on the body (Hughes, *Spacecraft Attitude Dynamics*, 1986).
-
-    With it the total angular momentum ``H = I ω + j σ`` stays fixed in space, the total
-    kinetic energy ``½ ωᵀ I ω + ½ j |σ|²`` falls at the rate ``c |σ − ω|²``, and every motion
-    ends in a pure spin about the major axis with the sphere co-rotating. In body axes
-
-    ``I ω' = I ω × ω + c (σ − ω)``,   ``σ' = σ × ω − (c / j) (σ − ω)``.
-
-    Parameters
-    ----------
-    inertia : float
-        The sphere's moment of inertia ``j`` about its centre, positive. The body's own
-        tensor counts the sphere's mass as a point at its centre.
-    damping : float
-        The viscous coefficient ``c`` (torque per unit relative rate), non-negative, with
-        ``c / j`` (the sphere's relaxation rate) finite in float64.
-    sigma0 : array_like, shape (3,), optional
-        The sphere's absolute angular velocity at the start, in the body's own axes;
-        co-rotating with the body (its ``omega0``) if None. A run shows the sphere's rates
-        as ``traj.parts["damper"]``.
-
-    Raises
-    ------
-    TypeError, ValueError
-        A moment that is not positive and finite, a negative damping, or a relaxation rate
-        ``c / j`` beyond float64 (checked by the core).
-
-    Examples
-    --------
-    >>> Damper(0.05, 0.02)
-    Damper(inertia=0.05, damping=0.02)
-    """
-
-    __slots__ = ("inertia", "damping", "sigma0", "_core")
-
-    inertia: float
-    damping: float
-    sigma0: tuple[float, float, float] | None
-
-    def __init__(self, inertia: Any, damping: Any, sigma0: Any = None) -> None:
-        self.inertia = as_float("inertia", inertia)
-        self.damping = as_float("damping", damping)
-        if sigma0 is None:
-            self.sigma0 = None
-        else:
-            s = as_array("sigma0", sigma0, "(3,)", last=3, ndim=(1,))
-            self.sigma0 = (float(s[0]), float(s[1]), float(s[2]))
-        self._core = _core.Part("damper", {"inertia": self.inertia, "damping": self.damping,
-                                           "sigma0": self.sigma0})
-
-    def __reduce__(self) -> tuple[Any, ...]:
-        return (Damper, (self.inertia, self.damping, self.sigma0))
-
-    def __repr__(self) -> str:
-        start = "" if self.sigma0 is None else f", sigma0={self.sigma0!r}"
-        return f"Damper(inertia={self.inertia!r}, damping={self.damping!r}{start})"
-
-    def __eq__(self, other: object) -> bool:
-        return (isinstance(other, Damper) and self.inertia == other.inertia
-                and self.damping == other.damping and self.sigma0 == other.sigma0)
-
-    def __hash__(self) -> int:
-        return hash((self.inertia, self.damping, self.sigma0))
 
 
 ENERGY_GROWTH_TOL: float = _core.ENERGY_GROWTH_TOL

@@ -148,7 +148,9 @@ class Deployment:
         return f"Deployment(times={self.times.tolist()}, knots={len(self.times)})"
 
     def __eq__(self, other: object) -> bool:
-        return (isinstance(other, Deployment) and np.array_equal(self.times, other.times)
+        if not isinstance(other, Deployment):
+            return NotImplemented  # a System without parts compares with its deployment
+        return (np.array_equal(self.times, other.times)
                 and np.array_equal(self.tensors, other.tensors))
 
     def __hash__(self) -> int:

@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 import warnings
 from collections.abc import Callable
-from typing import Any, overload
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -27,13 +27,19 @@ from . import _core, _tables
 from ._args import as_array, as_int, check_size, run_options
 from .deployment import Deployment
 from .deployment_sweep import sweep_deployments
-from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD
+from .options import NAMES, RunKeywords, RunOptions, merged
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, _moments
 from .rows import Rows, is_system_list, row_error, rows_of
 from .simulate import plan
 from .system import System, Systems
 
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
 __all__ = ["Batch", "BatchDrift", "Sweep", "DeploymentSweep", "sweep", "grid", "DEFAULT_BLOCK"]
+
+_TAKES = tuple(n for n in NAMES if n != "flips")
+"""The run options a sweep takes: it always counts the flips."""
 
 
 DEFAULT_BLOCK = 4096
@@ -113,17 +119,10 @@ def sweep(
     omega0: Any,
     q0: Any = ...,
     *,
-    t_end: float = ...,
-    frames: int = ...,
-    dt: float | None = ...,
-    method: str = ...,
-    rtol: float | None = ...,
-    atol: float | None = ...,
-    max_steps: int = ...,
+    options: RunOptions | None = ...,
     block: int = ...,
     client: Any = ...,
-    progress: bool | None = ...,
-    threads: int | None = ...,
+    **keywords: Unpack[RunKeywords],
 ) -> DeploymentSweep: ...
 
 
@@ -133,17 +132,10 @@ def sweep(
     omega0: Any,
     q0: Any = ...,
     *,
-    t_end: float = ...,
-    frames: int = ...,
-    dt: float | None = ...,
-    method: str = ...,
-    rtol: float | None = ...,
-    atol: float | None = ...,
-    max_steps: int = ...,
+    options: RunOptions | None = ...,
     block: int = ...,
     client: Any = ...,
-    progress: bool | None = ...,
-    threads: int | None = ...,
+    **keywords: Unpack[RunKeywords],
 ) -> Sweep: ...
 
 
@@ -152,17 +144,10 @@ def sweep(
     omega0: Any,
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     *,
-    t_end: float = 100.0,
-    frames: int = 201,
-    dt: float | None = None,
-    method: str = DEFAULT_METHOD,
-    rtol: float | None = None,
-    atol: float | None = None,
-    max_steps: int = DEFAULT_MAX_STEPS,
+    options: RunOptions | None = None,
     block: int = DEFAULT_BLOCK,
     client: Any = None,
-    progress: bool | None = None,
-    threads: int | None = None,
+    **keywords: Unpack[RunKeywords],
 ) -> Sweep | DeploymentSweep:
     """Runs a free rotation from every start and keeps a few numbers per run, no frames.
 
@@ -186,8 +171,9 @@ def sweep(
         Initial body rates ``(u0, v0, w0)``: one per start (say from :func:`grid`).
     q0 : array_like, shape (4,) or S + (4,)
         Initial attitude, scalar first; shared or one per start.
-    t_end, frames, dt, method, rtol, atol, max_steps
-        As for :func:`~dzhanibekov.simulate`: the frames only set the substeps and where
+    options, t_end, frames, dt, method, rtol, atol, max_steps
+        As for :func:`~dzhanibekov.simulate` (a :class:`~dzhanibekov.RunOptions`, its fields
+        overridden by the keywords; a sweep always counts flips): the frames only set the substeps and where
         the drift is measured (an adaptive method's step that spans more than 64 frames at
         the last of them only: frames that are not kept are not all read off its
         interpolant). With ``dt=None`` every run of a fixed-step method takes
@@ -260,6 +246,10 @@ def sweep(
     >>> s.tumbles, s.verdict[1]
     (array([ True, False]), 'does not tumble')
     """
+    given = merged("sweep", options, keywords, _TAKES)
+    t_end, frames, dt, method = given.t_end, given.frames, given.dt, given.method
+    rtol, atol, max_steps = given.rtol, given.atol, given.max_steps
+    progress, threads = given.progress, given.threads
     if isinstance(system, Deployment) or (is_system_list(system) and any(
             isinstance(b, Deployment) or (isinstance(b, System) and "deployment" in b.kinds)
             for b in system)) or (isinstance(system, System) and "deployment" in system.kinds):
@@ -271,7 +261,7 @@ def sweep(
                                  threads=threads, block=block, progress=progress)
     settings = dict(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol, atol=atol,
                     max_steps=max_steps, flips=True, threads=threads)
-    options = run_options(**settings)  # before the rows: a bad option is named first
+    core = run_options(**settings)  # before the rows: a bad option is named first
     rows = rows_of(system, omega0, q0, function="sweep", max_batch_ndim=8, stacklevel=3)
     block = as_int("block", block, minimum=1)
     if progress is not None and not isinstance(progress, bool):
@@ -281,8 +271,8 @@ def sweep(
                          f"counts the free body's flips), got a system of "
                          f"{rows.systems.first.kinds}; simulate a batch of it instead")
     submit = _dask_runner(client) if client is not None else None
-    options = plan(rows, options, stacklevel=3)
-    settings["dt"] = options.dt
+    core = plan(rows, core, stacklevel=3)
+    settings["dt"] = core.dt
     m = len(rows)
     blocks = [rows.take(slice(a, a + block)) for a in range(0, m, block)]
     bar = tqdm(total=m, desc="sweep", unit="run", leave=False,
@@ -313,8 +303,8 @@ def sweep(
         exact_period=columns["exact_period"].reshape(shape),
         tilt=columns["tilt"].reshape(shape),
         drift=BatchDrift.of(lambda k: columns[f"drift.{k}"]).reshape(shape),
-        t_end=options.t_end,
-        method=options.method,
+        t_end=core.t_end,
+        method=core.method,
         dt=columns["dt"].reshape(shape),
         n_steps=columns["n_steps"].reshape(shape),
         nfev=columns["nfev"].reshape(shape),

@@ -400,6 +400,8 @@ class _Rows:
     """Each sample's Body when it is not in principal axes (else None: its moments say it)."""
     deployments: list[Deployment]
     dampers: list[Damper]
+    systems: list[System]
+    """Each sample's system, for a study of systems with any parts (kind ``"system"``)."""
     omega: np.ndarray
     q: np.ndarray
     inputs: dict[str, np.ndarray]
@@ -411,7 +413,8 @@ class _Rows:
         def part(v: Any) -> Any:
             return v[rows]
         return _Rows(self.kind, part(self.samples), part(self.moments), part(self.bodies),
-                     part(self.deployments), part(self.dampers), part(self.omega), part(self.q),
+                     part(self.deployments), part(self.dampers), part(self.systems),
+                     part(self.omega), part(self.q),
                      {k: part(v) for k, v in self.inputs.items()})
 
     def body_rows(self) -> Any:
@@ -445,6 +448,8 @@ def _run(rows: _Rows, settings: _Settings, *, keep: str) -> Any:
     elif rows.kind == "damper":
         system = [System(body, parts=[damper]) for body, damper in
                   zip(rows.bodies_of(), rows.dampers)]
+    elif rows.kind == "system":
+        system = rows.systems
     else:
         system = rows.body_rows()
     if keep == "single":
@@ -460,21 +465,26 @@ def _run(rows: _Rows, settings: _Settings, *, keep: str) -> Any:
 
 _KINDS: dict[tuple[str, ...], str] = {("free",): "free", ("deployment",): "deployment",
                                       ("damper",): "damper"}
-"""A study's kinds of system, by the registry's kinds of a :class:`System`."""
+"""A study's kinds of system, by the registry's kinds of a :class:`System`; any other
+constant body with parts (wheels, torques, several parts, the parts of ``dz.MODELS``) is a
+study of kind ``"system"``."""
 
-STUDY_KINDS = tuple(_KINDS.values())
+STUDY_KINDS = (*_KINDS.values(), "system")
 """The kinds of system a study runs (``MonteCarlo.kind``)."""
 
 
 def _kind(value: Any) -> str:
-    """What kind of system a drawn (or given) value is: "free", "deployment" or "damper"."""
+    """What kind of system a drawn (or given) value is: "free", "deployment", "damper" or
+    "system" (a constant body with any other parts)."""
     if isinstance(value, Deployment):
         return "deployment"
     if isinstance(value, System):
         kind = _KINDS.get(value.kinds)
         if kind is None:
-            raise ValueError(f"`system` must be a body, a deployment or a body with a damper, "
-                             f"got a system of {value.kinds}")
+            if "deployment" in value.kinds:
+                raise ValueError(f"`system` must be a body with parts, a deployment or a body, "
+                                 f"got a deployment with parts ({value.kinds})")
+            return "system"
         return kind
     if isinstance(value, tuple) and len(value) == 2 and isinstance(value[1], Damper):
         raise TypeError("`system` gave a (body, dz.Damper) pair: a body with a damper is "
@@ -560,6 +570,8 @@ class _Drawn(NamedTuple):
     omega_principal: np.ndarray
     """The rates in the principal axes of the body that decides (the deployed one, as if
     deployed at once), for the separatrix distance."""
+    system: System | None = None
+    """The whole system, for a study of kind "system"."""
 
 
 def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
@@ -567,6 +579,15 @@ def _system(value: Any, omega: np.ndarray, t_end: float) -> _Drawn:
     chunk at once)."""
     kind = _kind(value)
     damper: Damper | None = None
+    if kind == "system":
+        whole: System = value
+        body = whole.body
+        assert isinstance(body, Body)
+        moments = np.array(body.inertia)
+        if body.is_principal:
+            return _Drawn(kind, moments, None, None, None, None, None, omega, whole)
+        axes = body.principal_axes
+        return _Drawn(kind, moments, body.tensor, axes, body, None, None, axes.T @ omega, whole)
     if isinstance(value, System):
         if kind == "damper":  # a study's systems are of one kind: the damper is its one part
             damper = next(p for p in value.parts if isinstance(p, Damper))
@@ -654,6 +675,11 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
             if record.kind != spec.kind:
                 raise TypeError(f"`system` gave a {_KIND_NAMES[record.kind]} where sample 0 "
                                 f"gave a {_KIND_NAMES[spec.kind]}: a study runs one kind")
+            if record.system is not None and drawn and drawn[0].system is not None and \
+                    record.system.kinds != drawn[0].system.kinds:
+                raise TypeError(f"`system` gave a system of {record.system.kinds} where the "
+                                f"chunk's first gave {drawn[0].system.kinds}: a study's systems "
+                                "have the same kinds of parts")
             if record.deployment is not None and len(record.deployment.times) != spec.knots:
                 raise ValueError(f"`system` gave a deployment of {len(record.deployment.times)} "
                                  f"knots where sample 0 gave {spec.knots}: a study's "
@@ -703,7 +729,8 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
              for d, w in zip(drawn, omega_rows)], dtype=np.float64).reshape(m, 3)
     rows = _Rows(spec.kind, done, moments, [d.body for d in drawn],
                  [d.deployment for d in drawn if d.deployment is not None],
-                 [d.damper for d in drawn if d.damper is not None], omega_rows, q_rows, inputs)
+                 [d.damper for d in drawn if d.damper is not None],
+                 [d.system for d in drawn if d.system is not None], omega_rows, q_rows, inputs)
     return rows, failure
 
 
@@ -727,7 +754,8 @@ def _tensors(moments: np.ndarray, given: list[np.ndarray | None]) -> np.ndarray:
     return tensors
 
 
-_KIND_NAMES = {"free": "body", "deployment": "deployment", "damper": "damped body"}
+_KIND_NAMES = {"free": "body", "deployment": "deployment", "damper": "damped body",
+               "system": "body with parts"}
 
 
 def _chunk(spec: _Spec, samples: np.ndarray, mode: str) -> _Chunk:
@@ -1351,10 +1379,14 @@ def monte_carlo(
     ----------
     system : System, Body, array_like (3,), Deployment, or callable ``rng -> system``
         What turns: a body (or its principal moments), a deployment, a body with a damper
-        inside (``dz.System(body, parts=[dz.Damper(j, c)])``), or a
-        dispersion drawing one per sample (:class:`~dzhanibekov.InertiaDispersion`,
-        :class:`~dzhanibekov.DeploymentDispersion`, or your own). Every sample must be of the
-        kind of sample 0.
+        inside (``dz.System(body, parts=[dz.Damper(j, c)])``), a body with any other parts
+        and torques (wheels, the gravity gradient, tables, …: a study of kind ``"system"``,
+        which records the body's inertia, the starts and the separatrix distance of each
+        sample, not its parts), or a dispersion drawing one per sample
+        (:class:`~dzhanibekov.InertiaDispersion`, :class:`~dzhanibekov.DeploymentDispersion`,
+        or your own ``rng -> dz.System(...)``, which disperses any part's parameter). Every
+        sample must be of the kind of sample 0 (for ``"system"``, the same kinds of parts
+        within a chunk).
     omega0 : array_like (3,), callable ``rng -> (3,)``, or a distribution
         Initial body rates in the body's own axes: fixed, drawn by a callable, or by a
         scipy.stats distribution (anything with ``.rvs(random_state=rng)``, e.g.

@@ -15,7 +15,8 @@ table per kind (:data:`LAYOUTS`): each variable's dimensions, type and values (f
 quaternions to the run's own recorded drift, times that start at 0 and increase, flip
 counts that match the flip times …), each attribute, and the rules that tie them together;
 then each run's system is rebuilt (its wheels and torques from their tables, padded between a
-batch's runs: :func:`dzhanibekov._tables.wheel_vars`, :func:`dzhanibekov._tables.torque_vars`;
+batch's runs: each part's fields under its model, :mod:`dzhanibekov.parts._columns`; files of
+earlier versions by :mod:`dzhanibekov._legacy_parts`;
 the core checks its body, deployment, parts and torques as when
 the run was made) and what the loaded result derives from it (principal moments, energy,
 angular momentum) must be what the file says. Every failure is a :class:`~dzhanibekov.io.ReadError` (a ValueError) naming the file and
@@ -34,19 +35,19 @@ from typing import Any
 
 import numpy as np
 
-from . import _core, _tables
+from . import _core, _legacy_parts, _tables
+from . import control  # noqa: F401  (its parts register: the layout holds every model's columns)
 from ._args import check_size
 from ._files import HDF5_SIGNATURE, ReadError, as_path, describe, open_regular, replacing
 from .body import Body, InertiaWarning, tensor_moments
-from .damper import Damper
 from .deployment import Deployment
 from .methods import METHODS
+from .parts import _columns, params_of
 from . import montecarlo
 from .montecarlo import MonteCarlo
-from .orbit import ConstantTorque, GravityGradient, Wheel
 from .results import Batch, BatchDrift, DeploymentSweep, Sweep, Trajectory, split_parts
+from .shapes import Shape
 from .system import System, Systems
-from .torques import TabulatedTorque
 
 __all__ = ["save", "load", "LAYOUTS", "SUFFIXES", "KIND_ATTRIBUTE", "PART_NAMES"]
 
@@ -317,16 +318,30 @@ def sweep_outcomes(d: Loaded) -> str | None:
 
 # -- the system a file describes ------------------------------------------------------------------
 
-PART_NAMES = ("damper",)
+PART_NAMES = tuple(m.name for m in _core.MODELS if m.state and not m.law)
 """The parts a file may name (``parts``), each with its state variable of that name."""
 
+
+def state_vars(name: str) -> dict[str, tuple[str, ...]]:
+    """The variables of part `name`'s state and their dims after ``time``, as
+    `_tables._derived` writes them: the part's name for a state of one 3-vector (a
+    damper's σ), else one variable per field, ``<name>_<field>``."""
+    fields = _core.model_info(name).state
+    if len(fields) == 1 and fields[0][1] == 3:
+        return {name: ("axis",)}
+    return {f"{name}_{field}": () if width == 1 else ("axis",) if width == 3
+            else (f"{name}_{field}_index",) for field, width, _, _ in fields}
+
+
+def _state_of(d: Loaded, name: str) -> np.ndarray:
+    """Part `name`'s state, its fields side by side (..., time, width), as a run gives it."""
+    return np.concatenate([d[v] if dims else d[v][..., None]
+                           for v, dims in state_vars(name).items()], axis=-1)
+
+
 _BODY_VARS = ("body_tensor", "body_mass", "body_center_of_mass")
+_SHAPE_VARS = ("body_vertices", "body_edges", "body_faces")
 _KNOT_VARS = ("knot_times", "knot_tensors")
-_DAMPER_VARS = ("damper_inertia", "damper_damping", "damper_sigma0")
-_WHEEL_VARS = ("wheel_axis", "wheel_momentum", "wheel_position")
-_SCHEDULE_VARS = ("wheel_times", "wheel_values")
-_TORQUE_VARS = ("torque_kind", "torque_orbit_rate", "torque_vector", "torque_frame")
-_TABLE_VARS = ("torque_outside", "torque_times", "torque_vectors")
 _DERIVED = ("energy", "momentum_body", "momentum_world")
 _KEPT = (*_tables.DRIFTS, *_tables.OPTIONAL_DRIFTS)
 
@@ -341,9 +356,10 @@ def system_parts(d: Loaded) -> str | None:
     deployment's knots, and each named part's parameters and state; none for an empty
     batch."""
     runs = _runs(d)
-    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_DAMPER_VARS, *_WHEEL_VARS,
-                                 *_SCHEDULE_VARS, *_TORQUE_VARS, *_TABLE_VARS, *PART_NAMES,
-                                 *_DERIVED) if name in d.values]
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_legacy_parts.NAMES, *_DERIVED,
+                                 *(v for n in PART_NAMES for v in state_vars(n)))
+               if name in d.values]
+    present += [name for name in d.values if name.startswith("part_")]
     if runs == 0:
         return None if not present else f"`{present[0]}` must not be there: the batch is empty"
     body = [name in d.values for name in _BODY_VARS]
@@ -353,127 +369,43 @@ def system_parts(d: Loaded) -> str | None:
                 "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
     parts = tuple(d["parts"]) if "parts" in d.attrs else ()
     for name in PART_NAMES:
-        if (name in parts) != (name in d.values):
-            return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
-                    f"the {name}, but its state `{name}` is {'missing' if name in parts else 'there'}")
-    damper = [name in d.values for name in _DAMPER_VARS]
-    if any(damper) and not all(damper) or all(damper) != ("damper" in parts):
-        return ("a damper's `damper_inertia`, `damper_damping` and `damper_sigma0` must be "
-                "there exactly when `parts` names the damper")
+        for var in state_vars(name):
+            if (name in parts) != (var in d.values):
+                return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
+                        f"the {name}, but its state `{var}` is "
+                        f"{'missing' if name in parts else 'there'}")
+    outline = [name in d.values for name in _SHAPE_VARS]
+    if any(outline) and (not all(outline[:2]) or not all(body)):
+        return "`body_vertices` and `body_edges` must be there together, with the body's tensor"
+    if all(outline[:2]):
+        v = len(d["body_vertices"])
+        for name in _SHAPE_VARS[1:]:
+            if name in d.values and (d[name] >= v).any():
+                return f"`{name}` must be indices of `body_vertices` (0 … {v - 1})"
     missing = [name for name in _DERIVED if name not in d.values]
     if missing:
         return f"`{missing[0]}` is missing"
-    if "damper_sigma0" in d.values:
-        s0 = np.isnan(d["damper_sigma0"]).reshape(-1, 3)
-        if (s0.any(axis=1) != s0.all(axis=1)).any():
-            return "`damper_sigma0` must be three rates, or NaN for each (co-rotating)"
     if "knot_times" in d.values:
         problem = _knots_padded(d["knot_times"], d["knot_tensors"])
         if problem:
             return problem
-    return _wheels_padded(d) or _torques_padded(d)
-
-
-def _first_then(valid: np.ndarray) -> bool:
-    """Whether each row of `valid` (runs, k) is True first, then False."""
-    n = valid.sum(axis=1)
-    return bool((valid == (np.arange(valid.shape[1]) < n[:, None])).all())
-
-
-def _wheels_padded(d: Loaded) -> str | None:
-    """Each run's wheels first, then padding; their positions and the damper's (if any)
-    number the parts 0, 1, …"""
-    have = [name in d.values for name in _WHEEL_VARS]
-    schedule = [name in d.values for name in _SCHEDULE_VARS]
-    if not any(have):
-        return None if not any(schedule) else "`wheel_times` needs the wheels' `wheel_axis`"
-    if not all(have):
-        return "`wheel_axis`, `wheel_momentum` and `wheel_position` must be there together"
-    if any(schedule) != all(schedule):
-        return "`wheel_times` and `wheel_values` must be there together"
-    position = d["wheel_position"].reshape(-1, d["wheel_position"].shape[-1])
-    axis = d["wheel_axis"].reshape(len(position), -1, 3)
-    momentum = d["wheel_momentum"].reshape(len(position), -1)
-    valid = position >= 0
-    if not _first_then(valid) or (position[~valid] != -1).any():
-        return "`wheel_position` must hold each run's wheels first, then -1"
-    constant = np.isfinite(momentum)
-    scheduled = np.zeros_like(valid)
-    if all(schedule):
-        times = d["wheel_times"].reshape(valid.shape + (-1,))
-        values = d["wheel_values"].reshape(times.shape)
-        given = ~np.isnan(times)
-        scheduled = given.any(axis=2)
-        if not _first_then(given.reshape(-1, given.shape[-1])) or \
-                (scheduled & (given.sum(axis=2) < 2)).any() or \
-                not (np.isfinite(times) == given).all() or \
-                not (np.isfinite(values) == given).all():
-            return ("`wheel_times` and `wheel_values` must hold a scheduled wheel's knots (at "
-                    "least two, finite) first, then NaN, and NaN in any other row")
-    if not (np.isfinite(axis).all(axis=2) == valid).all() or \
-            not np.isnan(axis[~valid]).all() or (constant & scheduled).any() or \
-            not ((constant | scheduled) == valid).all():
-        return ("`wheel_axis` must be finite for each run's wheels and NaN beyond them, and "
-                "each wheel must have either a finite `wheel_momentum` or a schedule "
-                "(`wheel_times`), not both")
-    damper = 1 if "damper_inertia" in d.values else 0
-    for i, row in enumerate(position):
-        taken = sorted(row[row >= 0].tolist())
-        parts = len(taken) + damper
-        if len(set(taken)) != len(taken) or any(k >= parts for k in taken):
-            return (f"`wheel_position` of run {i} must number its wheels among its {parts} "
-                    f"parts (0 … {parts - 1}, each once), got {taken}")
-    return None
-
-
-def _torques_padded(d: Loaded) -> str | None:
-    """Each run's torques first, then padding; each row has its kind's parameters and
-    nothing in the columns of the other kinds."""
-    have = [name in d.values for name in _TORQUE_VARS]
-    table = [name in d.values for name in _TABLE_VARS]
-    if not any(have):
-        return None if not any(table) else "`torque_times` needs the torques' `torque_kind`"
-    if not all(have):
-        return f"`{'`, `'.join(_TORQUE_VARS)}` must be there together"
-    if any(table) != all(table):
-        return f"`{'`, `'.join(_TABLE_VARS)}` must be there together"
-    kind = d["torque_kind"].reshape(-1, d["torque_kind"].shape[-1])
-    frame = d["torque_frame"].reshape(kind.shape)
-    rate = d["torque_orbit_rate"].reshape(kind.shape)
-    vector = d["torque_vector"].reshape(kind.shape + (3,))
-    if not _first_then(kind != ""):
-        return "`torque_kind` must hold each run's torques first, then ''"
-    gradient, constant = kind == "gravity_gradient", kind == "constant"
-    tabulated = kind == "tabulated"
-    if tabulated.any() and not all(table):
-        return "a tabulated torque needs `torque_outside`, `torque_times` and `torque_vectors`"
-    if all(table):
-        outside = d["torque_outside"].reshape(kind.shape)
-        times = d["torque_times"].reshape(kind.shape + (-1,))
-        vectors = d["torque_vectors"].reshape(times.shape + (3,))
-        given = ~np.isnan(times)
-        if not _first_then(given.reshape(-1, given.shape[-1])) or \
-                not (given.any(axis=2) == tabulated).all() or \
-                (tabulated & (given.sum(axis=2) < 2)).any() or \
-                not (np.isfinite(times) == given).all() or \
-                not (np.isfinite(vectors).all(axis=3) == given).all() or \
-                not np.isnan(vectors[~given]).all():
-            return ("`torque_times` and `torque_vectors` must hold a tabulated torque's knots "
-                    "(at least two, finite) first, then NaN, and NaN in any other row")
-        if not np.isin(outside[tabulated], _tables.TORQUE_OUTSIDE).all() or \
-                (outside[~tabulated] != "").any():
-            return ("`torque_outside` must be 'zero' or 'hold' for a tabulated torque, '' for "
-                    "any other")
-    finite_vector = np.isfinite(vector).all(axis=2)
-    if not (np.isfinite(rate) == gradient).all() or not np.isnan(rate[~gradient]).all():
-        return "`torque_orbit_rate` must be a number exactly for a gravity gradient, else NaN"
-    if not (finite_vector == constant).all() or not np.isnan(vector[~constant]).all():
-        return "`torque_vector` must be a vector exactly for a constant torque, else NaN"
-    framed = constant | tabulated
-    if not (np.isin(frame[framed], _tables.TORQUE_FRAMES)).all() or \
-            (frame[~framed] != "").any():
-        return ("`torque_frame` must be 'body' or 'world' for a constant or tabulated torque, "
-                "'' for any other")
+    legacy = [name for name in _legacy_parts.NAMES if name in d.values]
+    generic = [name for name in d.values if name.startswith("part_")]
+    if legacy and generic:
+        return (f"`{legacy[0]}` (the layout of files before dzhanibekov wrote parts by their "
+                f"model) must not be there beside `{generic[0]}`")
+    if legacy:
+        return _legacy_parts.check(d)
+    try:
+        found = _columns.parts_of(d.values, runs)
+    except (TypeError, ValueError):  # a part the core refuses: the build says so
+        return None
+    if isinstance(found, str):
+        return found
+    named = {p.model for row in found for p in (*row[0], *row[1]) if p.model in PART_NAMES}
+    if sorted(named) != sorted(parts):
+        return (f"the attribute `parts` names {list(parts)}, but the parts with state of "
+                f"`part_kind` are {sorted(named)}")
     return None
 
 
@@ -509,47 +441,17 @@ def _systems(d: Loaded) -> list[System]:
     else:
         tensor, mass = rows("body_tensor"), rows("body_mass")
         com = rows("body_center_of_mass")
+        shape = None if "body_vertices" not in d.values else Shape(
+            d["body_vertices"], d["body_edges"], d["body_faces"] if "body_faces" in d.values
+            else None)
         bodies = [Body._restored(tensor[i], None if np.isnan(mass[i]) else float(mass[i]),
-                                 com[i]) for i in range(n)]
-    parts: list[dict[int, Damper | Wheel]] = [{} for _ in range(n)]
-    if "wheel_position" in d.values:
-        position, axis = rows("wheel_position"), rows("wheel_axis")
-        momentum = rows("wheel_momentum")
-        shape = position.shape + (0,)
-        times = rows("wheel_times") if "wheel_times" in d.values else np.zeros(shape)
-        values = rows("wheel_values") if "wheel_values" in d.values else np.zeros(shape)
-        for i in range(n):
-            for k, a, h, t, v in zip(position[i], axis[i], momentum[i], times[i], values[i]):
-                if k >= 0:
-                    given = ~np.isnan(t)
-                    parts[i][int(k)] = Wheel(tuple(a.tolist()), float(h)) if np.isfinite(h) \
-                        else Wheel(tuple(a.tolist()), (t[given], v[given]))
-    if "damper_inertia" in d.values:
-        j, c, s0 = rows("damper_inertia"), rows("damper_damping"), rows("damper_sigma0")
-        for i in range(n):
-            free = next(k for k in range(len(parts[i]) + 1) if k not in parts[i])
-            parts[i][free] = Damper(float(j[i]), float(c[i]),
-                                    None if np.isnan(s0[i]).any() else s0[i])
-    torques: list[list[GravityGradient | ConstantTorque | TabulatedTorque]] = \
-        [[] for _ in range(n)]
-    if "torque_kind" in d.values:
-        kind, rate = rows("torque_kind"), rows("torque_orbit_rate")
-        vector, frame = rows("torque_vector"), rows("torque_frame")
-        for i in range(n):
-            for k, kd in enumerate(kind[i]):
-                if kd == "gravity_gradient":
-                    torques[i].append(GravityGradient(float(rate[i, k])))
-                elif kd == "constant":
-                    torques[i].append(ConstantTorque(tuple(vector[i, k].tolist()),
-                                                     str(frame[i, k])))
-                elif kd == "tabulated":
-                    t = rows("torque_times")[i, k]
-                    given = ~np.isnan(t)
-                    torques[i].append(TabulatedTorque(
-                        t[given], rows("torque_vectors")[i, k][given], str(frame[i, k]),
-                        str(rows("torque_outside")[i, k])))
-    return [System(b, parts=[p[k] for k in sorted(p)], torques=t)
-            for b, p, t in zip(bodies, parts, torques)]
+                                 com[i], shape) for i in range(n)]
+    if "part_kind" in d.values or not any(name in d.values for name in _legacy_parts.NAMES):
+        found = _columns.parts_of(d.values, runs)
+        assert not isinstance(found, str)  # checked by `system_parts`
+    else:
+        found = _legacy_parts.parts_of(d, rows, n)
+    return [System(b, parts=p, torques=t) for b, (p, t) in zip(bodies, found)]
 
 
 def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
@@ -584,7 +486,7 @@ def _drift_of(d: Loaded, runs: bool) -> BatchDrift:
 
 def build_trajectory(d: Loaded) -> Trajectory:
     system = _systems(d)[0]
-    state = np.concatenate([d[name] for name in system.part_names], axis=1) \
+    state = np.concatenate([_state_of(d, name) for name in system.part_names], axis=1) \
         if system.part_names else None
     return Trajectory(
         t=d["time"], omega=d["omega"], q=d["q"],
@@ -612,7 +514,7 @@ def build_batch(d: Loaded) -> Batch:
         n_steps=d["n_steps"].astype(np.int64), nfev=d["nfev"].astype(np.int64),
         n_rejected=d["n_rejected"].astype(np.int64),
         drift=_drift_of(d, runs=True),
-        parts={name: d[name] for name in d["parts"]},
+        parts={name: _state_of(d, name) for name in d["parts"]},
     )
 
 
@@ -819,7 +721,7 @@ _KEPT_NAMES = Attr("U", (one_of(_KEPT),), shape=None)
 _PARTS = Attr("U", (one_of(PART_NAMES),), shape=None)
 _LABELS = {"axis": Var(("axis",), "U", (labels(_tables.AXIS),)),
            "quaternion": Var(("quaternion",), "U", (labels(_tables.QUATERNION),))}
-_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4}
+_FIXED = {"axis": 3, "axis_": 3, "quaternion": 4, "body_edge_end": 2, "body_face_corner": 3}
 _OPT = True
 
 
@@ -829,36 +731,65 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
     return {
         "body_tensor": Var(lead + ("axis", "axis_"), "f", (finite,), optional=_OPT),
         "body_mass": Var(lead, "f", (finite_or_nan, positive_or_nan), optional=_OPT),
+        "body_vertices": Var(("body_vertex", "axis"), "f", (finite,), optional=_OPT),
+        "body_edges": Var(("body_edge", "body_edge_end"), "i", (non_negative,), optional=_OPT),
+        "body_faces": Var(("body_face", "body_face_corner"), "i", (non_negative,),
+                          optional=_OPT),
         "body_center_of_mass": Var(lead + ("axis",), "f", (finite,), optional=_OPT),
         "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
         "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
                             optional=_OPT),
+        **{var: Var(lead + ("time",) + dims, "f", (finite,), optional=_OPT)
+           for name in PART_NAMES for var, dims in state_vars(name).items()},
+        **_legacy_vars(lead),
+        **_part_vars(lead),
+        "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
+        "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+        "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
+    }
+
+
+def _part_vars(lead: tuple[str, ...]) -> dict[str, Var]:
+    """Every column a part of any model a file can hold may have (see
+    :mod:`dzhanibekov.parts._columns`; the rule `system_parts` checks their rows)."""
+    out = {_columns.KIND: Var(lead + ("part",), "U", (one_of(("", *_columns.storable_models())),),
+                              optional=_OPT)}
+    for model in _columns.storable_models():
+        for p in params_of(model):
+            word = p.kind == "choice"
+            out[_columns.column_name(model, p.name)] = Var(
+                lead + _columns.column_dims(model, p.kind), "U" if word else "f",
+                (one_of(("", *p.choices)),) if word else (), optional=_OPT)
+    return out
+
+
+def _legacy_vars(lead: tuple[str, ...]) -> dict[str, Var]:
+    """The parts' variables of files before parts were written by their model
+    (:mod:`dzhanibekov._legacy_parts`), read only."""
+    legacy = _legacy_parts
+    return {
         "damper_inertia": Var(lead, "f", (finite, positive), optional=_OPT),
         "damper_damping": Var(lead, "f", (finite, non_negative), optional=_OPT),
         "damper_sigma0": Var(lead + ("axis",), "f", (finite_or_nan,), optional=_OPT),
-        "damper": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
         "wheel_axis": Var(lead + ("wheel", "axis"), "f", (finite_or_nan,), optional=_OPT),
         "wheel_momentum": Var(lead + ("wheel",), "f", (finite_or_nan,), optional=_OPT),
         "wheel_position": Var(lead + ("wheel",), "i", optional=_OPT),
-        "torque_kind": Var(lead + ("torque",), "U", (one_of(("", *_tables.TORQUE_KINDS)),),
+        "torque_kind": Var(lead + ("torque",), "U", (one_of(("", *legacy.TORQUE_KINDS)),),
                            optional=_OPT),
         "torque_orbit_rate": Var(lead + ("torque",), "f", (finite_or_nan,), optional=_OPT),
         "torque_vector": Var(lead + ("torque", "axis"), "f", (finite_or_nan,), optional=_OPT),
-        "torque_frame": Var(lead + ("torque",), "U", (one_of(("", *_tables.TORQUE_FRAMES)),),
+        "torque_frame": Var(lead + ("torque",), "U", (one_of(("", *legacy.TORQUE_FRAMES)),),
                             optional=_OPT),
         "wheel_times": Var(lead + ("wheel", "wheel_knot"), "f", (finite_or_nan,),
                            optional=_OPT),
         "wheel_values": Var(lead + ("wheel", "wheel_knot"), "f", (finite_or_nan,),
                             optional=_OPT),
         "torque_outside": Var(lead + ("torque",), "U",
-                              (one_of(("", *_tables.TORQUE_OUTSIDE)),), optional=_OPT),
+                              (one_of(("", *legacy.TORQUE_OUTSIDE)),), optional=_OPT),
         "torque_times": Var(lead + ("torque", "torque_knot"), "f", (finite_or_nan,),
                             optional=_OPT),
         "torque_vectors": Var(lead + ("torque", "torque_knot", "axis"), "f", (finite_or_nan,),
                               optional=_OPT),
-        "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
-        "momentum_body": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
-        "momentum_world": Var(lead + ("time", "axis"), "f", (finite,), optional=_OPT),
     }
 
 
@@ -1019,7 +950,9 @@ def save(result: Trajectory | Batch | Sweep | DeploymentSweep | MonteCarlo,
          path: str | Path) -> Path:
     """Writes a result to a netCDF-4 file (xarray, h5netcdf engine) that :func:`load` reads
     back: arrays bit for bit, and the metadata to rebuild the object (each run's system: the
-    body's tensor, a deployment's knots, the parts with their parameters; every part's
+    body's tensor, mass, centre of mass and the outline the pictures draw (a box's, an
+    ellipsoid's, a composite's or a mesh's), a deployment's knots, the parts with their
+    parameters, so that the loaded system ``==`` the saved one; every part's
     state, so that what a loaded run derives is the saved run's, bit for bit). All or nothing: the
     previous file is replaced only once the new one is complete, and is as it was after
     any failure (a full disk, Ctrl-C).

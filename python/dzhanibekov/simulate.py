@@ -5,22 +5,26 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, overload
+from typing import TYPE_CHECKING, Any, overload
 
 import numpy as np
 from tqdm.auto import tqdm
 
 from . import _core
-from ._args import as_array, check_size, run_options
+from ._args import as_array, check_size
 from ._progress import PROGRESS_DELAY, RunProgress, resolve
 from .accuracy import warn_step
 from .body import Body
 from .damper import warn_stiff
 from .deployment import Deployment
-from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS
+from .methods import METHODS
+from .options import RunKeywords, RunOptions, merged
 from .results import Batch, Trajectory, batch_drift, split_parts
 from .rows import Rows, row_error, rows_of, warn_unphysical
 from .system import System
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 __all__ = ["METHODS", "simulate", "rotate", "plan", "run_batch"]
 
@@ -35,16 +39,8 @@ def simulate(
     omega0: Sequence[float],
     q0: Sequence[float] = ...,
     *,
-    t_end: float = ...,
-    frames: int = ...,
-    dt: float | None = ...,
-    method: str = ...,
-    rtol: float | None = ...,
-    atol: float | None = ...,
-    flips: bool = ...,
-    max_steps: int = ...,
-    threads: int | None = ...,
-    progress: bool | None = ...,
+    options: RunOptions | None = ...,
+    **keywords: Unpack[RunKeywords],
 ) -> Trajectory: ...
 
 
@@ -54,16 +50,8 @@ def simulate(
     omega0: Any,
     q0: Any = ...,
     *,
-    t_end: float = ...,
-    frames: int = ...,
-    dt: float | None = ...,
-    method: str = ...,
-    rtol: float | None = ...,
-    atol: float | None = ...,
-    flips: bool = ...,
-    max_steps: int = ...,
-    threads: int | None = ...,
-    progress: bool | None = ...,
+    options: RunOptions | None = ...,
+    **keywords: Unpack[RunKeywords],
 ) -> Trajectory | Batch: ...
 
 
@@ -72,16 +60,8 @@ def simulate(
     omega0: Any,
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     *,
-    t_end: float = 100.0,
-    frames: int = 201,
-    dt: float | None = None,
-    method: str = DEFAULT_METHOD,
-    rtol: float | None = None,
-    atol: float | None = None,
-    flips: bool = True,
-    max_steps: int = DEFAULT_MAX_STEPS,
-    threads: int | None = None,
-    progress: bool | None = None,
+    options: RunOptions | None = None,
+    **keywords: Unpack[RunKeywords],
 ) -> Trajectory | Batch:
     """Simulates the free rotation of a rigid body (eq. 1 of the paper, corrected).
 
@@ -122,10 +102,14 @@ def simulate(
         (``x_world = M(q0)·x_body``), scalar first ``(Q, U, V, W)`` — scipy's default order
         is scalar last, so pass a scipy ``Rotation`` rather than its ``as_quat()``; a stack
         of N rotations makes a batch of N runs. Normalised here, must be non-zero.
+    options : RunOptions, optional
+        The run's options as one value (:class:`~dzhanibekov.RunOptions`); the keywords
+        below override its fields. Without it, the keywords' defaults.
     t_end : float
-        End time, positive.
+        End time, positive (default 100).
     frames : int
-        Frames stored, at least 2, at times ``t_end * i / (frames - 1)`` exactly.
+        Frames stored, at least 2, at times ``t_end * i / (frames - 1)`` exactly (default
+        201).
     dt : float or None
         Fixed-step methods: the largest step; between frames the run takes equal substeps
         no longer than `dt`. ``None`` (the default) picks the step predicted to meet `rtol`
@@ -252,14 +236,15 @@ def simulate(
     >>> runs.energy.shape, runs.parts["damper"].shape
     ((2, 11), (2, 11, 3))
     """
+    given = merged("simulate", options, keywords)
     # the options' kinds first: a bad option is named before any guess about the arguments
-    options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
-                          atol=atol, max_steps=max_steps, flips=flips, threads=threads)
+    core = given.core()
     rows = rows_of(system, omega0, q0, function="simulate", max_batch_ndim=1, stacklevel=3)
+    progress = given.progress
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
-    options = plan(rows, options, stacklevel=3)
-    batch = run_batch(rows, options, progress=progress)
+    core = plan(rows, core, stacklevel=3)
+    batch = run_batch(rows, core, progress=progress)
     return batch if rows.batch else batch[0]
 
 

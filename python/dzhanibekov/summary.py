@@ -7,18 +7,23 @@ frames: its memory does not grow with `frames` or with the run's length.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ._args import run_options
 from .body import Body
-from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD
+from .options import NAMES, RunKeywords, RunOptions, merged
 from .results import Summary
 from .rows import rows_of
 from .simulate import plan, run_batch
 
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
+
 __all__ = ["Summary", "summarize"]
+
+_TAKES = tuple(n for n in NAMES if n not in ("flips", "threads", "progress"))
+"""The run options a summary takes: it always locates the flips, on one thread, silently."""
 
 
 def summarize(
@@ -26,13 +31,8 @@ def summarize(
     omega0: Any,
     q0: Any = (1.0, 0.0, 0.0, 0.0),
     *,
-    t_end: float = 100.0,
-    frames: int = 201,
-    dt: float | None = None,
-    method: str = DEFAULT_METHOD,
-    rtol: float | None = None,
-    atol: float | None = None,
-    max_steps: int = DEFAULT_MAX_STEPS,
+    options: RunOptions | None = None,
+    **keywords: Unpack[RunKeywords],
 ) -> Summary | tuple[Summary, ...]:
     """Simulates like :func:`~dzhanibekov.simulate` but keeps no frames: flip times only.
 
@@ -46,7 +46,7 @@ def summarize(
         What is run, as for :func:`~dzhanibekov.simulate`: one system, or one per run.
     omega0 : array_like, shape (3,) or (M, 3)
         Body rates at ``t = 0``: one start, or M starts (a batch), as for ``simulate``.
-    q0, t_end, dt, method, rtol, atol, max_steps
+    q0, options, t_end, dt, method, rtol, atol, max_steps
         As for :func:`~dzhanibekov.simulate`.
     frames : int
         The frame grid, as for ``simulate``: between frames the run takes equal substeps no
@@ -73,20 +73,20 @@ def summarize(
     >>> [s.flips for s in summarize((52.0833, 27.0833, 41.6666), [(0.01, 0.01, 1.0), (0, 0, 1)])]
     [2, 0]
     """
+    given = merged("summarize", options, keywords, _TAKES)
     # the options' kinds first: a bad option is named before any guess about the arguments
-    options = run_options(t_end=t_end, frames=frames, dt=dt, method=method, rtol=rtol,
-                          atol=atol, max_steps=max_steps, flips=True, threads=None)
+    options_ = given.replace(flips=True, threads=None).core()
     rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=1, stacklevel=3)
-    options = plan(rows, options, stacklevel=3)
-    run = run_batch(rows, options, keep_frames=False)
+    core = plan(rows, options_, stacklevel=3)
+    run = run_batch(rows, core, keep_frames=False)
     flip_times = run.flip_times
     assert flip_times is not None
     summaries = tuple(Summary(
         flip_times=flip_times[k],
         drift=run.drift.row(k),
-        t_end=options.t_end,
+        t_end=core.t_end,
         system=rows.systems[k],
-        method=options.method,
+        method=core.method,
         dt=float(run.dt[k]),
         n_steps=int(run.n_steps[k]),
         nfev=int(run.nfev[k]),

@@ -14,23 +14,28 @@ and says what the model keeps, which the drift, the projection and the registry 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
 from . import _core
 from .body import Body, as_body, principal_body
-from .damper import Damper
 from .deployment import Deployment
-from .control import _Loop
-from .orbit import TORQUE_TYPES, Torque, Wheel
-from .torques import CallableTorque
+from .parts import SPECS, CallableTorque
+from .parts import Part as AnyPart
 
 __all__ = ["System", "as_system", "Systems"]
 
-Part = Damper | Wheel
-"""The internal parts a system takes."""
+Part = AnyPart
+"""The internal parts a system takes: any part that is not an external torque (a
+:class:`Damper`, a :class:`Wheel`, …, every part model of ``dz.MODELS``)."""
+
+
+def _names(where: str) -> str:
+    """The part classes a System takes in `where` (``"parts"`` or ``"torques"``)."""
+    names = [f"a dz.{c.__name__}" for c in dict.fromkeys(SPECS.values()) if where in c.lists]
+    return ", ".join(names[:-1]) + " or " + names[-1] if len(names) > 1 else names[0]
 
 
 class System:
@@ -41,10 +46,10 @@ class System:
     body : Body, Deployment, or array_like, shape (3,)
         The body: constant (a :class:`Body` of any kind, or its principal moments) or
         changing in a prescribed way (a :class:`Deployment`).
-    parts : sequence of Damper or Wheel, optional
-        Internal parts: a spherical viscous :class:`Damper` (at most one; its state appears
-        in a run's ``parts`` under ``"damper"``) and momentum :class:`Wheel` s (any number,
-        no state of their own).
+    parts : sequence of parts, optional
+        Internal parts, in order, of any part model of ``dz.MODELS`` that is not an external
+        torque: a spherical viscous :class:`Damper` (its state appears in a run's ``parts``
+        under ``"damper"``), momentum :class:`Wheel` s (any number, no state of their own), …
     torques : sequence of torques, optional
         External torques, which add up: the gravity gradient of a circular orbit (a
         :class:`GravityGradient`, at most one), constant torques in body or world axes
@@ -71,33 +76,34 @@ class System:
 
     _body: Body | Deployment
     _parts: tuple[Part, ...]
-    _torques: tuple[Torque, ...]
+    _torques: tuple[AnyPart, ...]
     _core: _core.System
 
-    def __init__(self, body: Any, parts: Sequence[Part] = (),
-                 torques: Sequence[Torque] = ()) -> None:
+    def __init__(self, body: Any, parts: Sequence[AnyPart] = (),
+                 torques: Sequence[AnyPart | Callable[..., Any]] = ()) -> None:
         if isinstance(body, System):
             raise TypeError("`body` must be a Body or a Deployment, got a System (pass its "
                             "parts to it instead)")
         body = body if isinstance(body, Deployment) else as_body(body)
         parts_ = _sequence("parts", parts)
         for k, part in enumerate(parts_):
-            if not isinstance(part, (Damper, Wheel, _Loop)):
-                raise TypeError(f"`parts[{k}]` must be a dz.Damper or a dz.Wheel, got "
+            if not isinstance(part, AnyPart) or "parts" not in part.lists:
+                raise TypeError(f"`parts[{k}]` must be {_names('parts')}, got "
                                 f"{type(part).__name__}")
         # a plain function is a CallableTorque
-        torques_ = tuple(t if isinstance(t, TORQUE_TYPES) or not callable(t)
+        torques_ = tuple(t if isinstance(t, AnyPart) or not callable(t)
                          else CallableTorque(t) for t in _sequence("torques", torques))
         for k, torque in enumerate(torques_):
-            if not isinstance(torque, TORQUE_TYPES + (_Loop,)):
-                raise TypeError(f"`torques[{k}]` must be a dz.GravityGradient, a "
-                                f"dz.ConstantTorque, a dz.TabulatedTorque or a function "
+            if not isinstance(torque, AnyPart) or "torques" not in torque.lists:
+                raise TypeError(f"`torques[{k}]` must be {_names('torques')} or a function "
                                 f"(dz.CallableTorque), got {type(torque).__name__}")
         object.__setattr__(self, "_body", body)
         object.__setattr__(self, "_parts", parts_)
         object.__setattr__(self, "_torques", torques_)
+        # the body's mass: parts whose mass moves in it (a spring-mass damper) need it
         object.__setattr__(self, "_core", _core.System(
-            body._core, [p._core for p in parts_] + [t._core for t in torques_]))
+            body._core, [p._core for p in parts_] + [t._core for t in torques_],
+            getattr(body, "mass", None)))
 
     def __setattr__(self, name: str, value: Any) -> None:
         raise AttributeError("a System is immutable")
@@ -113,7 +119,7 @@ class System:
         return self._parts
 
     @property
-    def torques(self) -> tuple[Torque, ...]:
+    def torques(self) -> tuple[AnyPart, ...]:
         """The external torques, in order."""
         return self._torques
 
@@ -153,11 +159,19 @@ class System:
         return (System, (self._body, self._parts, self._torques))
 
     def __eq__(self, other: object) -> bool:
+        """Systems of the same body and the same parts (its parts, then its torques, in their
+        order: which list an external part was given in does not matter) are equal; so are a
+        system without parts and its body or deployment (a run's ``system`` and what was
+        run, a loaded run's and what was saved)."""
+        if isinstance(other, (Body, Deployment)):
+            return not self._parts and not self._torques and self._body == other
         return (isinstance(other, System) and self._body == other._body
-                and self._parts == other._parts and self._torques == other._torques)
+                and self._parts + self._torques == other._parts + other._torques)
 
     def __hash__(self) -> int:
-        return hash((self._body, self._parts, self._torques))
+        if not self._parts and not self._torques:
+            return hash(self._body)  # equal to its body: the same hash
+        return hash((self._body, self._parts + self._torques))
 
     def __repr__(self) -> str:
         if not self._parts and not self._torques:

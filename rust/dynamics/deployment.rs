@@ -45,6 +45,37 @@ pub struct Deployment {
     /// The intermediate axis before the first knot and after the last (the body is constant
     /// there: found once).
     ends: [MidAxis; 2],
+    /// `I⁻¹` before the first knot and after the last (see [`Inverse`]), found once.
+    inverses: [Inverse; 2],
+}
+
+/// A tensor's inverse as the rates take it: the reciprocal moments of a diagonal tensor, or
+/// the six entries of a symmetric one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Inverse {
+    Diagonal(Vector3<f64>),
+    Symmetric([f64; 6]),
+}
+
+impl Inverse {
+    fn of(m: &Matrix3<f64>, diagonal: bool) -> Self {
+        match diagonal {
+            true => Inverse::Diagonal(m.diagonal().map(|v| 1.0 / v)),
+            false => Inverse::Symmetric(symmetric_inverse(m)),
+        }
+    }
+
+    #[inline(always)]
+    fn times(&self, l: &Vector3<f64>) -> Vector3<f64> {
+        match self {
+            Inverse::Diagonal(r) => l.component_mul(r),
+            Inverse::Symmetric([a, b, c, d, e, f]) => Vector3::new(
+                a * l.x + b * l.y + c * l.z,
+                b * l.x + d * l.y + e * l.z,
+                c * l.x + e * l.y + f * l.z,
+            ),
+        }
+    }
 }
 
 /// `s(τ) = 10τ³ − 15τ⁴ + 6τ⁵` and `s'(τ) = 30 τ² (1 − τ)²`.
@@ -56,9 +87,10 @@ fn smootherstep(tau: f64) -> (f64, f64) {
     (s, 30.0 * t2 * u * u)
 }
 
-/// `M⁻¹ b` for a symmetric positive definite `M`, by its cofactors.
+/// The cofactors `(c00, c01, c02, c11, c12, c22)` of a symmetric `M` and the reciprocal of its
+/// determinant: `M⁻¹ = C / det M`.
 #[inline(always)]
-fn solve_symmetric(m: &Matrix3<f64>, b: &Vector3<f64>) -> Vector3<f64> {
+fn cofactors(m: &Matrix3<f64>) -> ([f64; 6], f64) {
     let (a, bb, c) = (m[(0, 0)], m[(0, 1)], m[(0, 2)]);
     let (d, e, f) = (m[(1, 1)], m[(1, 2)], m[(2, 2)]);
     let c00 = d * f - e * e;
@@ -68,6 +100,21 @@ fn solve_symmetric(m: &Matrix3<f64>, b: &Vector3<f64>) -> Vector3<f64> {
     let c12 = bb * c - a * e;
     let c22 = a * d - bb * bb;
     let inv_det = 1.0 / (a * c00 + bb * c01 + c * c02);
+    ([c00, c01, c02, c11, c12, c22], inv_det)
+}
+
+/// The six entries `(a, b, c, d, e, f)` of `M⁻¹ = [[a, b, c], [b, d, e], [c, e, f]]` for a
+/// symmetric positive definite `M`.
+fn symmetric_inverse(m: &Matrix3<f64>) -> [f64; 6] {
+    let (c, inv_det) = cofactors(m);
+    c.map(|v| v * inv_det)
+}
+
+/// `M⁻¹ b` for a symmetric positive definite `M`, by its cofactors: the division runs beside
+/// the products by `b`, not before them.
+#[inline(always)]
+fn solve_symmetric(m: &Matrix3<f64>, b: &Vector3<f64>) -> Vector3<f64> {
+    let ([c00, c01, c02, c11, c12, c22], inv_det) = cofactors(m);
     Vector3::new(
         (c00 * b.x + c01 * b.y + c02 * b.z) * inv_det,
         (c01 * b.x + c11 * b.y + c12 * b.z) * inv_det,
@@ -124,15 +171,17 @@ impl Deployment {
         let diagonal = tensors
             .iter()
             .all(|m| (0..3).all(|i| (0..3).all(|j| i == j || m[(i, j)] == 0.0)));
-        let ends = match (tensors.first(), tensors.last()) {
-            (Some(a), Some(b)) => [axis_of(a, diagonal), axis_of(b, diagonal)],
-            _ => [MidAxis::None; 2],
+        let (Some(first), Some(last)) = (tensors.first(), tensors.last()) else {
+            unreachable!("at least one knot, checked above")
         };
+        let ends = [axis_of(first, diagonal), axis_of(last, diagonal)];
+        let inverses = [Inverse::of(first, diagonal), Inverse::of(last, diagonal)];
         Ok(Self {
             times,
             tensors,
             diagonal,
             ends,
+            inverses,
         })
     }
 
@@ -182,21 +231,31 @@ impl Deployment {
         self.inertia_and_rate_at(t).0
     }
 
-    /// `ω = I(t)⁻¹ L`.
+    /// `ω = I(t)⁻¹ L`: before the first knot and after the last by the inverse found once;
+    /// between knots, a diagonal tensor's reciprocals (they depend on `t` alone, so the
+    /// state's chain of dependent operations takes a multiplication, not a division) or a full
+    /// tensor's cofactors.
     #[inline(always)]
     pub fn omega_from_momentum(&self, t: f64, l: &Vector3<f64>) -> Vector3<f64> {
+        let (first, last) = (self.times[0], self.times[self.times.len() - 1]);
+        // (a NaN time takes the first tensor, as a search would give it)
+        if t < first || t.is_nan() {
+            return self.inverses[0].times(l);
+        }
+        if t >= last {
+            return self.inverses[1].times(l);
+        }
+        // first <= t < last: the piece with times[k − 1] <= t < times[k]
         let k = self.times.partition_point(|&tk| tk <= t);
-        let m = if k == 0 {
-            self.tensors[0]
-        } else if k == self.times.len() {
-            self.tensors[k - 1]
-        } else {
-            let (ta, tb) = (self.times[k - 1], self.times[k]);
-            let (s, _) = smootherstep(crate::float::fraction(t, ta, tb));
-            self.tensors[k - 1] + (self.tensors[k] - self.tensors[k - 1]) * s
-        };
+        let (ta, tb) = (self.times[k - 1], self.times[k]);
+        let (s, _) = smootherstep(crate::float::fraction(t, ta, tb));
+        let m = self.tensors[k - 1] + (self.tensors[k] - self.tensors[k - 1]) * s;
         if self.diagonal {
-            Vector3::new(l.x / m[(0, 0)], l.y / m[(1, 1)], l.z / m[(2, 2)])
+            l.component_mul(&Vector3::new(
+                1.0 / m[(0, 0)],
+                1.0 / m[(1, 1)],
+                1.0 / m[(2, 2)],
+            ))
         } else {
             solve_symmetric(&m, l)
         }

@@ -17,14 +17,20 @@
 //! q' = ½ q ⊗ (0, ω)
 //! ```
 //!
-//! `ω` is made in one place ([`GeneralModel::omega_body`]): a part whose mass moves in the
-//! body would solve it jointly with its own rates there. A deployment alone is
+//! `ω` is made in one place ([`GeneralModel::omega_body`]). With parts whose mass moves in the
+//! body ([`Traits::MOVING_MASS`]: a spring–mass damper, a hinged appendage, slosh) it is solved
+//! there jointly with their rates, from the mass matrix of the hub and those parts about the
+//! system's mass centre ([`super::multibody`]; the body's mass is then needed): `H` is their
+//! total angular momentum, each such part's state holds its conjugate momenta, and each gets
+//! its rates and its element's velocity through [`Ctx::moving`]. A deployment alone is
 //! `L' = L × ω, ω = I(t)⁻¹ L` (see [`Deployment`]); a damped body alone is Hughes's spherical
 //! damper; constant wheels make a gyrostat. Without external torques every such model keeps
 //! `|H|` and `H` in space exactly; with a gravity gradient alone (and constant wheels) the
 //! Jacobi integral ([`Model::jacobi`]). The energy `E = ½ ωᵀ I ω + Σ E_k` of a system whose
 //! parts only dissipate falls by exactly `W`: its energy balance `E + W` is kept, and its drift
 //! measures the run's error as the free body's energy drift does.
+
+use std::fmt::Debug;
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -33,10 +39,14 @@ use crate::float::RateScale;
 use crate::kinematics::world_to_body;
 use crate::ode::OdeSystem;
 
+use super::damper::DamperKernel;
+use super::gravity::OrbitKernel;
 use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
+use super::multibody::{self, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
+use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
 use super::{Clocks, Deployment};
@@ -225,12 +235,50 @@ impl Hot {
     }
 }
 
+/// A right-hand side written out for a common system (see [`OrbitKernel`], [`DamperKernel`]):
+/// a body of constant principal moments with the gravity gradient alone (and constant
+/// wheels), or with one damper alone. Every other system takes the parts in turn.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kernel {
+    None,
+    Orbit(OrbitKernel),
+    Damper(DamperKernel),
+}
+
+impl Kernel {
+    fn of(
+        inertia: &InertiaLaw,
+        parts: &[AnyPart],
+        folded: bool,
+        stored: Option<Vector3<f64>>,
+    ) -> Self {
+        let InertiaLaw::Constant(ConstantInertia {
+            diagonal: Some((d, r)),
+            ..
+        }) = inertia
+        else {
+            return Kernel::None;
+        };
+        let changing = |p: &&AnyPart| !GeneralModel::<7>::is_lean(std::slice::from_ref(p));
+        let mut hot = parts.iter().filter(changing);
+        match (hot.next(), hot.next(), folded) {
+            (Some(AnyPart::GravityGradient(g)), None, false) => {
+                Kernel::Orbit(OrbitKernel::new(g, *d, *r, stored.unwrap_or_default()))
+            }
+            (Some(AnyPart::Damper(p)), None, false) if parts.len() == 1 => {
+                Kernel::Damper(DamperKernel::new(p, *r))
+            }
+            _ => Kernel::None,
+        }
+    }
+}
+
 /// The general model (see the module doc); `N` is the state size, at least `7 +` the parts'
 /// state (and one for the dissipated work). `HOT = false` is the model of a system whose parts
 /// are all folded (constant wheels and torques, or none: a deployment): its right-hand side is
 /// compiled without any part's code (see [`GeneralModel::is_lean`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct GeneralModel<const N: usize, const HOT: bool = true> {
+pub struct GeneralModel<const N: usize, const HOT: bool = true, M: Movers = NoMoving> {
     inertia: InertiaLaw,
     /// Every part, in the user's order (in the run's axes and units).
     parts: Vec<AnyPart>,
@@ -248,6 +296,7 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     sampled: Vec<Placed>,
     /// The right-hand side's view of the same (see [`Hot`]).
     hot: Hot,
+    kernel: Kernel,
     /// Whether there is any external torque.
     torqued: bool,
     /// The parts' state: how many numbers, and the dimension of each.
@@ -268,10 +317,97 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true> {
     clocks: Clocks,
     /// The run's end (kept through a change of units).
     horizon: f64,
+    /// The parts whose mass moves in the body and the hub they move in: the one extension of
+    /// the model for such parts ([`Moving`]), or nothing ([`NoMoving`], every other model).
+    moving: M,
+}
+
+/// The parts whose mass moves in the body (see [`super::multibody`]), the hub they move in
+/// and the other parts with state as the joint solve's right-hand side takes them. Nothing in
+/// it depends on the state's size `N`, and its joint solve is out of line: it is compiled once,
+/// not once per state size and per stage of every method (generic over `N` and over four
+/// buffer sizes, and inlined, it had made a release build of the module 4× as long).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Moving {
+    parts: Vec<Placed>,
+    /// The hub (the body's mass and tensor), once the body's mass is given.
+    hub: Option<Hub>,
+    /// A single such part, the system's only one on a body of constant inertia, in its
+    /// closed form (see [`super::Part::alone`]).
+    alone: Option<AloneSolve>,
+    /// The parts with state, and those that dissipate, whose mass does not move.
+    fixed_states: Vec<Placed>,
+    fixed_dissipators: Vec<Placed>,
+}
+
+/// What a general model holds of parts whose mass moves, chosen once when the run builds it:
+/// [`Moving`], or [`NoMoving`] for every other model. `NoMoving` holds nothing and its
+/// [`Movers::get`] is a constant `None`, so such a model's layout and right-hand side are
+/// those of a model without the extension: a body pays nothing for parts it does not have.
+pub trait Movers: Debug + Clone + PartialEq + Send + Sync + Sized {
+    /// The moving parts of `moving` as this type holds them; `None` if it holds none and
+    /// there are some (a bug in the caller: the run picks the type).
+    fn from_moving(moving: Moving) -> Option<Self>;
+    /// The moving parts, if the type holds them.
+    fn get(&self) -> Option<&Moving>;
+    fn get_mut(&mut self) -> Option<&mut Moving>;
+    /// `model` as a model without moving parts, if it is one (what the splittings run).
+    fn plain<const N: usize, const HOT: bool>(
+        model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>>;
+}
+
+/// No part whose mass moves (see [`Movers`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct NoMoving;
+
+impl Movers for NoMoving {
+    fn from_moving(moving: Moving) -> Option<Self> {
+        moving.parts.is_empty().then_some(NoMoving)
+    }
+    #[inline(always)]
+    fn get(&self) -> Option<&Moving> {
+        None
+    }
+    #[inline(always)]
+    fn get_mut(&mut self) -> Option<&mut Moving> {
+        None
+    }
+    fn plain<const N: usize, const HOT: bool>(
+        model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>> {
+        Some(model)
+    }
+}
+
+impl Movers for Moving {
+    fn from_moving(moving: Moving) -> Option<Self> {
+        Some(moving)
+    }
+    #[inline(always)]
+    fn get(&self) -> Option<&Moving> {
+        Some(self)
+    }
+    #[inline(always)]
+    fn get_mut(&mut self) -> Option<&mut Moving> {
+        Some(self)
+    }
+    fn plain<const N: usize, const HOT: bool>(
+        _model: &GeneralModel<N, HOT, Self>,
+    ) -> Option<&GeneralModel<N, HOT>> {
+        None
+    }
+}
+
+impl Moving {
+    /// Whether `parts` has one whose mass moves: the run then builds a model with [`Moving`].
+    pub fn needed(parts: &[AnyPart]) -> bool {
+        (parts.iter()).any(|p| p.info().traits.contains(Traits::MOVING_MASS))
+    }
 }
 
 /// # Construction
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// A body of inertia `inertia` with `parts` (in the run's axes and units), in the user's
     /// order.
     ///
@@ -281,6 +417,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         let mut at = 3;
         let (mut stores, mut torques, mut states) = (Vec::new(), Vec::new(), Vec::new());
         let (mut dissipators, mut sampled, mut dims) = (Vec::new(), Vec::new(), Vec::new());
+        let mut moving = Moving::default();
         let (mut stored, mut body_torque, mut world_torque) = (None, None, None);
         let mut torqued = false;
         let mut placed_all = Vec::new();
@@ -319,6 +456,9 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             for field in info.state {
                 dims.extend(std::iter::repeat_n(field.dim, field.width));
             }
+            if info.traits.contains(Traits::MOVING_MASS) {
+                moving.parts.push(placed.clone());
+            }
             if width > 0 {
                 states.push(placed.clone());
             }
@@ -345,6 +485,21 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
                 parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
             ));
         }
+        let folded = body_torque.is_some() || world_torque.is_some();
+        let kernel = match HOT {
+            true => Kernel::of(&inertia, &parts, folded, stored),
+            false => Kernel::None,
+        };
+        let still = |p: &&Placed| !p.part.info().traits.contains(Traits::MOVING_MASS);
+        moving.fixed_states = states.iter().filter(still).cloned().collect();
+        moving.fixed_dissipators = dissipators.iter().filter(still).cloned().collect();
+        let Some(moving) = M::from_moving(moving) else {
+            return Err(Error::invalid(
+                "parts",
+                "must not move mass in a model without moving parts (a bug: the run picks it)",
+                parts.iter().map(AnyPart::name).collect::<Vec<_>>(),
+            ));
+        };
         let changing = matches!(inertia, InertiaLaw::Schedule(_));
         let kinds = kinds_of(changing, &parts);
         let works = kinds.models().any(|m| m.energy == EnergyRole::DoesWork);
@@ -361,6 +516,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             dissipators,
             sampled,
             hot,
+            kernel,
             torqued,
             width,
             dims,
@@ -370,9 +526,45 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             knots: Vec::new(),
             clocks: Clocks::default(),
             horizon: 0.0,
+            moving,
         };
         model.lay_out();
         Ok(model)
+    }
+
+    /// The same model carried by a hub of mass `mass` (the body's), for parts whose mass moves.
+    ///
+    /// # Errors
+    /// Such parts and no mass; more rates than the joint solve holds.
+    pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
+        let (inertia, only) = (&self.inertia, self.parts.len() == 1);
+        let only = only && self.stored.is_none() && !self.torqued;
+        let Some(moving) = self.moving.get_mut().filter(|m| !m.parts.is_empty()) else {
+            return Ok(self);
+        };
+        let Some(mass) = mass else {
+            return Err(Error::invalid(
+                "body",
+                "must have a mass (the system's `mass`) to carry parts whose mass moves in it",
+                "no mass",
+            ));
+        };
+        let movers = &moving.parts;
+        let k: usize = movers.iter().map(|p| p.part.moving_rates()).sum();
+        if k > MAX_RATES {
+            return Err(Error::invalid(
+                "parts",
+                format!("must have at most {MAX_RATES} degrees of freedom"),
+                k,
+            ));
+        }
+        let carried: f64 = movers.iter().map(|p| p.part.moving_mass()).sum();
+        let hub = Hub::try_new(inertia.tensor_at(0.0), mass, carried)?;
+        let constant = matches!(inertia, InertiaLaw::Constant(_));
+        let alone = (constant && only).then(|| movers[0].part.alone(&hub));
+        moving.alone = alone.flatten();
+        moving.hub = Some(hub);
+        Ok(self)
     }
 
     /// The same model for a run over `[0, t_end]` (its sample times are asked for as the run
@@ -410,6 +602,29 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
         for p in &self.stores {
             h += p.part.momentum(t0, p.of(&x));
         }
+        let moving = self.moving.get();
+        if let Some((moving, hub)) = moving.and_then(|m| Some((m, m.hub_at(&self.inertia, t0)?))) {
+            // the parts' start rates into momenta, by the mass matrix at the start
+            let mut carried = Vec::new();
+            let mut v = [0.0; MAX_RATES];
+            let mut row = 0;
+            for m in &moving.parts {
+                let c = m.part.carried(m.of(&x)).unwrap_or_default().0;
+                let r = m.part.start_rates(m.of(&x));
+                let n = c.rates.min(MAX_RATES - row);
+                v[row..row + n].copy_from_slice(&r[..n]);
+                row += c.rates;
+                carried.push(c);
+            }
+            let (body, p) = MassMatrix::<MAX_RATES>::assemble(&hub, &carried).apply(&omega, &v);
+            h += body - self.inertia.tensor_at(t0) * omega;
+            let mut row = 0;
+            for (m, c) in moving.parts.iter().zip(&carried) {
+                m.part
+                    .set_momenta(&mut x[m.at..m.at + m.width], &p[row..row + c.rates]);
+                row += c.rates;
+            }
+        }
         x[..3].copy_from_slice(h.as_slice());
         x[N - 4..].copy_from_slice(&q0);
         x
@@ -440,7 +655,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
 }
 
 /// # Evaluation
-impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// What the parts see at `(t, x)` with body rates `omega`.
     #[inline(always)]
     fn ctx(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Ctx<'_> {
@@ -449,6 +664,7 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
             q: attitude(x),
             omega,
             inertia: &self.inertia,
+            moving: None,
         }
     }
 
@@ -526,9 +742,210 @@ impl<const N: usize, const HOT: bool> GeneralModel<N, HOT> {
     }
 }
 
-impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
+/// What the joint solve gives at one state: the motion, what each moving part carries, and
+/// their momenta.
+struct Joint {
+    motion: multibody::Motion<MAX_RATES>,
+    carried: [Carried; MAX_RATES],
+    momenta: [f64; MAX_RATES],
+}
+
+/// # The joint solve (see [`super::multibody`]), whatever the state's size
+impl Moving {
+    /// The hub at `t` (a deployment's tensor then).
+    #[inline(always)]
+    fn hub_at(&self, inertia: &InertiaLaw, t: f64) -> Option<Hub> {
+        let hub = self.hub?;
+        Some(match inertia {
+            InertiaLaw::Constant(_) => hub,
+            InertiaLaw::Schedule(d) => hub.with_inertia(d.inertia_at(t)),
+        })
+    }
+
+    /// The joint solve at `(t, x)`, `l` the body's own momentum `H − Σ h_k` there.
+    #[inline(never)]
+    fn joint(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> Joint {
+        let mut carried = [Carried::default(); MAX_RATES];
+        let mut p = [0.0; MAX_RATES];
+        let mut row = 0;
+        for (k, m) in self.parts.iter().enumerate().take(MAX_RATES) {
+            let (c, mo) = m.part.carried(m.of(x)).unwrap_or_default();
+            let n = c.rates.min(MAX_RATES - row);
+            p[row..row + n].copy_from_slice(&mo[..n]);
+            row += c.rates;
+            carried[k] = c;
+        }
+        let n = self.parts.len().min(MAX_RATES);
+        let motion = match self.hub_at(inertia, t) {
+            Some(hub) => multibody::motion(&hub, &carried[..n], l, &p),
+            None => multibody::Motion {
+                omega: inertia.omega_from(t, l),
+                rates: [0.0; MAX_RATES],
+                drift: Vector3::zeros(),
+            },
+        };
+        Joint {
+            motion,
+            carried,
+            momenta: p,
+        }
+    }
+
+    /// What the joint solve gives mover `k`, whose rates start at `row`.
+    #[inline(always)]
+    fn moved(j: &Joint, k: usize, row: usize) -> Moved<'_> {
+        let c = &j.carried[k];
+        let (velocity, spin) = j.motion.element(c, row);
+        let mut rates = [0.0; PART_RATES];
+        for (i, r) in rates.iter_mut().enumerate().take(c.rates) {
+            *r = j.motion.rates[row + i];
+        }
+        Moved {
+            rates,
+            velocity,
+            spin,
+            carried: c,
+        }
+    }
+
+    /// `s ×` the rates of every part with state into `dx` (a state's places), given what
+    /// the parts see `c` and the joint solve `j` at `x`; the power they dissipate.
+    #[inline(never)]
+    fn rates(&self, c: &Ctx<'_>, x: &[f64], j: &Joint, s: f64, dx: &mut [f64]) -> f64 {
+        let mut power = 0.0;
+        for p in &self.fixed_states {
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(c, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+        }
+        for p in &self.fixed_dissipators {
+            power += p.part.dissipation(c, p.of(x));
+        }
+        let mut row = 0;
+        for (k, p) in self.parts.iter().enumerate().take(MAX_RATES) {
+            let moved = Ctx {
+                moving: Some(Self::moved(j, k, row)),
+                ..*c
+            };
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(&moved, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+            power += p.part.dissipation(&moved, p.of(x));
+            row += j.carried[k].rates;
+        }
+        power
+    }
+
+    /// The kinetic energy `½ (ω · l + v · p)` at `(t, x)`, `l` the body's own momentum.
+    fn kinetic(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> f64 {
+        let j = self.joint(inertia, t, x, l);
+        let k = j.carried.iter().map(|c| c.rates).sum();
+        multibody::kinetic_energy(&j.motion.omega, &j.motion.rates, l, &j.momenta, k)
+    }
+}
+
+/// # Parts whose mass moves (see [`Moving`])
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
+    /// `s · x'` with the joint solve: out of line, so that a method's stages each call it
+    /// rather than each hold a copy, and on a copy of the state, so that the caller's stays
+    /// in registers (see [`Hot`]).
+    #[inline(never)]
+    fn increment_moving(&self, moving: &Moving, t: f64, x: [f64; N], s: f64) -> [f64; N] {
+        let x = &x;
+        let j = moving.joint(&self.inertia, t, x, &self.body_momentum(t, x));
+        let omega = j.motion.omega;
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let mut dh = h.cross(&omega);
+        if self.torqued {
+            dh += self.torque_at(t, x, omega);
+        }
+        let mut dx = [0.0; N];
+        dx[..3].copy_from_slice((dh * s).as_slice());
+        let power = moving.rates(&self.ctx(t, x, omega), x, &j, s, &mut dx);
+        if let Some(k) = self.balance {
+            dx[k] = power * s;
+        }
+        let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
+        dx[N - 4..].copy_from_slice(&dq);
+        dx
+    }
+
+    /// `s · x'` of a part alone on its hub, by its closed form (out of line, on a copy of
+    /// the state, as above).
+    #[inline(never)]
+    fn increment_alone(
+        &self,
+        moving: &Moving,
+        alone: &AloneSolve,
+        x: [f64; N],
+        s: f64,
+    ) -> [f64; N] {
+        let x = &x;
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let p = &moving.parts[0];
+        let mut dx = [0.0; N];
+        let (omega, power) = alone
+            .0
+            .increment(&h, p.of(x), s, &mut dx[p.at..p.at + p.width]);
+        let dh = h.cross(&omega) * s;
+        dx[..3].copy_from_slice(dh.as_slice());
+        if let Some(k) = self.balance {
+            dx[k] = power * s;
+        }
+        let dq = quaternion_increment([x[N - 4], x[N - 3], x[N - 2], x[N - 1]], omega, s);
+        dx[N - 4..].copy_from_slice(&dq);
+        dx
+    }
+}
+
+/// # Body rates with parts whose mass moves
+impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
+    /// `ω` by the lone part's closed form or the joint solve (out of line, on a copy of the
+    /// state, as [`GeneralModel::increment_moving`]).
+    #[inline(never)]
+    fn omega_moving(&self, moving: &Moving, t: f64, x: [f64; N]) -> Vector3<f64> {
+        match &moving.alone {
+            Some(alone) => alone
+                .0
+                .omega(&Vector3::new(x[0], x[1], x[2]), moving.parts[0].of(&x)),
+            None => {
+                (moving.joint(&self.inertia, t, &x, &self.body_momentum(t, &x)))
+                    .motion
+                    .omega
+            }
+        }
+    }
+}
+
+impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N, HOT, M> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        if let (true, Some(moving)) = (HOT, self.moving.get()) {
+            return match &moving.alone {
+                Some(alone) => self.increment_alone(moving, alone, *x, s),
+                None => self.increment_moving(moving, t, *x, s),
+            };
+        }
+        let q = [x[N - 4], x[N - 3], x[N - 2], x[N - 1]];
+        match self.kernel {
+            Kernel::Orbit(k) if HOT => {
+                let (dh, dq) = k.increment(t, [x[0], x[1], x[2]], q, s);
+                let mut dx = [0.0; N];
+                dx[..3].copy_from_slice(&dh);
+                dx[N - 4..].copy_from_slice(&dq);
+                return dx;
+            }
+            Kernel::Damper(k) if HOT && N >= 11 => {
+                let (dh, ds, dw, dq) = k.increment([x[0], x[1], x[2]], [x[3], x[4], x[5]], q, s);
+                let mut dx = [0.0; N];
+                dx[..3].copy_from_slice(&dh);
+                dx[3..6].copy_from_slice(&ds);
+                dx[N - 5] = dw;
+                dx[N - 4..].copy_from_slice(&dq);
+                return dx;
+            }
+            _ => {}
+        }
         let h = Vector3::new(x[0], x[1], x[2]);
         let omega = self.omega_body(t, x);
         let mut dh = h.cross(&omega);
@@ -574,7 +991,7 @@ impl<const N: usize, const HOT: bool> OdeSystem<N> for GeneralModel<N, HOT> {
     }
 }
 
-impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> Model<N> for GeneralModel<N, HOT, M> {
     /// `|H|` and `H` in space at the start.
     type Kept = MomentumProjection;
 
@@ -589,7 +1006,10 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `ω = I(t)⁻¹ (H − Σ h_k)`: the one place a state's body rates are made.
     #[inline(always)]
     fn omega_body(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.inertia.omega_from(t, &self.body_momentum(t, x))
+        match self.moving.get() {
+            Some(moving) if HOT => self.omega_moving(moving, t, *x),
+            _ => self.inertia.omega_from(t, &self.body_momentum(t, x)),
+        }
     }
 
     #[inline(always)]
@@ -621,7 +1041,13 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
     /// `½ lᵀ I⁻¹ l` of the body's own momentum `l`, plus the parts' own energies.
     fn energy(&self, t: f64, x: &[f64; N]) -> f64 {
         let l = self.body_momentum(t, x);
-        let body = 0.5 * l.dot(&self.inertia.omega_from(t, &l));
+        let body = match self.moving.get() {
+            None => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
+            Some(m) => match &m.alone {
+                Some(alone) => alone.0.kinetic(&l, m.parts[0].of(x)),
+                None => m.kinetic(&self.inertia, t, x, &l),
+            },
+        };
         (self.states.iter()).fold(body, |e, p| e + p.part.energy(t, p.of(x)))
     }
 
@@ -650,7 +1076,11 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             let largest = self.inertia.tensor_at(0.0).symmetric_eigenvalues().max();
             (self.parts.iter()).find_map(|p| p.rate_bound(least, largest, j, stored))
         });
-        free.max(bound.unwrap_or(0.0))
+        let free = free.max(bound.unwrap_or(0.0));
+        let movers = self.moving.get().map_or(&[][..], |m| &m.parts[..]);
+        movers
+            .iter()
+            .fold(free, |m, p| m.max(p.part.frequency(free)))
     }
 
     /// The size of `H` over the run (and of rate-like parts' state): the absolute tolerance's
@@ -766,7 +1196,9 @@ impl<const N: usize, const HOT: bool> Model<N> for GeneralModel<N, HOT> {
             .map(|p| p.in_units(scale))
             .collect::<Result<Vec<_>>>()?;
         // the kinks and sample times follow the laws' times, rebuilt in the run's units
-        Ok(Self::try_new(inertia, parts)?.until(scale.time_to_unit(self.horizon)))
+        Ok(Self::try_new(inertia, parts)?
+            .with_hub_mass(self.moving.get().and_then(|m| m.hub).map(|h| h.mass()))?
+            .until(scale.time_to_unit(self.horizon)))
     }
 }
 

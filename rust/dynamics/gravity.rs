@@ -30,9 +30,10 @@
 //! `V' = −ω·τ + n ẑ_b·τ`; the three sum to zero. A constant body with constant wheels keeps
 //! it; a deployment (its work), a damper (its loss) or another torque do not.
 //!
-//! **Speed.** A right-hand side of a body in orbit is the free body's plus this torque, so that
-//! an RK4 step under the gravity gradient costs at most about twice the free body's (issue
-//! 21's bar). What makes it cheap, each at round-off from the plain formula:
+//! **Speed.** A right-hand side of a body in orbit is the free body's plus this torque; issue
+//! 21's bar is an RK4 step at most twice the free body's (not met: 3.4× on an AMD EPYC,
+//! 2026-11-29, with [`OrbitKernel`]; the phase and `1/|q|⁴` alone cost about the free body's
+//! step). What makes it cheap, each at round-off from the plain formula:
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
 //!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
@@ -152,6 +153,80 @@ pub fn gravity_gradient_torque(
     );
     let scale = 3.0 * n * n / (norm2 * norm2);
     r.cross(&inertia(&r)) * scale
+}
+
+/// The right-hand side, times `s`, of a body of constant principal moments in the gravity
+/// gradient alone (constant wheels aside): what a run of such a system evaluates four times a
+/// step, written out for its chain of dependent operations (the general model's for a right-hand
+/// side of any parts goes through each kind's contribution in turn). At round-off from the
+/// plain formulas (tested), with what depends on `t` and `s` alone formed beside the chain:
+/// - `ω s / 2` from `H − h` by a multiplication by `r s / 2` (`r` the reciprocal moments): the
+///   quaternion's rate takes it without a product after its sums, and `(H × ω) s` is
+///   `2H × (ω s / 2)`, `2H` exact;
+/// - the torque of a diagonal tensor, `r̂_b × (I r̂_b) = (r_y r_z (I_z − I_y), …)`, as
+///   `(r̃_y r̃_z) (3 n² s ΔI_x) / |q|⁴` from the unnormalised `r̃` (see
+///   [`gravity_gradient_torque`]): the division waits on `q` alone and meets the products last.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitKernel {
+    orbit_rate: f64,
+    /// `3 n² (I_z − I_y, I_x − I_z, I_y − I_x)`.
+    gradient: Vector3<f64>,
+    reciprocals: Vector3<f64>,
+    /// The constant stored momenta (constant wheels), summed.
+    stored: Vector3<f64>,
+}
+
+impl OrbitKernel {
+    /// The kernel of `gravity` on a body of principal moments `moments` (reciprocals
+    /// `reciprocals`) holding the constant momenta `stored`.
+    pub fn new(
+        gravity: &GravityGradient,
+        moments: Vector3<f64>,
+        reciprocals: Vector3<f64>,
+        stored: Vector3<f64>,
+    ) -> Self {
+        let n = gravity.orbit_rate;
+        let (i, k) = (moments, 3.0 * n * n);
+        Self {
+            orbit_rate: n,
+            gradient: Vector3::new(k * (i.z - i.y), k * (i.x - i.z), k * (i.y - i.x)),
+            reciprocals,
+            stored,
+        }
+    }
+
+    /// `(H' s, q' s)` at `t` for the total momentum `h` (body axes) and the attitude `q`
+    /// (world-from-body, any non-zero size).
+    #[inline(always)]
+    pub fn increment(&self, t: f64, h: [f64; 3], q: [f64; 4], s: f64) -> ([f64; 3], [f64; 4]) {
+        let (sn, cn) = sin_cos(self.orbit_rate * t);
+        let h = Vector3::from(h);
+        let u = (h - self.stored).component_mul(&(self.reciprocals * (0.5 * s)));
+        let turn = (h + h).cross(&u);
+        let [w, x, y, z] = q;
+        let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
+        let norm2 = (ww + xx) + (yy + zz);
+        let (xy, wz) = (x * y, w * z);
+        let r = Vector3::new(
+            cn * ((ww + xx) - (yy + zz)) + sn * (2.0 * (xy + wz)),
+            cn * (2.0 * (xy - wz)) + sn * ((ww - xx) + (yy - zz)),
+            cn * (2.0 * (x * z + w * y)) + sn * (2.0 * (y * z - w * x)),
+        );
+        let inv = 1.0 / (norm2 * norm2);
+        let g = self.gradient * s;
+        let torque = Vector3::new(
+            (r.y * r.z * g.x) * inv,
+            (r.z * r.x * g.y) * inv,
+            (r.x * r.y * g.z) * inv,
+        );
+        let dq = [
+            -(x * u.x + y * u.y + z * u.z),
+            w * u.x + y * u.z - z * u.y,
+            w * u.y + z * u.x - x * u.z,
+            w * u.z + x * u.y - y * u.x,
+        ];
+        ((turn + torque).into(), dq)
+    }
 }
 
 /// The gravity gradient of a circular orbit of rate `orbit_rate` in the world `x–y` plane
@@ -293,6 +368,38 @@ mod tests {
         assert_eq!(sin_cos(0.0), (0.0, 1.0));
         assert_eq!(sin_cos(1e7), 1e7_f64.sin_cos());
         assert!(sin_cos(f64::NAN).0.is_nan());
+    }
+
+    #[test]
+    fn the_kernel_is_the_plain_right_hand_side_at_any_size_of_q() {
+        let (n, i) = (0.3, Vector3::new(2.0, 3.0, 4.5));
+        let stored = Vector3::new(0.1, -0.4, 0.25);
+        let g = GravityGradient::try_new(n).unwrap();
+        let kernel = OrbitKernel::new(&g, i, i.map(|v| 1.0 / v), stored);
+        for (k, t) in arguments(50, 40.0).enumerate() {
+            let size = 0.5 + k as f64 * 0.03;
+            let q = Quaternion::new(0.9, 0.2 - t * 0.01, -0.3, 0.25) * size;
+            let h = Vector3::new(0.7 + t * 0.01, -1.1, 2.3);
+            let s = 0.01 + k as f64 * 1e-3;
+            // H' = H × ω + 3n² r̂_b × (I r̂_b), q' = ½ q ⊗ (0, ω), ω = I⁻¹ (H − h)
+            let omega = (h - stored).component_div(&i);
+            let tensor = Matrix3::from_diagonal(&i);
+            let rb =
+                rotation_matrix(&q).transpose() * Vector3::new((n * t).cos(), (n * t).sin(), 0.0);
+            let dh = (h.cross(&omega) + rb.cross(&(tensor * rb)) * (3.0 * n * n)) * s;
+            let dq = q * Quaternion::from_imag(omega) * (0.5 * s);
+            let (fh, fq) = kernel.increment(t, h.into(), [q.w, q.i, q.j, q.k], s);
+            let size_h = dh.amax().max(1e-300);
+            assert!(
+                (Vector3::from(fh) - dh).amax() < 1e-14 * size_h,
+                "{t}: {fh:?} vs {dh}"
+            );
+            let plain = [dq.w, dq.i, dq.j, dq.k];
+            let size_q = plain.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            for (a, b) in fq.iter().zip(plain) {
+                assert!((a - b).abs() < 1e-14 * size_q, "{t}: {fq:?} vs {plain:?}");
+            }
+        }
     }
 
     #[test]

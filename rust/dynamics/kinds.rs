@@ -163,11 +163,14 @@ impl Traits {
     /// A part evaluated at sample times of its own (a controller): every step ends on them,
     /// and the run calls the part there.
     pub const SAMPLED: Self = Self(64);
+    /// A part whose mass moves in the body (a spring–mass damper, a hinged appendage, slosh):
+    /// the body rates and the parts' come from one solve of the system's mass matrix.
+    pub const MOVING_MASS: Self = Self(128);
     /// Every trait: what a method that runs any model handles.
-    pub const ALL: Self = Self(127);
+    pub const ALL: Self = Self(255);
 
     /// The names of the traits, for users.
-    pub const NAMES: [(Self, &'static str); 7] = [
+    pub const NAMES: [(Self, &'static str); 8] = [
         (Self::CHANGING_BODY, "changing body"),
         (Self::PART_STATE, "part state"),
         (Self::STORED_MOMENTUM, "stored momentum"),
@@ -175,6 +178,7 @@ impl Traits {
         (Self::RATE_TORQUE, "rate-dependent torque"),
         (Self::KINKS, "kinks"),
         (Self::SAMPLED, "sample times"),
+        (Self::MOVING_MASS, "moving mass"),
     ];
 
     pub const fn union(self, other: Self) -> Self {

@@ -15,10 +15,14 @@ mod deployment;
 mod free;
 mod general;
 pub mod gravity;
+mod hinge;
 mod kinds;
 pub mod model;
+pub mod multibody;
 pub mod part;
 pub mod registry;
+mod slosh;
+mod spring_mass;
 mod system;
 mod tabulated;
 mod torques;
@@ -32,8 +36,12 @@ pub use clocks::Clocks;
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;
-pub use general::{ConstantInertia, GeneralModel, InertiaLaw, MAX_PARTS_STATE, STATE_SIZES};
+pub use general::{
+    ConstantInertia, GeneralModel, InertiaLaw, Movers, Moving, NoMoving, MAX_PARTS_STATE,
+    STATE_SIZES,
+};
 pub use gravity::GravityGradient;
+pub use hinge::{Hinge, LoneHinge, Pose};
 pub use kinds::{Conserved, Kinds, Traits};
 pub use model::{MidAxis, Model};
 pub use part::{
@@ -41,6 +49,8 @@ pub use part::{
     ParamKind, Part, Sampling, Value,
 };
 pub use registry::{AnyPart, MODELS};
+pub use slosh::{LoneSlosh, Rod, Slosh, SloshRates};
+pub use spring_mass::{LoneSpring, SpringMass};
 pub use system::{System, SystemBody};
 pub use tabulated::{Outside, Table, TabulatedTorque};
 pub use torques::ConstantTorque;

@@ -36,6 +36,7 @@ use crate::float::RateScale;
 
 use super::general::InertiaLaw;
 use super::kinds::{Conserved, Traits};
+use super::multibody::{AloneSolve, Carried, Hub, PART_RATES};
 
 /// The kind of value a parameter takes: what the binding extracts, and files and scenes store.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -280,6 +281,18 @@ impl Fields {
         }
     }
 
+    /// The number `name`, if given.
+    ///
+    /// # Errors
+    /// `name` given but not a number.
+    pub fn optional_number(&self, name: &'static str) -> Result<Option<f64>> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Value::Number(v)) => Ok(Some(*v)),
+            Some(_) => Err(Self::missing(name, "a number")),
+        }
+    }
+
     /// The vector `name`, if given.
     ///
     /// # Errors
@@ -354,6 +367,19 @@ pub struct Ctx<'a> {
     pub q: Quaternion<f64>,
     pub omega: Vector3<f64>,
     pub inertia: &'a InertiaLaw,
+    /// For a part whose mass moves in the body: what the joint solve found for it.
+    pub moving: Option<Moved<'a>>,
+}
+
+/// What the joint solve of a body carrying moving mass gives one such part (see
+/// [`super::multibody`]): its rates, its mass element's velocity in the frame of the system's
+/// mass centre and its angular velocity (body axes), and what it carries at this state.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Moved<'a> {
+    pub rates: [f64; PART_RATES],
+    pub velocity: Vector3<f64>,
+    pub spin: Vector3<f64>,
+    pub carried: &'a Carried,
 }
 
 impl Ctx<'_> {
@@ -434,7 +460,44 @@ pub trait Part: Clone + Debug + PartialEq + Send + Sync + Sized {
     /// written into `x`.
     fn start(&self, _omega0: &Vector3<f64>, _x: &mut [f64]) {}
 
-    /// The part's own kinetic (and potential) energy at `t` with state `x`.
+    /// For a part whose mass moves in the body ([`Traits::MOVING_MASS`]): what it carries at
+    /// state `x` (see [`super::multibody`]) and its momenta conjugate to its rates.
+    #[inline(always)]
+    fn carried(&self, _x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
+        None
+    }
+
+    /// How many rates it has in the joint solve.
+    fn moving_rates(&self) -> usize {
+        0
+    }
+
+    /// The mass it moves in the body (constant).
+    fn moving_mass(&self) -> f64 {
+        0.0
+    }
+
+    /// Its rates at the start, from the state [`Part::start`] wrote.
+    fn start_rates(&self, _x: &[f64]) -> [f64; PART_RATES] {
+        [0.0; PART_RATES]
+    }
+
+    /// Writes the momenta `p` (the start's, from the mass matrix) into its state.
+    fn set_momenta(&self, _x: &mut [f64], _p: &[f64]) {}
+
+    /// Its closed form alone on `hub` (the system's only part), if it has one: the run then
+    /// takes it instead of the general joint solve.
+    fn alone(&self, _hub: &Hub) -> Option<AloneSolve> {
+        None
+    }
+
+    /// A bound on the frequency of its own oscillation on a body turning at up to `rate`.
+    fn frequency(&self, _rate: f64) -> f64 {
+        0.0
+    }
+
+    /// The part's own kinetic (and potential) energy at `t` with state `x`; a part whose mass
+    /// moves gives its potential alone (the kinetic energy is the whole system's).
     fn energy(&self, _t: f64, _x: &[f64]) -> f64 {
         0.0
     }

@@ -14,12 +14,14 @@ use crate::float::RateScale;
 
 use super::control::{BDot, Controller, MomentumDumping, QuaternionFeedback, ResidualDipole};
 use super::kinds::{Conserved, Kinds, Traits};
+use super::multibody::{AloneSolve, Carried, Hub, PART_RATES};
 use super::part::{
     Ctx, EnergyRole, Field, Fields, Frame, Function, MapFunction, ModelInfo, Param, ParamKind,
     Part, Sampling,
 };
 use super::{
-    CallableTorque, ConstantTorque, Damper, GravityGradient, TabulatedTorque, Wheel, WheelSchedule,
+    CallableTorque, ConstantTorque, Damper, GravityGradient, Hinge, Slosh, SpringMass,
+    TabulatedTorque, Wheel, WheelSchedule,
 };
 
 /// The constant free body (eq. 1): an inertia law, no part.
@@ -179,6 +181,35 @@ macro_rules! parts {
             #[inline(always)]
             pub fn dissipation(&self, c: &Ctx<'_>, x: &[f64]) -> f64 {
                 match self { $(AnyPart::$ty(p) => Part::dissipation(p, c, x),)* }
+            }
+
+            #[inline(always)]
+            pub fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
+                match self { $(AnyPart::$ty(p) => Part::carried(p, x),)* }
+            }
+
+            pub fn moving_rates(&self) -> usize {
+                match self { $(AnyPart::$ty(p) => Part::moving_rates(p),)* }
+            }
+
+            pub fn moving_mass(&self) -> f64 {
+                match self { $(AnyPart::$ty(p) => Part::moving_mass(p),)* }
+            }
+
+            pub fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
+                match self { $(AnyPart::$ty(p) => Part::start_rates(p, x),)* }
+            }
+
+            pub fn set_momenta(&self, x: &mut [f64], p_: &[f64]) {
+                match self { $(AnyPart::$ty(p) => Part::set_momenta(p, x, p_),)* }
+            }
+
+            pub fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
+                match self { $(AnyPart::$ty(p) => Part::alone(p, hub),)* }
+            }
+
+            pub fn frequency(&self, rate: f64) -> f64 {
+                match self { $(AnyPart::$ty(p) => Part::frequency(p, rate),)* }
             }
 
             pub fn largest_momentum(&self) -> f64 {
@@ -459,7 +490,10 @@ parts! {
     BDot,
     QuaternionFeedback,
     MomentumDumping,
-    Controller;
+    Controller,
+    SpringMass,
+    Hinge,
+    Slosh;
     // parts that exist only to test the seam
     test: Counter,
 }

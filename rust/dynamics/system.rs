@@ -33,6 +33,8 @@ pub struct System {
     body: SystemBody,
     parts: Vec<AnyPart>,
     seed: u64,
+    /// The body's mass (parts whose mass moves need it).
+    mass: Option<f64>,
 }
 
 impl System {
@@ -56,6 +58,7 @@ impl System {
             body,
             parts,
             seed: 0,
+            mass: None,
         };
         match system.state_width() <= MAX_PARTS_STATE {
             true => Ok(system),
@@ -88,6 +91,7 @@ impl System {
             body: SystemBody::Rigid(inertia),
             parts: Vec::new(),
             seed: 0,
+            mass: None,
         }
     }
 
@@ -97,6 +101,25 @@ impl System {
     pub fn with_seed(mut self, seed: u64) -> Self {
         self.seed = seed;
         self
+    }
+
+    /// The same system with the body's mass `mass`.
+    ///
+    /// # Errors
+    /// A mass that is not positive and finite.
+    pub fn with_mass(mut self, mass: Option<f64>) -> Result<Self> {
+        if let Some(m) = mass {
+            if !(m.is_finite() && m > 0.0) {
+                return Err(Error::invalid("mass", "must be positive and finite", m));
+            }
+        }
+        self.mass = mass;
+        Ok(self)
+    }
+
+    /// The body's mass, if known.
+    pub fn mass(&self) -> Option<f64> {
+        self.mass
     }
 
     pub fn body(&self) -> &SystemBody {

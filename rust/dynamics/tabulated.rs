@@ -229,8 +229,10 @@ impl Table {
 
 /// # Evaluation
 impl Table {
-    /// The value at `t` (from the left at a knot, see the module doc).
-    #[inline]
+    /// The value at `t` (from the left at a knot, see the module doc). Inline but for the
+    /// search, which a run's evaluations seldom need: a call in the right-hand side would
+    /// make it save and restore the state's registers around it at every evaluation.
+    #[inline(always)]
     pub fn at(&self, t: f64) -> Vector3<f64> {
         let (ts, vs) = (&self.times, &self.values);
         let last = ts.len() - 1;
@@ -245,14 +247,20 @@ impl Table {
         let h = self.hint.load(Ordering::Relaxed);
         let k = match h >= 1 && h <= last && ts[h - 1] < t && t <= ts[h] {
             true => h,
-            false => {
-                let k = ts.partition_point(|&s| s < t).clamp(1, last);
-                self.hint.store(k, Ordering::Relaxed);
-                k
-            }
+            false => self.search(t),
         };
         let s = crate::float::fraction(t, ts[k - 1], ts[k]);
         vs[k - 1] + (vs[k] - vs[k - 1]) * s
+    }
+
+    /// The piece `k` with `ts[k − 1] < t ≤ ts[k]` of a `t` inside the knots, kept as the hint.
+    #[cold]
+    #[inline(never)]
+    fn search(&self, t: f64) -> usize {
+        let (ts, last) = (&self.times, self.times.len() - 1);
+        let k = ts.partition_point(|&s| s < t).clamp(1, last);
+        self.hint.store(k, Ordering::Relaxed);
+        k
     }
 }
 
@@ -292,10 +300,9 @@ impl TabulatedTorque {
         self.frame
     }
 
-    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body). Out of
-    /// line, its arguments by value: a table's search is not worth inlining into every
-    /// right-hand side, and a context passed on by reference would stay in memory.
-    #[inline(never)]
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body): inline,
+    /// the table's search aside (see [`Table::at`]).
+    #[inline(always)]
     pub fn torque_at(&self, t: f64, q: Quaternion<f64>) -> Vector3<f64> {
         let v = self.table.at(t);
         match self.frame {
@@ -343,8 +350,7 @@ impl Part for TabulatedTorque {
         )
     }
 
-    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body), out of
-    /// line and by value (see [`TabulatedTorque::torque_at`]).
+    /// The torque in body axes at `t` on a body at attitude `q` (world-from-body).
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
         self.torque_at(c.t, c.q)

@@ -154,6 +154,7 @@ mod tests {
             q,
             omega: Vector3::zeros(),
             inertia: law,
+            moving: None,
         }
     }
 

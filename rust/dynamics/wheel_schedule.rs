@@ -125,7 +125,7 @@ impl Part for WheelSchedule {
         )
     }
 
-    #[inline(never)]
+    #[inline(always)]
     fn momentum(&self, t: f64, _x: &[f64]) -> Vector3<f64> {
         self.table.at(t)
     }

@@ -16,7 +16,7 @@
 
 use nalgebra::Vector3;
 
-use crate::dynamics::{EnergyRole, FreeRigidBody, GeneralModel, InertiaLaw, Model};
+use crate::dynamics::{EnergyRole, FreeRigidBody, GeneralModel, InertiaLaw, Model, Movers};
 
 use super::sides::hermite_zero;
 use super::Observer;
@@ -40,7 +40,7 @@ impl FlatAxes<7> for FreeRigidBody {
     }
 }
 
-impl<const N: usize, const HOT: bool> FlatAxes<N> for GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> FlatAxes<N> for GeneralModel<N, HOT, M> {
     fn flat_axes(&self) -> Option<[bool; 3]> {
         // a part that dissipates (a damper) brings the spin to the major axis
         (self.parts().iter()).find(|p| p.info().energy == EnergyRole::Dissipates)?;

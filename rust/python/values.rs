@@ -272,10 +272,15 @@ pub(crate) struct PySystem {
 
 #[pymethods]
 impl PySystem {
-    /// `body` with `parts` (internal parts and external torques, in order).
+    /// `body` with `parts` (internal parts and external torques, in order); `mass` the
+    /// body's, which parts whose mass moves in it need.
     #[new]
-    #[pyo3(signature = (body, parts = Vec::new()))]
-    fn new(body: &Bound<'_, PyAny>, parts: Vec<PyRef<'_, PyPart>>) -> PyResult<Self> {
+    #[pyo3(signature = (body, parts = Vec::new(), mass = None))]
+    fn new(
+        body: &Bound<'_, PyAny>,
+        parts: Vec<PyRef<'_, PyPart>>,
+        mass: Option<f64>,
+    ) -> PyResult<Self> {
         let body = match (body.cast::<PyRigidBody>(), body.cast::<PyDeployment>()) {
             (Ok(b), _) => SystemBody::Rigid(b.get().inner),
             (_, Ok(d)) => SystemBody::Deployment(d.get().inner.clone()),
@@ -290,7 +295,7 @@ impl PySystem {
         };
         let parts = parts.iter().map(|p| p.inner.clone()).collect();
         Ok(Self {
-            inner: System::try_new(body, parts)?,
+            inner: System::try_new(body, parts)?.with_mass(mass)?,
         })
     }
 

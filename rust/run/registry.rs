@@ -12,7 +12,7 @@ use std::str::FromStr;
 use std::sync::atomic::AtomicBool;
 
 use crate::dynamics::{
-    Conserved, FreeRigidBody, GeneralModel, Kinds, Model, ModelInfo, State, Traits,
+    Conserved, FreeRigidBody, GeneralModel, Kinds, Model, ModelInfo, Movers, State, Traits,
 };
 use crate::error::{Error, Result};
 use crate::integrators::{Dop853, Dopri5, Rk4};
@@ -773,7 +773,7 @@ impl Runs<7> for FreeRigidBody {
     }
 }
 
-impl<const N: usize, const HOT: bool> Runs<N> for GeneralModel<N, HOT> {
+impl<const N: usize, const HOT: bool, M: Movers> Runs<N> for GeneralModel<N, HOT, M> {
     fn run_method<O: Observer<N>>(
         &self,
         method: Method,
@@ -785,17 +785,21 @@ impl<const N: usize, const HOT: bool> Runs<N> for GeneralModel<N, HOT> {
         if let Some(run) = run_any(method, self, x0, grid, obs, cancel) {
             return run;
         }
+        // the splittings run a body without moving parts only
+        let Some(plain) = M::plain(self) else {
+            return refused(method, self.kinds());
+        };
         match method {
             Method::SplittingExact => {
-                let stepper = ExactKick::of(self, &x0)?;
+                let stepper = ExactKick::of(plain, &x0)?;
                 let kinks = |t| self.next_kink(t);
-                let (_, stats) = integrate_across(&stepper, self, x0, grid, &kinks, obs, cancel)?;
+                let (_, stats) = integrate_across(&stepper, plain, x0, grid, &kinks, obs, cancel)?;
                 Ok(stats)
             }
             Method::SplittingExact4 => {
-                let stepper = ExactKick4::of(self, &x0)?;
+                let stepper = ExactKick4::of(plain, &x0)?;
                 let kinks = |t| self.next_kink(t);
-                let (_, stats) = integrate_across(&stepper, self, x0, grid, &kinks, obs, cancel)?;
+                let (_, stats) = integrate_across(&stepper, plain, x0, grid, &kinks, obs, cancel)?;
                 Ok(stats)
             }
             other => refused(other, self.kinds()),

@@ -8,8 +8,8 @@ use nalgebra::{Matrix3, Quaternion, UnitQuaternion, Vector3};
 
 use crate::body::Inertia;
 use crate::dynamics::{
-    state_from, AnyPart, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, System,
-    SystemBody, STATE_SIZES,
+    state_from, AnyPart, ConstantInertia, FreeRigidBody, GeneralModel, InertiaLaw, Model, Movers,
+    Moving, System, SystemBody, STATE_SIZES,
 };
 use crate::error::{Error, Result};
 use crate::float::{exponent, ldexp, RateScale, UNSCALED};
@@ -108,7 +108,14 @@ enum Built {
     G14(GeneralModel<14>, [f64; 14]),
     G16(GeneralModel<16>, [f64; 16]),
     G24(GeneralModel<24>, [f64; 24]),
+    /// Parts whose mass moves in the body (see [`Moving`]): a model of its own, in two sizes
+    /// only, so that no other model carries its code and the build makes few copies of it.
+    M10(GeneralModel<10, true, Moving>, [f64; 10]),
+    M24(GeneralModel<24, true, Moving>, [f64; 24]),
 }
+
+/// The state sizes of a model with parts whose mass moves (see [`Built::M10`]).
+const MOVING_SIZES: [usize; 2] = [10, 24];
 
 /// `$e` with `$model` and `$x0` the general model of `$built` and its start, whatever its
 /// size; `$free` for the free body.
@@ -125,20 +132,25 @@ macro_rules! each_size {
             Built::G14($model, $x0) => $e,
             Built::G16($model, $x0) => $e,
             Built::G24($model, $x0) => $e,
+            Built::M10($model, $x0) => $e,
+            Built::M24($model, $x0) => $e,
         }
     };
 }
 
 /// The general model of `law` with `parts` up to `t_end`, in a state of `N` numbers, and its
 /// start from `omega` and `q` (the run's axes).
-fn general<const N: usize, const HOT: bool>(
+fn general<const N: usize, const HOT: bool, M: Movers>(
     law: InertiaLaw,
     parts: Vec<AnyPart>,
     omega: [f64; 3],
     q: [f64; 4],
     t_end: f64,
-) -> Result<(GeneralModel<N, HOT>, [f64; N])> {
-    let model = GeneralModel::<N, HOT>::try_new(law, parts)?.until(t_end);
+    mass: Option<f64>,
+) -> Result<(GeneralModel<N, HOT, M>, [f64; N])> {
+    let model = GeneralModel::<N, HOT, M>::try_new(law, parts)?
+        .with_hub_mass(mass)?
+        .until(t_end);
     let x0 = model.state_from(0.0, omega, q);
     finite_start(&x0)?;
     Ok((model, x0))
@@ -246,22 +258,32 @@ fn build(
                 .map(|p| p.seeded(system.seed(), k))
         })
         .collect::<Result<Vec<_>>>()?;
+    // the body's mass over the moments' power of two (its parts' masses go with them)
+    let mass = system.mass().map(scaled);
     let needed = 7 + system.state_width();
     let Some(&size) = STATE_SIZES.iter().find(|&&n| n >= needed) else {
         return Err(System::too_much_state(needed - 7));
     };
+    if Moving::needed(&parts) {
+        let size = MOVING_SIZES.iter().find(|&&n| n >= needed);
+        let built = match size {
+            Some(10) => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::M10(m, x)),
+            _ => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::M24(m, x)),
+        }?;
+        return Ok((built, edge, m));
+    }
     let built = match size {
         7 if GeneralModel::<7>::is_lean(&parts) => {
-            general(law, parts, omega, q, t_end).map(|(m, x)| Built::Lean(m, x))
+            general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::Lean(m, x))
         }
-        7 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G7(m, x)),
-        8 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G8(m, x)),
-        10 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G10(m, x)),
-        11 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G11(m, x)),
-        12 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G12(m, x)),
-        14 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G14(m, x)),
-        16 => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G16(m, x)),
-        _ => general(law, parts, omega, q, t_end).map(|(m, x)| Built::G24(m, x)),
+        7 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G7(m, x)),
+        8 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G8(m, x)),
+        10 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G10(m, x)),
+        11 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G11(m, x)),
+        12 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G12(m, x)),
+        14 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G14(m, x)),
+        16 => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G16(m, x)),
+        _ => general(law, parts, omega, q, t_end, mass).map(|(m, x)| Built::G24(m, x)),
     }?;
     Ok((built, edge, m))
 }

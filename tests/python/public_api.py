@@ -1220,6 +1220,9 @@ def _simulate_entry(method: str) -> Entry:
     )
 
 
+SINK_VECTOR = st.sampled_from([(math.nan, 0.0, 0.0), (1.0, 0.0), "v", None, np.ones((2, 3))])
+"""Vectors the energy sinks' classes refuse (issue 31)."""
+
 ENTRIES: dict[str, Entry] = {
     "Body": Entry(
         call=dz.Body,
@@ -1823,6 +1826,53 @@ ENTRIES: dict[str, Entry] = {
         covers=(dz.Damper,),
         min_success=1.0,
     ),
+    "SpringMassDamper": Entry(
+        call=dz.SpringMassDamper,
+        valid=st.fixed_dictionaries(
+            {"mass": st.floats(1e-3, 1.0), "anchor": real_arrays((3,), st.floats(-1.0, 1.0)),
+             "direction": st.just((0.0, 0.0, 1.0)), "stiffness": st.floats(0.0, 10.0),
+             "damping": st.floats(0.0, 1.0)},
+            optional={"x0": st.floats(-0.1, 0.1), "rate0": st.floats(-0.1, 0.1)}),
+        hostile={"mass": st.sampled_from([0.0, -1.0, math.nan, math.inf, "m", None]),
+                 "anchor": SINK_VECTOR, "direction": SINK_VECTOR,
+                 "stiffness": st.sampled_from([-1.0, math.nan, math.inf, "k", None]),
+                 "damping": st.sampled_from([-1.0, math.nan, math.inf, "c", None]),
+                 "x0": st.sampled_from([math.nan, math.inf, "x"])},
+        check=lambda kw, p, _: _assert(p.mass == kw["mass"] and p.model == "spring_mass"),
+        covers=(dz.SpringMassDamper,),
+        min_success=0.9,
+    ),
+    "Hinge": Entry(
+        call=dz.Hinge,
+        valid=st.fixed_dictionaries(
+            {"mass": st.floats(1e-3, 1.0), "moments": st.just((1e-4, 0.01, 0.01)),
+             "hinge": real_arrays((3,), st.floats(-1.0, 1.0)), "axis": st.just((0.0, 0.0, 1.0)),
+             "arm": st.just((1.0, 0.0, 0.0)), "length": st.floats(0.01, 1.0),
+             "stiffness": st.floats(0.0, 10.0), "damping": st.floats(0.0, 1.0)},
+            optional={"angle0": st.floats(-0.5, 0.5), "rate0": st.floats(-0.1, 0.1)}),
+        hostile={"mass": st.sampled_from([0.0, -1.0, math.nan, math.inf, "m", None]),
+                 "hinge": SINK_VECTOR, "axis": SINK_VECTOR, "arm": SINK_VECTOR,
+                 "length": st.sampled_from([math.nan, math.inf, "l", None]),
+                 "stiffness": st.sampled_from([-1.0, math.nan, math.inf, "k", None]),
+                 "damping": st.sampled_from([-1.0, math.nan, math.inf, "c", None])},
+        check=lambda kw, p, _: _assert(p.mass == kw["mass"] and p.model == "hinge"),
+        covers=(dz.Hinge,),
+        min_success=0.9,
+    ),
+    "Slosh": Entry(
+        call=dz.Slosh,
+        valid=st.fixed_dictionaries(
+            {"mass": st.floats(1e-3, 1.0), "pivot": real_arrays((3,), st.floats(-1.0, 1.0)),
+             "length": st.floats(0.01, 1.0), "damping": st.floats(0.0, 1.0),
+             "direction0": st.just((1.0, 0.0, 0.0))}),
+        hostile={"mass": st.sampled_from([0.0, -1.0, math.nan, math.inf, "m", None]),
+                 "pivot": SINK_VECTOR, "direction0": SINK_VECTOR,
+                 "length": st.sampled_from([0.0, -1.0, math.nan, math.inf, "l", None]),
+                 "damping": st.sampled_from([-1.0, math.nan, math.inf, "c", None])},
+        check=lambda kw, p, _: _assert(p.mass == kw["mass"] and p.model == "slosh"),
+        covers=(dz.Slosh,),
+        min_success=0.9,
+    ),
     "damper_rate": Entry(
         call=dz.damper_rate,
         valid=inertias().flatmap(lambda i: st.fixed_dictionaries(
@@ -2004,4 +2054,8 @@ NOT_CALLED = {
     "ReadError": "an exception class, raised by the readers (the file corpus)",
     "MODELS": "a read-only mapping of the core's declarations (test_model_registry.py)",
     "ModelInfo": "the class of MODELS' values, made by the core only",
+    "RunOptions": "a frozen record of run options, checked when a run starts: simulate's, "
+                  "summarize's and sweep's entries pass every option (test_run_options.py: "
+                  "options= and the keywords agree)",
+    "RunKeywords": "a TypedDict, for typing only",
 }

@@ -47,9 +47,13 @@ table's, for a long search off CI."""
 
 def parameters(entry: Entry) -> set[str]:
     try:
-        return set(inspect.signature(entry.call).parameters)
+        signature = inspect.signature(entry.call).parameters
     except (TypeError, ValueError):
         return set(entry.hostile)
+    names = {n for n, p in signature.items() if p.kind is not p.VAR_KEYWORD}
+    if any(p.kind is p.VAR_KEYWORD for p in signature.values()):
+        names |= set(dz.options.NAMES)  # typed **keywords: the run options (dz.RunKeywords)
+    return names
 
 
 def names_one_of(message: str, names: set[str] | tuple[str, ...], aliases: dict[str, tuple[str, ...]]) -> bool:

@@ -417,12 +417,17 @@ def test_load_refuses_a_body_the_core_refuses(traj, tmp_path):
 
 def test_load_refuses_a_damper_state_without_its_parameters(tmp_path):
     traj = dz.simulate(_damped(), (0.3, 0.2, 1.0), t_end=5.0, frames=6)
-    ds = traj.to_xarray().drop_vars("damper_damping")
+    ds = traj.to_xarray().drop_vars("part_damper_damping")
     ds.attrs["dzhanibekov_result"] = "Trajectory"
     path = tmp_path / "bad.nc"
     ds.to_netcdf(path, engine="h5netcdf")
-    with pytest.raises(dz.ReadError, match=r"`damper_inertia`, `damper_damping` and "
-                                           r"`damper_sigma0` must be there exactly"):
+    with pytest.raises(dz.ReadError, match=r"`part_damper_damping` is missing"):
+        dz.load(path)
+    ds = traj.to_xarray().drop_vars("damper")                   # the state without the part
+    ds.attrs["dzhanibekov_result"] = "Trajectory"
+    ds.to_netcdf(path, engine="h5netcdf")
+    with pytest.raises(dz.ReadError, match=r"the attribute `parts` names the damper, but its "
+                                           r"state `damper` is missing"):
         dz.load(path)
 
 

@@ -53,7 +53,7 @@ def test_vectors_broadcast_to_billions_of_rows_are_refused_before_any_copy():
     (48 GiB) before their count was compared with the times'."""
     vectors = np.broadcast_to([0.0, 0.0, 1.0], (2**31, 3))
     start = time.process_time()
-    with pytest.raises(ValueError, match=r"one torque per knot time of `times` \(2\), got "
+    with pytest.raises(ValueError, match=r"one vector per knot time of `times` \(2\), got "
                                          r"2147483648"):
         dz.TabulatedTorque([0.0, 1.0], vectors)
     assert time.process_time() - start < 1.0

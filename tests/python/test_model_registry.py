@@ -5,57 +5,60 @@ declarations say (issue 29: a part declares itself once)."""
 
 from __future__ import annotations
 
-import numpy as np
+import pickle
+
 import pytest
 
 import dzhanibekov as dz
+from dzhanibekov.parts import SPECS, example
 
 BODY = dz.Body((1.0, 2.0, 3.0))
 
-# one instance of every part class, the systems the core's models come from
-PARTS = {
-    "damper": dz.Damper(0.1, 0.05),
-    "wheel": dz.Wheel((0.0, 1.0, 0.0), 0.5),
-    "wheel_schedule": dz.Wheel((1.0, 0.0, 0.0), ([0.0, 1.0], [0.0, 0.2])),
-    "quaternion_feedback": dz.QuaternionFeedback(0.1, 0.3, period=0.05),
-}
-FIELD = dz.MagneticField(dz.circular_orbit_rate(500e3), inclination=1.2)
-TORQUES = {
-    "gravity_gradient": dz.GravityGradient(0.3),
-    "constant_torque": dz.ConstantTorque((0.0, 0.0, 0.01)),
-    "tabulated_torque": dz.TabulatedTorque([0.0, 1.0], [(0.0, 0.0, 0.0), (0.0, 0.01, 0.0)]),
-    "callable_torque": dz.CallableTorque(lambda t, q, w: np.zeros(3)),
-    "residual_dipole": dz.ResidualDipole(FIELD, (0.0, 0.0, 1e-3)),
-    "bdot": dz.BDot(FIELD, gain=1e-5, period=0.05),
-    "momentum_dumping": dz.MomentumDumping(FIELD, gain=1e-3, period=0.05),
-    "controller": dz.Controller(lambda t, q, w, b, h: np.zeros(3), period=0.05),
-}
+PART_MODELS = [n for n, m in dz.MODELS.items() if not m.law]
 
 
 def system_of(name: str) -> dz.System:
+    """A system made of the model `name` alone (a part from its class's example)."""
     if name == "free":
         return dz.System(BODY)
     if name == "deployment":
         return dz.System(dz.Deployment([0.0, 1.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)]))
-    if name in PARTS:
-        return dz.System(BODY, parts=[PARTS[name]])
-    return dz.System(BODY, torques=[TORQUES[name]])
+    part = example(name)
+    return dz.System(BODY, **{"torques" if part.external else "parts": [part]})
 
 
 def test_every_model_of_the_core_has_a_python_class_that_makes_it():
     assert list(dz.MODELS)[:2] == ["free", "deployment"]
-    assert all(dz.MODELS[n].law for n in ("free", "deployment"))
-    parts = [n for n, m in dz.MODELS.items() if not m.law]
-    assert sorted(parts) == sorted([*PARTS, *TORQUES])
+    assert [n for n, m in dz.MODELS.items() if m.law] == ["free", "deployment"]
+    assert sorted(SPECS) == sorted(PART_MODELS)
     for name in dz.MODELS:
         assert system_of(name).kinds == (name,), name
-    for name in parts:
+    for name in PART_MODELS:
         info = dz.MODELS[name]
-        # an external torque goes in `torques`, an internal part in `parts`
-        assert info.external == (name in TORQUES), name
+        part = example(name)
+        assert part.model == name and part.external == info.external
         # a part's state is what its runs report beside the body's (none: nothing)
         width = sum(w for _, w, _, _ in info.state)
         assert system_of(name)._core.parts == ([(name, width)] if width else [])
+
+
+@pytest.mark.parametrize("name", PART_MODELS)
+def test_a_part_class_follows_the_core_declaration_of_its_model(name):
+    cls = SPECS[name]
+    declared = [(p[0], p[1], p[2]) for p in dz.MODELS[name].params]
+    # the fields a part gives files and scenes are its model's parameters, in the core's order
+    part = example(name)
+    assert list(part.fields()) == [n for n, _, _ in declared]
+    # a required parameter left out is refused by name
+    required = [n for n, _, optional in declared if not optional]
+    fields = {k: v for k, v in part.fields().items() if k != required[0]}
+    with pytest.raises((TypeError, ValueError), match=required[0]):
+        cls.from_fields(name, fields)
+    # the fields make the same part again: ==, hash, repr and pickling follow from them
+    again = cls.from_fields(name, part.fields())
+    assert again == part and hash(again) == hash(part) and repr(again) == repr(part)
+    assert pickle.loads(pickle.dumps(part)) == part
+    assert part != example(PART_MODELS[(PART_MODELS.index(name) + 1) % len(PART_MODELS)])
 
 
 @pytest.mark.parametrize("name", list(dz.MODELS))

@@ -3,6 +3,7 @@ written here, independently of the package (scipy's solve_ivp of the body-frame 
 with their own quaternion law, and closed forms with their sources)."""
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -305,15 +306,23 @@ def test_a_batch_of_systems_with_different_numbers_of_wheels_and_torques_round_t
                                   dz.ConstantTorque((0.0, 0.0, 1e-3), frame="world")])]
     batch = dz.simulate(systems, (0.1, 1.0, 0.0), t_end=1.0, frames=3, method="rk4", dt=0.01)
     ds = batch.to_xarray()
-    assert ds.sizes["wheel"] == 2 and ds.sizes["torque"] == 2
-    assert list(ds["torque_kind"].values[0]) == ["constant", ""]
+    assert ds.sizes["part_wheel"] == 2 and ds.sizes["part_constant_torque"] == 2
+    assert list(ds["part_kind"].values[0]) == ["wheel", "constant_torque", "", ""]
+    assert np.isnan(ds["part_wheel_momentum"].values[0, 1])      # run 0's padding
     back = dz.load(dz.save(batch, tmp_path / "batch.nc"))
     assert list(back.systems) == systems
     np.testing.assert_array_equal(back.momentum_world, batch.momentum_world)
 
 
+LEGACY = Path(__file__).resolve().parents[1] / "data" / "legacy"
+"""Files written by dzhanibekov at main 3f80f7e, in the layout before parts were written by
+their model (tests/data/legacy/make_legacy.py): their reader is checked on them."""
+
+
 def _spoil(traj, tmp_path, change):
-    ds = traj.to_xarray()
+    """`traj`'s file (a Trajectory, or the name of a legacy file) changed by `change`."""
+    xr = pytest.importorskip("xarray")
+    ds = xr.load_dataset(LEGACY / traj) if isinstance(traj, str) else traj.to_xarray()
     change(ds)
     ds.attrs["dzhanibekov_result"] = "Trajectory"
     path = tmp_path / "bad.nc"
@@ -346,12 +355,12 @@ def _set(name, index, value):
     # the loaded wheel's momentum must give the momentum the file says the run had
     (_set("wheel_momentum", 0, 0.2), r"`momentum_body` is not what the file's own system"),
 ])
-def test_load_refuses_wheels_and_torques_a_save_never_writes(tmp_path, change, message):
-    pytest.importorskip("xarray")
+def test_load_refuses_wheels_and_torques_of_the_old_layout_a_save_never_wrote(
+        tmp_path, change, message):
     pytest.importorskip("h5netcdf")
-    traj = dz.simulate(ORBITER, *dz.lvlh_start(1.0), t_end=1.0, frames=3, method="rk4", dt=0.01)
+    assert dz.load(LEGACY / "orbiter.nc").system == ORBITER
     with pytest.raises(dz.ReadError, match=message):
-        dz.load(_spoil(traj, tmp_path, change))
+        dz.load(_spoil("orbiter.nc", tmp_path, change))
 
 
 TABLED = dz.System(dz.Body((2.0, 3.0, 1.0)),
@@ -385,8 +394,40 @@ TABLED = dz.System(dz.Body((2.0, 3.0, 1.0)),
     # the loaded schedule must give the momentum the file says the run had
     (_set("wheel_values", (1, 2), 0.3), r"`momentum_body` is not what the file's own system"),
 ])
-def test_load_refuses_tables_and_schedules_a_save_never_writes(tmp_path, change, message):
-    pytest.importorskip("xarray")
+def test_load_refuses_tables_and_schedules_of_the_old_layout_a_save_never_wrote(
+        tmp_path, change, message):
+    pytest.importorskip("h5netcdf")
+    assert dz.load(LEGACY / "tabled.nc").system == TABLED
+    with pytest.raises(dz.ReadError, match=message):
+        dz.load(_spoil("tabled.nc", tmp_path, change))
+
+
+@pytest.mark.parametrize("change, message", [
+    (_set("part_kind", 0, "spinning"), r"`part_kind` must be one of"),
+    (_set("part_kind", 0, "callable_torque"), r"`part_kind` must be one of"),
+    (_set("part_kind", 0, ""), r"`part_kind` must hold each run's parts first"),
+    (_set("part_kind", 3, "tabulated_torque"),
+     r"`part_gravity_gradient_orbit_rate` is there, but no part of its model is"),
+    (lambda ds: ds.__delitem__("part_wheel_axis"), r"`part_wheel_axis` is missing"),
+    (lambda ds: ds.__delitem__("part_kind"), r"`part_\w+` needs `part_kind`"),
+    (_set("part_wheel_axis", (0, 1), np.nan), r"`part_wheel_axis` must be finite for each part"),
+    (_set("part_wheel_axis", 0, 0.0), r"whose system dz cannot build: .*axis"),
+    (_set("part_gravity_gradient_orbit_rate", 0, -1.0),
+     r"whose system dz cannot build: .*orbit_rate"),
+    (_set("part_tabulated_torque_frame", 0, "orbit"), r"must be one of"),
+    (_set("part_tabulated_torque_times", (0, 1), 0.0), r"whose system dz cannot build: .*times"),
+    (_set("part_tabulated_torque_times", (1, 0), np.nan),
+     r"`part_tabulated_torque_times` must hold a part's knots first, then NaN"),
+    (_set("part_tabulated_torque_times", (1, 2), 0.5),
+     r"`part_tabulated_torque_vectors` must be finite at a part's 3 knots"),
+    (_set("part_tabulated_torque_vectors", (1, 2, 0), 0.0),
+     r"`part_tabulated_torque_vectors` must be finite at a part's 2 knots and NaN beyond"),
+    (_set("part_wheel_schedule_values", (0, 2), np.nan), r"must be finite at a part's 3 knots"),
+    # the loaded parts must give the momentum the file says the run had
+    (_set("part_wheel_momentum", 0, 0.2), r"`momentum_body` is not what the file's own system"),
+    (_set("part_wheel_schedule_values", (0, 2), 0.3), r"`momentum_body` is not what the file"),
+])
+def test_load_refuses_parts_a_save_never_writes(tmp_path, change, message):
     pytest.importorskip("h5netcdf")
     traj = dz.simulate(TABLED, *dz.lvlh_start(1.0), t_end=1.0, frames=3, method="rk4", dt=0.01)
     assert dz.load(dz.save(traj, tmp_path / "good.nc")).system == TABLED

@@ -98,7 +98,7 @@ def test_orders_are_what_halving_the_step_shows():
 def test_defaults_come_from_the_core():
     import inspect
 
-    sig = inspect.signature(dz.simulate)
+    sig = inspect.signature(dz.RunOptions)        # simulate's run options
     assert sig.parameters["method"].default == _core.DEFAULT_METHOD in dz.METHODS
     assert sig.parameters["max_steps"].default == _core.DEFAULT_MAX_STEPS
     assert 0 < _core.DEFAULT_ATOL < _core.DEFAULT_RTOL < 1

@@ -177,7 +177,7 @@ def test_a_tabulated_torque_is_a_value_and_refuses_bad_tables_by_name():
         dz.TabulatedTorque([0.0], np.zeros((1, 3)))
     with pytest.raises(ValueError, match="`times` must be finite"):
         dz.TabulatedTorque([0.0, np.nan], np.zeros((2, 3)))
-    with pytest.raises(ValueError, match="`vectors` must give one torque per knot"):
+    with pytest.raises(ValueError, match="`vectors` must give one vector per knot"):
         dz.TabulatedTorque([0.0, 1.0], np.zeros((3, 3)))
     with pytest.raises(ValueError, match=r"`vectors` must have shape \(K, 3\)"):
         dz.TabulatedTorque([0.0, 1.0], np.zeros((2, 2)))

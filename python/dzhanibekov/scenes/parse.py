@@ -11,7 +11,8 @@ Two steps, in order:
 
 - :func:`from_tables`: a file's nested tables → the keyword values of a scene (unknown keys,
   missing keys, the body named by ``[body]``, the ``[deployment]``, ``[damper]``,
-  ``[wheel]``, ``[orbit]`` and ``[torque]`` built);
+  ``[wheel]``, ``[orbit]`` and ``[torque]`` built, and the ``[[parts]]`` and ``[[torques]]``
+  of any model);
 - :func:`checked`: a scene's keyword values (from a file or from Python) → its checked
   fields and its body, every key checked alone and against the others (the run's options
   together, the phases within the run, sizes a drawing can hold).
@@ -36,7 +37,11 @@ from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
 from ..lvlh import lvlh_start
 from ..methods import DEFAULT_MAX_STEPS, METHODS
+from .. import _core
 from ..orbit import ConstantTorque, GravityGradient, Wheel
+from ..parts import SPECS, from_fields, params_of
+from ..parts import Part as AnyPart
+from ..parts._columns import storable_models
 from ..shapes import Shape, box_shape
 from ..system import System
 from .bodies import BODY_KEYS, build_body, default_signal_point
@@ -173,6 +178,11 @@ TABLES: dict[str, tuple[str, ...]] = {
     "torque": ("vector", "frame"),
 }
 """The tables of a scene file and the keys each may hold."""
+LISTS = ("parts", "torques")
+"""The arrays of tables of a scene file (``[[parts]]``, ``[[torques]]``): any number of parts
+and external torques, each a table with its model's ``kind`` (a name of ``dz.MODELS``) and its
+parameters by name (``dz.MODELS[kind].params``). ``[damper]``, ``[wheel]``, ``[orbit]`` and
+``[torque]`` are aliases of one entry each."""
 _TOP = ("title", "about")
 
 _OPTIONAL = {
@@ -207,8 +217,10 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     def fail(key: str, message: str) -> SceneError:
         return SceneError(source, key, message)
 
-    allowed_top = _TOP + tuple(f"[{t}]" for t in TABLES)
+    allowed_top = _TOP + tuple(f"[{t}]" for t in TABLES) + tuple(f"[[{t}]]" for t in LISTS)
     for key, value in data.items():
+        if key in LISTS:
+            continue  # checked entry by entry below
         if key in TABLES:
             if not isinstance(value, dict):
                 raise fail(key, f"must be a table [{key}], got {type(value).__name__}")
@@ -284,6 +296,9 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
     if "orbit" in data:
         kwargs["orbit"] = _model(source, "orbit", GravityGradient, ("rate",), tables["orbit"],
                                  {"orbit_rate": "rate"})
+    for key in LISTS:
+        if key in data:
+            kwargs[key] = scene_parts(source, key, data[key])
     frame = tables["start"].get("frame", "world")
     if frame not in START_FRAMES:
         raise fail("start.frame", f"must be one of {list(START_FRAMES)}, got {frame!r}")
@@ -307,13 +322,75 @@ def _lvlh_start(source: str, kwargs: Mapping[str, Any],
     """The world start of a ``[start]`` given relative to LVLH (``frame = "lvlh"``):
     :func:`~dzhanibekov.lvlh_start` of the orbit's rate, ``q`` (LVLH-from-body) and ``omega``
     (rates relative to the orbiting frame, body axes)."""
-    orbit = kwargs.get("orbit")
+    orbit = kwargs.get("orbit") or next(
+        (t for t in kwargs.get("torques", ()) if isinstance(t, GravityGradient)), None)
     if orbit is None:
         raise SceneError(source, "start.frame", "is \"lvlh\", relative to the orbiting frame, "
-                         "but the scene has no [orbit] to give its rate")
+                         "but the scene has no [orbit] (or gravity gradient in [[torques]]) "
+                         "to give its rate")
     omega = _vector(source, "start.omega", start["omega"], 3)
     q = _quaternion(source, "start.q", start.get("q", (1.0, 0.0, 0.0, 0.0)))
     return lvlh_start(orbit.orbit_rate, q, omega)
+
+
+def scene_parts(source: str, key: str, entries: Any) -> tuple[AnyPart, ...]:
+    """The parts (`key` ``"parts"``) or external torques (``"torques"``) of an array of
+    tables ``[[parts]]``: each a table with the ``kind`` of its model and that model's
+    parameters by name, built by the model's class (:mod:`dzhanibekov.parts`), or parts
+    given as values (``Scene(parts=[dz.Wheel(...)])``). Errors name the entry and its key
+    (``parts[1].axis``)."""
+    if isinstance(entries, (str, bytes, Mapping)) or not isinstance(entries, (list, tuple)):
+        raise SceneError(source, key, f"must be an array of tables [[{key}]], each with a "
+                         f"`kind`, got {type(entries).__name__}")
+    kinds = [m for m in storable_models() if key in SPECS[m].lists]
+    out = []
+    for i, entry in enumerate(entries):
+        where = f"{key}[{i}]"
+        if isinstance(entry, AnyPart):
+            if key not in entry.lists:
+                raise SceneError(source, where, f"is a {type(entry).__name__}: give it in "
+                                 f"`{entry.lists[0]}`")
+            out.append(entry)
+            continue
+        if not isinstance(entry, Mapping):
+            raise SceneError(source, where, f"must be a table with a `kind`, got "
+                             f"{type(entry).__name__}")
+        kind = entry.get("kind")
+        if kind is None:
+            raise SceneError(source, f"{where}.kind", f"is missing; one of {', '.join(kinds)}")
+        if kind not in kinds:
+            if isinstance(kind, str) and kind in SPECS and key not in SPECS[kind].lists:
+                message = f"is {kind!r}, which goes in [[{SPECS[kind].lists[0]}]]"
+            elif isinstance(kind, str) and kind in SPECS:
+                message = f"is {kind!r}, which a scene cannot hold (a file cannot hold code)"
+            else:
+                message = f"must be one of {', '.join(kinds)}, got {kind!r}"
+            raise SceneError(source, f"{where}.kind", message)
+        names = [p.name for p in params_of(kind)]
+        for sub in entry:
+            if sub != "kind" and sub not in names:
+                raise SceneError(source, f"{where}.{sub}", f"is not a known key; allowed in a "
+                                 f"{kind!r}: kind, {', '.join(names)}")
+        try:
+            out.append(from_fields(kind, {k: v for k, v in entry.items() if k != "kind"}))
+        except (TypeError, ValueError) as exc:
+            message = str(exc)
+            named = next((n for n in names if f"`{n}`" in message), None)
+            raise SceneError(source, where if named is None else f"{where}.{named}",
+                             message if named is None else
+                             message.removeprefix(f"`{named}` ")) from None
+    return tuple(out)
+
+
+def part_table(part: AnyPart) -> dict[str, Any]:
+    """The table of `part` in a scene's ``[[parts]]`` or ``[[torques]]`` (see
+    :func:`scene_parts`): its kind and its parameters, as TOML holds them."""
+    out: dict[str, Any] = {"kind": part.model}
+    for name, value in part.fields().items():
+        if value is not None:
+            out[name] = (value.tolist() if isinstance(value, np.ndarray)
+                         else list(value) if isinstance(value, tuple) else value)
+    return out
 
 
 _WHEEL_SCHEDULE = ("times", "values")
@@ -452,10 +529,11 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     ellipsoid = _ellipsoid(src, v["ellipsoid"])
     models = _models(src, v)
     given_system = v["given"]
-    has = {"lvlh": v.get("orbit") is not None or (given_system is not None and any(
-               isinstance(t, GravityGradient) for t in given_system.torques)),
-           "wheel_off": v.get("wheel") is not None or (given_system is not None and any(
-               isinstance(p, Wheel) for p in given_system.parts))}
+    listed = (*models["parts"], *models["torques"],
+              *(() if given_system is None else (*given_system.parts, *given_system.torques)))
+    has = {"lvlh": v.get("orbit") is not None or any(
+               isinstance(t, GravityGradient) for t in listed),
+           "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed)}
     for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]")):
         if figure in draw.figures and not has[figure]:
             raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
@@ -566,10 +644,19 @@ def _models(src: str, v: Mapping[str, Any]) -> dict[str, Any]:
         sigma0 = _vector(src, "damper.sigma", sigma0, 3)
     if v["deployment"] is not None and v["damper"] is not None:
         raise SceneError(src, "damper", "cannot be combined with a [deployment]")
+    lists = {key: scene_parts(src, key, v.get(key, ())) for key in LISTS}
+    for key, aliases in (("parts", ("damper", "wheel")), ("torques", ("orbit", "torque"))):
+        seen = [v[a].model for a in aliases if v.get(a) is not None]
+        for i, part in enumerate(lists[key]):
+            if part.model in seen and _core.model_info(part.model).unique:
+                raise SceneError(src, f"{key}[{i}].kind", f"is a second {part.model!r}: a "
+                                 "system holds at most one")
+            seen.append(part.model)
     orbital = [name for name in ("wheel", "orbit", "torque") if v.get(name) is not None]
+    orbital += [f"{key}[0]" for key in LISTS if lists[key]]
     if orbital and v["deployment"] is not None:
         raise SceneError(src, orbital[0], "cannot be combined with a [deployment] in a scene")
-    return {"sigma0": sigma0}
+    return {"sigma0": sigma0, **lists}
 
 
 def _table(source: str, key: str, value: Any, kind: type) -> Mapping[str, Any]:

@@ -39,6 +39,22 @@ Instead of `inertia`, the body may be any of (with ``mass`` or, for meshes, ``de
     preset = "wing-nut"                # Body.wing_nut()
     parts = [{ box = [1, 1, 1], mass = 2.0, position = [0, 0, 0], q = [1, 0, 0, 0] }, …]
 
+Parts and external torques, any number of each, of any model a file can hold
+(``dz.MODELS``; each entry its model's ``kind`` and parameters by name)::
+
+    [[parts]]
+    kind = "wheel"
+    axis = [0.0, 1.0, 0.0]
+    momentum = 0.2
+
+    [[torques]]
+    kind = "tabulated_torque"
+    times = [0.0, 1.0, 2.0]
+    vectors = [[0.0, 0.0, 0.0], [0.0, 0.0, 1e-3], [0.0, 0.0, 0.0]]
+
+The single tables ``[damper]``, ``[wheel]``, ``[orbit]`` and ``[torque]`` are aliases of one
+entry each (their parts come first).
+
 Loading checks every key: an unknown key, a value of the wrong type or out of range is a
 :class:`SceneError` naming the file, the key and what is allowed.
 
@@ -81,10 +97,11 @@ from ..simulate import simulate
 from ..summary import Summary, summarize
 from ..results import Trajectory
 from ..orbit import ConstantTorque, GravityGradient, Wheel
+from ..parts import Part
 from ..system import System
 from .parse import (CONVENTIONS, FIGURES, MAX_ANIMATION_FRAMES, MAX_DRAWN_SIZE, MAX_PHASES,
                     MAX_TEXT_NESTING, Draw, EllipsoidStyle, SceneError, checked, drawn_shape,
-                    from_tables, scene_body, uniform_box)
+                    from_tables, part_table, scene_body, uniform_box)
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -188,6 +205,12 @@ class Scene(metaclass=_Parsed):
     torque: ConstantTorque | None = None
     """A constant torque (``[torque]`` with ``vector`` and ``frame``, ``"body"`` (default) or
     ``"world"``)."""
+    parts: tuple[Part, ...] = ()
+    """Any number of parts (``[[parts]]``: tables with the ``kind`` of a model of
+    ``dz.MODELS`` and its parameters), after the damper and the wheel of the single tables."""
+    torques: tuple[Part, ...] = ()
+    """Any number of external torques (``[[torques]]``, as `parts`), after the orbit and the
+    torque of the single tables."""
     source: str = field(default="", compare=False, repr=False)
     """Where the scene came from, for messages."""
     rtol: float | None = None
@@ -220,11 +243,12 @@ class Scene(metaclass=_Parsed):
         if self.given is not None:
             return self.given
         body = self.deployment if self.deployment is not None else self.body
-        parts: list[Damper | Wheel] = [] if self.damper is None else [
+        parts: list[Part] = [] if self.damper is None else [
             Damper(self.damper.inertia, self.damper.damping, self.sigma0)]
         if self.wheel is not None:
             parts.append(self.wheel)
-        torques = [t for t in (self.orbit, self.torque) if t is not None]
+        parts.extend(self.parts)
+        torques = [t for t in (self.orbit, self.torque) if t is not None] + list(self.torques)
         return System(body, parts=parts, torques=torques)
 
     def run(self, **overrides: Any) -> Trajectory:
@@ -338,6 +362,9 @@ class Scene(metaclass=_Parsed):
             out["orbit"] = {"rate": self.orbit.orbit_rate}
         if self.torque is not None:
             out["torque"] = {"vector": list(self.torque.vector), "frame": self.torque.frame}
+        for key in ("parts", "torques"):
+            if getattr(self, key):
+                out[key] = [part_table(p) for p in getattr(self, key)]
         return out
 
     def to_toml(self) -> str:
