@@ -61,7 +61,7 @@ fn largest_turn<P: EmbeddedPair<7, FreeRigidBody>>(
         &grid,
         settings,
         &units,
-        (&[], &[]),
+        (&|_| f64::INFINITY, &|_| f64::INFINITY),
         &mut obs,
         &cancel,
     );

@@ -49,7 +49,7 @@ use super::multibody::{self, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PA
 use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
-use super::Deployment;
+use super::{Clocks, Deployment};
 
 /// A constant tensor, its inverse, and what the runs read of it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -307,14 +307,15 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true, M: Movers = NoMo
     kinds: Kinds,
     /// Whether the energy can only fall: a part dissipates, none (nor the body) does work.
     only_loses: bool,
-    /// Where the right-hand side has a kink or a jump (tabulated laws, sample times): every
-    /// step ends there.
+    /// Where the right-hand side has a kink or a jump (tabulated laws; the sample times too,
+    /// from `clocks`): every step ends there.
     kinks: Vec<f64>,
     /// Where it is not smooth: the kinks and a deployment's knots (adaptive steps end there).
     knots: Vec<f64>,
-    /// The sample times over the run, each with the index of its part in `sampled`.
-    samples: Vec<(f64, usize)>,
-    /// The run's end: sample times are laid out up to it.
+    /// The sampled parts' clocks, each with the index of its part in `sampled`: their sample
+    /// times are asked for as the run goes, never listed.
+    clocks: Clocks,
+    /// The run's end (kept through a change of units).
     horizon: f64,
     /// The parts whose mass moves in the body and the hub they move in: the one extension of
     /// the model for such parts ([`Moving`]), or nothing ([`NoMoving`], every other model).
@@ -523,7 +524,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
             kinds,
             kinks: Vec::new(),
             knots: Vec::new(),
-            samples: Vec::new(),
+            clocks: Clocks::default(),
             horizon: 0.0,
             moving,
         };
@@ -566,37 +567,18 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         Ok(self)
     }
 
-    /// The same model with its sample times laid out over `[0, t_end]`.
+    /// The same model for a run over `[0, t_end]` (its sample times are asked for as the run
+    /// goes, see [`Clocks`]).
     pub fn until(mut self, t_end: f64) -> Self {
         self.horizon = t_end;
-        self.lay_out();
         self
     }
 
-    /// The kinks (the parts' and the sample times up to the horizon) and the knots (with a
-    /// deployment's).
+    /// The kinks (the parts' listed ones; the sample times come from the clocks) and the
+    /// knots (with a deployment's).
     fn lay_out(&mut self) {
         let mut kinks: Vec<f64> = self.parts.iter().flat_map(AnyPart::kinks).collect();
-        self.samples.clear();
-        for (k, p) in self.sampled.iter().enumerate() {
-            let Some(s) = p.part.sampling() else { continue };
-            if !(s.period > 0.0 && s.period.is_finite()) {
-                continue;
-            }
-            let mut i = 0.0_f64;
-            loop {
-                let t = s.phase + i * s.period;
-                if t.is_nan() || t > self.horizon {
-                    break;
-                }
-                if t >= 0.0 {
-                    self.samples.push((t, k));
-                }
-                i += 1.0;
-            }
-        }
-        self.samples.sort_by(|a, b| a.0.total_cmp(&b.0));
-        kinks.extend(self.samples.iter().map(|s| s.0));
+        self.clocks = Clocks::of(self.sampled.iter().map(|p| p.part.sampling()));
         kinks.sort_by(f64::total_cmp);
         kinks.dedup();
         let mut knots = kinks.clone();
@@ -995,13 +977,12 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
     }
 
     fn is_sampled(&self) -> bool {
-        !self.samples.is_empty()
+        !self.clocks.is_empty()
     }
 
     /// Each part sampled at `t` updates the state (see [`super::Part::sample`]).
     fn sample(&self, t: f64, x: &mut [f64; N]) {
-        let from = self.samples.partition_point(|s| s.0 < t);
-        for &(_, k) in self.samples[from..].iter().take_while(|s| s.0 == t) {
+        for k in self.clocks.at(t) {
             // each part sees the state as the parts before it left it
             let c = self.ctx(t, x, self.omega_body(t, x));
             let p = &self.sampled[k];
@@ -1137,6 +1118,16 @@ impl<const N: usize, const HOT: bool, M: Movers> Model<N> for GeneralModel<N, HO
 
     fn kinks(&self) -> &[f64] {
         &self.kinks
+    }
+
+    #[inline]
+    fn next_kink(&self, t: f64) -> f64 {
+        crate::ode::first_from(&self.kinks, t).min(self.clocks.next_from(t))
+    }
+
+    #[inline]
+    fn next_knot(&self, t: f64) -> f64 {
+        crate::ode::first_from(&self.knots, t).min(self.clocks.next_from(t))
     }
 
     fn parts_width(&self) -> usize {

@@ -8,6 +8,7 @@
 //! ([`crate::run::registry`]), the binding, files and scenes read.
 
 mod callable;
+mod clocks;
 pub mod control;
 mod damper;
 mod deployment;
@@ -31,6 +32,7 @@ mod wheel;
 mod wheel_schedule;
 
 pub use callable::CallableTorque;
+pub use clocks::Clocks;
 pub use damper::Damper;
 pub use deployment::Deployment;
 pub use free::*;

@@ -166,6 +166,17 @@ pub trait Model<const N: usize>: OdeSystem<N> + Sync + Sized {
         &[]
     }
 
+    /// The first kink at or after `t` (infinity if none): what the drivers ask as a run goes,
+    /// so that times laid out by a clock (a controller's sample times) need no list.
+    fn next_kink(&self, t: f64) -> f64 {
+        crate::ode::first_from(self.kinks(), t)
+    }
+
+    /// The first knot at or after `t` (infinity if none), likewise.
+    fn next_knot(&self, t: f64) -> f64 {
+        crate::ode::first_from(self.knots(), t)
+    }
+
     /// What a projected method restores after each step, taken at the start `(t0, x0)`.
     fn kept(&self, t0: f64, x0: &[f64; N]) -> Self::Kept;
 

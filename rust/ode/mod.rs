@@ -29,6 +29,16 @@ pub trait OdeSystem<const N: usize> {
     fn sample(&self, _t: f64, _x: &mut [f64; N]) {}
 }
 
+/// The first of the increasing `times` at or after `t`; infinity if none: a list of kinks
+/// asked as the drivers ask a model ([`crate::dynamics::Model::next_kink`]).
+#[inline]
+pub fn first_from(times: &[f64], t: f64) -> f64 {
+    times
+        .get(times.partition_point(|&k| k < t))
+        .copied()
+        .unwrap_or(f64::INFINITY)
+}
+
 /// A one-step method with a fixed step.
 pub trait Stepper<const N: usize, S: OdeSystem<N>> {
     /// The order of the global error.

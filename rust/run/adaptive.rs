@@ -111,7 +111,9 @@ impl<const N: usize> Units<N> {
 
 /// Integrates `sys` (the free body, a model) from `x0` over the frames of `grid` with the
 /// pair `pair` under `settings`, its error measured in `units`, a step ending exactly at each
-/// of the increasing `knots` inside the run (see the module doc), showing every accepted step
+/// of the knots inside the run (see the module doc; `knots(t)` and `kinks(t)` are the first
+/// at or after `t`, infinity if none, asked for as the run goes: see
+/// [`crate::dynamics::Model::next_knot`]), showing every accepted step
 /// and every frame to `obs`. Returns the final state and the run's cost.
 ///
 /// # Errors
@@ -126,7 +128,7 @@ pub fn integrate_adaptive<const N: usize, S, P, O>(
     grid: &FrameGrid,
     settings: &Adaptive,
     units: &Units<N>,
-    (knots, kinks): (&[f64], &[f64]),
+    (knots, kinks): (&impl Fn(f64) -> f64, &impl Fn(f64) -> f64),
     obs: &mut O,
     cancel: &AtomicBool,
 ) -> Result<([f64; N], Stats)>
@@ -147,7 +149,7 @@ where
     obs.frame(0, 0.0, &x0);
     let keeps_frames = obs.keeps_frames();
     let (mut t, mut x) = (0.0, x0);
-    if kinks.contains(&0.0) {
+    if kinks(0.0) == 0.0 {
         // a kink at the start: the run integrates its far side, sampled there
         if sys.is_sampled() {
             sys.sample(t, &mut x);
@@ -170,14 +172,14 @@ where
     let mut err_prev: f64 = 1e-4;
     let mut rejected = false;
     let mut next_frame = 1;
-    // the knots strictly inside the run, and the next one ahead
-    let inner = &knots[knots.partition_point(|&k| k <= 0.0)..knots.partition_point(|&k| k < t_end)];
-    let mut next_knot = 0;
+    // the next knot strictly inside the run (infinity for none)
+    let inside = |k: f64| if k < t_end { k } else { f64::INFINITY };
+    let mut next_knot = inside(knots(crate::run::fixed::after(0.0)));
     while next_frame < grid.frames() {
         // the step the controller wants, before a knot or the end shortens it
         let wanted = h;
         // Stretch a step that would stop just short of a knot or the end (Hairer's 1.01 rule).
-        let knot = inner.get(next_knot).copied().filter(|&k| t + 1.01 * h >= k);
+        let knot = Some(next_knot).filter(|&k| t + 1.01 * h >= k);
         if let Some(k) = knot {
             h = k - t;
         }
@@ -273,8 +275,8 @@ where
         if knot.is_some() {
             // a restart: the rhs from the new piece, no error history, the step not crippled
             // by the knot's shortening
-            next_knot += 1;
-            if kinks.binary_search_by(|k| k.total_cmp(&t)).is_ok() {
+            next_knot = inside(knots(crate::run::fixed::after(t)));
+            if kinks(t) == t {
                 // a kink or jump: the system sampled there, the next step starts one float64
                 // after it, on its far side
                 if sys.is_sampled() {
@@ -380,7 +382,7 @@ mod tests {
             &grid,
             &settings,
             &units,
-            (knots, &[]),
+            (&|t| crate::ode::first_from(knots, t), &|_| f64::INFINITY),
             &mut ends,
             &cancel,
         )

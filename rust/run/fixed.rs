@@ -53,11 +53,12 @@ where
     M: Stepper<N, S>,
     O: Observer<N>,
 {
-    integrate_across(method, sys, x0, grid, &[], obs, cancel)
+    integrate_across(method, sys, x0, grid, &|_| f64::INFINITY, obs, cancel)
 }
 
-/// [`integrate`], with every step ending on the increasing `kinks` inside the run (see the
-/// module doc).
+/// [`integrate`], with every step ending on the kinks inside the run (see the module doc):
+/// `kinks(t)` is the first at or after `t` (infinity if none), asked for as the run goes
+/// ([`crate::dynamics::Model::next_kink`]), so that a clock's kinks need no list.
 ///
 /// # Errors
 /// Those of [`integrate`].
@@ -66,7 +67,7 @@ pub fn integrate_across<const N: usize, S, M, O>(
     sys: &S,
     x0: [f64; N],
     grid: &FrameGrid,
-    kinks: &[f64],
+    kinks: &impl Fn(f64) -> f64,
     obs: &mut O,
     cancel: &AtomicBool,
 ) -> Result<([f64; N], Stats)>
@@ -82,10 +83,10 @@ where
     for i in 1..grid.frames() {
         let (ta, tb) = (grid.time(i - 1), grid.time(i));
         let h = (tb - ta) / n as f64;
-        // the kinks in this frame's interval, its start included (the step from a kink starts
-        // just after it; the step onto the interval's end ends on it)
-        let inside = &kinks[kinks.partition_point(|&k| k < ta)..kinks.partition_point(|&k| k < tb)];
-        if !inside.is_empty() {
+        // the first kink in this frame's interval, its start included (the step from a kink
+        // starts just after it; the step onto the interval's end ends on it)
+        let first = kinks(ta);
+        if first < tb {
             let extra;
             (x, extra) = advance_across(
                 method,
@@ -95,7 +96,7 @@ where
                 ta,
                 h,
                 (n, tb),
-                inside,
+                (first, kinks),
                 (grid.t_end(), cancel),
             )?;
             splits += extra;
@@ -206,12 +207,14 @@ where
     advance(method, sys, obs, x, ta, h, range, end)
 }
 
-/// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the `kinks` (increasing,
-/// in `[ta, tb)`) split on it: the first piece ends on the kink, the second starts one
-/// float64 after it (a substep starting on a kink starts one float64 after it). Returns the
-/// state and the steps taken beyond the `n`. The cancel flag and the state's finiteness are
-/// checked every [`CHECK_EVERY`] substeps, as between kinks: a controller sampled at every
-/// step puts kinks in every frame.
+/// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the kinks (the first at
+/// or after `ta` is `first`, each next one `kinks(t)`, see [`integrate_across`]) split on it:
+/// the first piece ends on the kink, the second starts one float64 after it (a substep
+/// starting on a kink starts one float64 after it). Returns the state and the steps taken
+/// beyond the `n`. The cancel flag and the state's finiteness are checked every
+/// [`CHECK_EVERY`] substeps, as between kinks (a controller sampled at every step puts kinks
+/// in every frame), and every [`CHECK_EVERY`] kinks (a clock far faster than the step puts
+/// many in one substep).
 #[allow(clippy::too_many_arguments)]
 fn advance_across<const N: usize, S, M, O>(
     method: &M,
@@ -221,7 +224,7 @@ fn advance_across<const N: usize, S, M, O>(
     ta: f64,
     h: f64,
     (n, tb): (u64, f64),
-    kinks: &[f64],
+    (first, kinks): (f64, &impl Fn(f64) -> f64),
     (t_end, cancel): (f64, &AtomicBool),
 ) -> Result<([f64; N], u64)>
 where
@@ -229,7 +232,7 @@ where
     M: Stepper<N, S>,
     O: Observer<N>,
 {
-    let mut next = 0;
+    let (mut next, mut seen) = (first, 0_u64);
     let mut pieces: u64 = 0;
     let mut piece = |x: &mut [f64; N], t: f64, t1: f64| {
         pieces += 1;
@@ -244,8 +247,9 @@ where
     for k in 0..n {
         let mut t = ta + k as f64 * h;
         let t1 = if k + 1 == n { tb } else { t + h };
-        while let Some(&kink) = kinks.get(next).filter(|&&c| c < t1) {
-            next += 1;
+        while next < t1 {
+            let kink = next;
+            next = kinks(after(kink));
             if kink > t {
                 piece(&mut x, t, kink);
             }
@@ -256,6 +260,10 @@ where
             }
             // on the kink's far side (also when the substep starts on it)
             t = after(kink).max(t);
+            seen += 1;
+            if seen % CHECK_EVERY == 0 {
+                check(&x, t, t_end, cancel)?;
+            }
         }
         if t1 > t {
             piece(&mut x, t, t1);

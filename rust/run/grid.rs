@@ -10,6 +10,8 @@ pub struct FrameGrid {
     t_end: f64,
     frames: usize,
     substeps: u64,
+    /// The most steps the run may take (sample times count: each ends a step of its own).
+    max_steps: u64,
 }
 
 impl FrameGrid {
@@ -68,6 +70,7 @@ impl FrameGrid {
             t_end,
             frames,
             substeps: substeps as u64,
+            max_steps,
         })
     }
 
@@ -83,10 +86,11 @@ impl FrameGrid {
         max_steps: u64,
         adaptive: bool,
     ) -> Result<Self> {
-        let grid = match adaptive {
+        let mut grid = match adaptive {
             true => Self::frames_only(t_end, frames)?,
             false => Self::try_frames(t_end, frames)?,
         };
+        grid.max_steps = max_steps;
         if frames as u64 > max_steps {
             return Err(Error::TooLarge {
                 what: "the run".into(),
@@ -122,6 +126,11 @@ impl FrameGrid {
 
     pub fn t_end(&self) -> f64 {
         self.t_end
+    }
+
+    /// The most steps the run may take.
+    pub fn max_steps(&self) -> u64 {
+        self.max_steps
     }
 
     /// Substeps between consecutive frames.

@@ -665,11 +665,13 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
             .with_powers(size, |k| sys.rate_power(k))
             .with_dims(sys.dimension())
     };
+    // the kinks and knots asked for as the run goes (a clock's sample times are never listed)
+    let (kinks, knots) = (|t| sys.next_kink(t), |t| sys.next_knot(t));
     let run = match method {
-        Method::Rk4 => integrate_across(&Rk4, sys, x0, grid, sys.kinks(), obs, cancel),
+        Method::Rk4 => integrate_across(&Rk4, sys, x0, grid, &kinks, obs, cancel),
         Method::Rk4Projected => {
             let stepper = Rk4Projected::new(sys, &x0);
-            integrate_across(&stepper, sys, x0, grid, sys.kinks(), obs, cancel)
+            integrate_across(&stepper, sys, x0, grid, &kinks, obs, cancel)
         }
         Method::Dopri5(a) => integrate_adaptive(
             &Dopri5,
@@ -678,7 +680,7 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
             grid,
             &a,
             &units(),
-            (sys.knots(), sys.kinks()),
+            (&knots, &kinks),
             obs,
             cancel,
         ),
@@ -689,7 +691,7 @@ fn run_any<const N: usize, S: Model<N>, O: Observer<N>>(
             grid,
             &a,
             &units(),
-            (sys.knots(), sys.kinks()),
+            (&knots, &kinks),
             obs,
             cancel,
         ),
@@ -790,14 +792,14 @@ impl<const N: usize, const HOT: bool, M: Movers> Runs<N> for GeneralModel<N, HOT
         match method {
             Method::SplittingExact => {
                 let stepper = ExactKick::of(plain, &x0)?;
-                let kinks = self.kinks();
-                let (_, stats) = integrate_across(&stepper, plain, x0, grid, kinks, obs, cancel)?;
+                let kinks = |t| self.next_kink(t);
+                let (_, stats) = integrate_across(&stepper, plain, x0, grid, &kinks, obs, cancel)?;
                 Ok(stats)
             }
             Method::SplittingExact4 => {
                 let stepper = ExactKick4::of(plain, &x0)?;
-                let kinks = self.kinks();
-                let (_, stats) = integrate_across(&stepper, plain, x0, grid, kinks, obs, cancel)?;
+                let kinks = |t| self.next_kink(t);
+                let (_, stats) = integrate_across(&stepper, plain, x0, grid, &kinks, obs, cancel)?;
                 Ok(stats)
             }
             other => refused(other, self.kinds()),

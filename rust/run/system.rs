@@ -156,13 +156,6 @@ fn general<const N: usize, const HOT: bool, M: Movers>(
     Ok((model, x0))
 }
 
-/// The most sample times of the parts' laws a run lays out: the model lists them all (with
-/// the kinks and knots they join, about [`SAMPLE_TIME_BYTES`] each) before the run starts.
-pub const MAX_SAMPLE_TIMES: f64 = 1e8;
-/// About the bytes a sample time takes in a model: in the samples (time, part), the kinks,
-/// the knots, and the copies a run in its own units makes of them.
-const SAMPLE_TIME_BYTES: f64 = 64.0;
-
 /// The sample times the parts of `system` have in `[0, t_end]` (the user's units).
 pub fn sample_times(system: &System, t_end: f64) -> f64 {
     (system.parts().iter().filter_map(AnyPart::sampling))
@@ -171,32 +164,26 @@ pub fn sample_times(system: &System, t_end: f64) -> f64 {
         .sum()
 }
 
-/// Refuses a run whose parts' sample times over `[0, t_end]` are more than the model may list
-/// (a 1 kHz law over 10⁶ s asked for 10⁹ of them, 64 GB), before any is laid out, naming
-/// `t_end`; checks there is room for those it will list.
-fn check_sample_times(system: &System, t_end: f64) -> Result<()> {
+/// Refuses a run whose parts' sample times over `[0, t_end]` are more than `max_steps` (each
+/// ends a step of its own, and is evaluated), before it starts, naming `t_end`. Nothing is
+/// listed: the drivers ask the parts' clocks for each next sample time as the run goes
+/// ([`crate::dynamics::Clocks`]), so a 1 kHz law over 10⁶ s costs its steps, not memory.
+fn check_sample_times(system: &System, t_end: f64, max_steps: u64) -> Result<()> {
     let n = sample_times(system, t_end);
-    if n.is_nan() || n > MAX_SAMPLE_TIMES {
+    if n.is_nan() || n > max_steps as f64 {
         let periods: Vec<(&str, f64)> = (system.parts().iter())
             .filter_map(|p| p.sampling().map(|s| (p.name(), s.period)))
             .collect();
         return Err(Error::invalid(
             "t_end",
             format!(
-                "must give the parts' laws at most {MAX_SAMPLE_TIMES:e} sample times together \
-                 (t_end / period each; a run lists them before it starts): run a shorter \
-                 t_end, in pieces, or sample less often; the parts' periods: {periods:?}"
+                "must give the parts' laws no more sample times together (t_end / period \
+                 each) than {} (each ends a step of its own): run a shorter t_end, raise \
+                 max_steps, or sample less often; the parts' periods: {periods:?}",
+                super::max_steps_limit(max_steps)
             ),
             n,
         ));
-    }
-    let bytes = n * SAMPLE_TIME_BYTES;
-    if bytes >= f64::from(1 << 20) {
-        crate::buffer::ensure_room(
-            bytes,
-            "the parts' sample times",
-            "run a shorter t_end, in pieces, or sample less often",
-        )?;
     }
     Ok(())
 }
@@ -226,7 +213,6 @@ fn build(
 ) -> Result<(Built, Edge, i32)> {
     check_rates(omega0)?;
     let q0 = normalized(q0)?;
-    check_sample_times(system, t_end)?;
     // the copies of its knots the model makes: room for them, or an error (not an abort)
     let bytes = system.model_bytes();
     if bytes >= 1 << 20 {
@@ -332,6 +318,7 @@ pub fn simulate_system(
     cancel: &AtomicBool,
 ) -> Result<RunOutput> {
     method.for_kinds(system.kinds())?;
+    check_sample_times(system, grid.t_end(), grid.max_steps())?;
     let (built, edge, m) = build(system, omega0, q0, grid.t_end())?;
     let mut out = each_size!(built,
         model, x0 => simulate_model(&model, x0, grid, method, keep, cancel)?,
@@ -594,10 +581,12 @@ mod tests {
         }
     }
 
-    /// A 1 kHz law over 10⁶ s would list 10⁹ sample times (64 GB): the run refuses it at once,
-    /// naming `t_end`, before any is laid out; the plan too. 10⁵ of them are laid out.
+    /// A 1 kHz law over 10⁶ s: its 10⁹ sample times are never listed (the model is built at
+    /// once, its clock finds the last of them without walking there); a run whose sample
+    /// times are more than its `max_steps` is refused before it starts, naming `t_end`. At the
+    /// limit's edge a run goes ahead, sampled at every one.
     #[test]
-    fn too_many_sample_times_are_refused_before_they_are_laid_out() {
+    fn sample_times_are_never_listed_and_count_toward_max_steps() {
         let fields = Fields::new()
             .with("period", Value::Number(1e-3))
             .with("phase", Value::Number(0.0));
@@ -610,16 +599,23 @@ mod tests {
         .unwrap();
         assert_eq!(sample_times(&system, 1e6), 1e9 + 1.0);
         assert_eq!(sample_times(&system, 100.0), 1e5 + 1.0);
+        let start = std::time::Instant::now();
+        let (built, _, _) = build(&system, [0.1; 3], [1.0, 0.0, 0.0, 0.0], 1e6).unwrap();
+        let Built::G8(model, _) = built else {
+            panic!("a counter's model is of 8 numbers")
+        };
+        assert!(model.kinks().is_empty(), "no sample time listed");
+        assert_eq!(model.next_kink(1e6 - 0.0005), 1e9 * 1e-3);
+        assert!(start.elapsed().as_secs_f64() < 1.0);
         let method = Method::named("rk4", 1e-9, 1e-12, None).unwrap();
-        let grid = FrameGrid::try_new(1e6, 2, 1.0, u64::MAX).unwrap();
         let keep = Keep {
             frames: false,
             flips: false,
             tilt: false,
         };
         let cancel = AtomicBool::new(false);
-        let start = std::time::Instant::now();
-        for err in [
+        let run = |t_end: f64, max_steps: u64| {
+            let grid = FrameGrid::try_new(t_end, 2, 1.0, max_steps).unwrap();
             simulate_system(
                 &system,
                 [0.1; 3],
@@ -629,40 +625,18 @@ mod tests {
                 keep,
                 &cancel,
             )
-            .unwrap_err(),
-            plan_system(
-                &system,
-                [0.1; 3],
-                [1.0, 0.0, 0.0, 0.0],
-                1e6,
-                2,
-                method,
-                None,
-                1e-9,
-            )
-            .unwrap_err(),
-        ] {
-            match err {
-                Error::InvalidArgument { name, allowed, .. } => {
-                    assert_eq!(name, "t_end");
-                    assert!(allowed.contains("sample times"), "{allowed}");
-                }
-                e => panic!("not an invalid t_end: {e:?}"),
+        };
+        match run(1e6, 1_000_000_000).unwrap_err() {
+            Error::InvalidArgument { name, allowed, .. } => {
+                assert_eq!(name, "t_end");
+                assert!(allowed.contains("sample times"), "{allowed}");
+                assert!(allowed.contains("max_steps = 1000000000"), "{allowed}");
             }
+            e => panic!("not an invalid t_end: {e:?}"),
         }
-        assert!(start.elapsed().as_secs_f64() < 1.0);
-        // at the limit's edge a run goes ahead
-        let grid = FrameGrid::try_new(1.0, 2, 1e-3, u64::MAX).unwrap();
-        let out = simulate_system(
-            &system,
-            [0.1; 3],
-            [1.0, 0.0, 0.0, 0.0],
-            &grid,
-            method,
-            keep,
-            &cancel,
-        )
-        .unwrap();
+        // at the limit's edge a run goes ahead: 1001 sample times in [0, 1]
+        let out = run(1.0, 1001).unwrap();
         assert_eq!(out.end.parts, vec![1000.0]);
+        assert!(run(1.0, 1000).is_err());
     }
 }
