@@ -138,7 +138,7 @@ def orbits() -> list[tuple[tuple[float, float, float], tuple[float, float, float
 
 
 # The orbits the step rule's promise covers: away from the separatrix (as
-# tests/python/test_step_size.py draws them), where the error grows like ΩT (hΩ)^p.
+# tests/python/methods/test_step_size.py draws them), where the error grows like ΩT (hΩ)^p.
 WELL_CONDITIONED = 0.1
 
 

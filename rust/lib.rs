@@ -17,7 +17,7 @@
 //! The crate is Python-free unless the `python` feature is on; then the `python` module
 //! (rust/python/) holds the bindings and nothing else.
 //!
-//! The modules in layers, each using only the layers before it (tests/python/test_import_order.py
+//! The modules in layers, each using only the layers before it (tests/python/project/test_import_order.py
 //! checks this line against the code): [`error`], [`isa`] → [`pool`], [`body`], [`buffer`],
 //! [`ode`] → [`kinematics`], [`float`], [`mesh`], [`integrators`] → [`dynamics`] → [`exact`],
 //! [`observe`] → [`rigid`] → [`run`] → [`ensemble`] → `python`.

@@ -8,7 +8,7 @@ Run with that version's package, e.g.::
     cp python/dzhanibekov/_core.abi3.so /tmp/old/python/dzhanibekov/
     PYTHONPATH=/tmp/old/python python tests/data/legacy/make_legacy.py tests/data/legacy
 
-The systems are the ones tests/python/test_legacy_files.py rebuilds and compares with.
+The systems are the ones tests/python/io/test_legacy_files.py rebuilds and compares with.
 """
 
 import sys

@@ -314,7 +314,7 @@ def test_a_batch_of_systems_with_different_numbers_of_wheels_and_torques_round_t
     np.testing.assert_array_equal(back.momentum_world, batch.momentum_world)
 
 
-LEGACY = Path(__file__).resolve().parents[1] / "data" / "legacy"
+LEGACY = Path(__file__).resolve().parents[2] / "data" / "legacy"
 """Files written by dzhanibekov at main 3f80f7e, in the layout before parts were written by
 their model (tests/data/legacy/make_legacy.py): their reader is checked on them."""
 

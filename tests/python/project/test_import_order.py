@@ -8,7 +8,7 @@ from pathlib import Path
 
 import dzhanibekov
 
-RUST = Path(__file__).resolve().parents[2] / "rust"
+RUST = Path(__file__).resolve().parents[3] / "rust"
 PACKAGE = Path(dzhanibekov.__file__).resolve().parent
 
 

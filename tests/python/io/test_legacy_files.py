@@ -15,7 +15,7 @@ import pytest
 import dzhanibekov as dz
 
 pytest.importorskip("h5py")
-LEGACY = Path(__file__).resolve().parents[1] / "data" / "legacy"
+LEGACY = Path(__file__).resolve().parents[2] / "data" / "legacy"
 _spec = importlib.util.spec_from_file_location("make_legacy", LEGACY / "make_legacy.py")
 assert _spec is not None and _spec.loader is not None
 made = importlib.util.module_from_spec(_spec)

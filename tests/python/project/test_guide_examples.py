@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-GUIDE = Path(__file__).resolve().parents[2] / "docs" / "guide"
+GUIDE = Path(__file__).resolve().parents[3] / "docs" / "guide"
 
 
 @pytest.mark.parametrize("page", ["bodies.md", "changing.md", "montecarlo.md", "orbit.md"])

@@ -224,7 +224,7 @@ def test_every_method_on_offer_is_accepted():
 
 
 def test_the_guides_example_scene_is_valid_and_means_what_it_says():
-    guide = Path(__file__).resolve().parents[2] / "docs" / "guide" / "scenes.md"
+    guide = Path(__file__).resolve().parents[3] / "docs" / "guide" / "scenes.md"
     if not guide.exists():
         pytest.skip("no docs/guide/scenes.md beside the tests")
     text = guide.read_text(encoding="utf-8")

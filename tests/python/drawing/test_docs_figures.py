@@ -9,7 +9,7 @@ from PIL import Image
 import dzhanibekov as dz
 from dzhanibekov.render import PAPER_RENDER
 
-DOCS = Path(__file__).resolve().parents[2] / "docs"
+DOCS = Path(__file__).resolve().parents[3] / "docs"
 
 
 def test_the_figures_guide_lists_what_paper_renders():

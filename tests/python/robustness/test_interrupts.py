@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-CHILD = Path(__file__).with_name("interrupt_child.py")
+CHILD = Path(__file__).resolve().parents[1] / "interrupt_child.py"
 CALLS = ["simulate-rk4", "simulate-dop853", "simulate-splitting", "summarize-rk4",
          "summarize-exact", "batch-rk4", "batch-splitting", "sweep-rk4", "rotate",
          "summarize-dop853-frames", "summarize-dopri5-frames", "sweep-dop853-frames",
