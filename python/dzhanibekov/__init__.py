@@ -37,7 +37,7 @@ from .flips import flip_period
 from .io import ReadError, load, save
 from .geometry import BOX_SIZE, SIGNAL_POINT, box_edges, box_vertices, ellipsoid_mesh, ellipsoid_semi_axes
 from .results import Drift, Trajectory
-from .lvlh import lvlh_attitude, lvlh_frame, lvlh_start
+from .lvlh import lvlh_angles, lvlh_attitude, lvlh_frame, lvlh_start, nadir_angles
 from . import scenes
 from .scenes import PAPER_SCENES, SCENES, Scene, SceneError, load_scene
 from .methods import METHODS, MethodInfo
@@ -85,6 +85,8 @@ __all__ = [
     "lvlh_frame",
     "lvlh_attitude",
     "lvlh_start",
+    "lvlh_angles",
+    "nadir_angles",
     "pitch_libration_rate",
     "dual_spin_threshold",
     "dual_spin_map",

@@ -25,7 +25,7 @@ from ._args import as_array, as_float
 from .orbit import GravityGradient
 from .results import Batch, Trajectory
 
-__all__ = ["lvlh_frame", "lvlh_attitude", "lvlh_start"]
+__all__ = ["lvlh_frame", "lvlh_attitude", "lvlh_start", "lvlh_angles", "nadir_angles"]
 
 
 def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -121,6 +121,75 @@ def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
     frame = lvlh_frame(traj.t, orbit_rate)
     conj = frame * np.array([1.0, -1.0, -1.0, -1.0])
     return _product(conj, q)
+
+
+def lvlh_angles(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
+    """How far the body is turned from the orbiting frame: the angle (radians, in
+    ``[0, π]``) of the rotation :func:`lvlh_attitude` gives, one a frame.
+
+    Parameters
+    ----------
+    traj : Trajectory or Batch
+        A run (or runs) in orbit.
+    orbit_rate : float, optional
+        The orbit's rate; by default the run's system's :class:`GravityGradient`'s.
+
+    Returns
+    -------
+    ndarray, shape q.shape[:-1]
+        ``2 atan2(|v|, |w|)`` of each LVLH-from-body quaternion ``(w, v)``: the shorter way.
+
+    Examples
+    --------
+    >>> import math
+    >>> import dzhanibekov as dz
+    >>> sat = dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityGradient(1.0)])
+    >>> yawed = (math.cos(0.1), 0.0, 0.0, math.sin(0.1))   # 0.2 rad about nadir
+    >>> traj = dz.simulate(sat, *dz.lvlh_start(1.0, yawed), t_end=1.0, frames=2)
+    >>> round(float(dz.lvlh_angles(traj)[0]), 12)
+    0.2
+    """
+    q = lvlh_attitude(traj, orbit_rate)
+    angles: np.ndarray = 2.0 * np.arctan2(np.linalg.norm(q[..., 1:], axis=-1), np.abs(q[..., 0]))
+    return angles
+
+
+def nadir_angles(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
+    """The angle (radians, in ``[0, π]``) of the body's z axis from nadir, one a frame.
+
+    A body aligned with the orbiting frame has its z axis on nadir (``o3``; see the module
+    doc). The gravity gradient holds a body with z on nadir or on zenith, so an angle past
+    ``π/2`` means the body has left nadir's basin: what ``ask="leaves_nadir"`` of
+    :func:`~dzhanibekov.monte_carlo` asks. A turn about nadir (yaw) leaves it at 0.
+
+    Parameters
+    ----------
+    traj : Trajectory or Batch
+        A run (or runs) in orbit.
+    orbit_rate : float, optional
+        The orbit's rate; by default the run's system's :class:`GravityGradient`'s.
+
+    Returns
+    -------
+    ndarray, shape q.shape[:-1]
+        The angle between the body's z axis and ``o3``, from its components in LVLH axes.
+
+    Examples
+    --------
+    >>> import math
+    >>> import dzhanibekov as dz
+    >>> sat = dz.System(dz.Body((2.0, 3.0, 1.0)), torques=[dz.GravityGradient(1.0)])
+    >>> rolled = (math.cos(0.15), math.sin(0.15), 0.0, 0.0)   # 0.3 rad about along-track
+    >>> traj = dz.simulate(sat, *dz.lvlh_start(1.0, rolled), t_end=1.0, frames=2)
+    >>> round(float(dz.nadir_angles(traj)[0]), 12)
+    0.3
+    """
+    q = lvlh_attitude(traj, orbit_rate)
+    q0, q1, q2, q3 = np.moveaxis(q / np.linalg.norm(q, axis=-1, keepdims=True), -1, 0)
+    # the body's z in LVLH axes is the rotation's third column; atan2 keeps small angles exact
+    across = np.hypot(2.0 * (q1 * q3 + q0 * q2), 2.0 * (q2 * q3 - q0 * q1))
+    angles: np.ndarray = np.arctan2(across, 1.0 - 2.0 * (q1 * q1 + q2 * q2))
+    return angles
 
 
 def lvlh_start(orbit_rate: Any, q_rel: Any = (1.0, 0.0, 0.0, 0.0), omega_rel: Any = (0.0, 0.0, 0.0),

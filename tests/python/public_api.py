@@ -1421,6 +1421,20 @@ ENTRIES: dict[str, Entry] = {
         examples=30,
         min_success=0.9,
     ),
+    **{f.__name__: Entry(
+        call=f,
+        valid=st.fixed_dictionaries({"traj": st.just(ORBIT_RUN)},
+                                    optional={"orbit_rate": st.floats(1e-3, 10.0)}),
+        hostile={"traj": st.one_of(st.sampled_from([None, "traj", np.ones((3, 4))]),
+                                   st.floats(), st.integers()),
+                 "orbit_rate": st.one_of(st.sampled_from([math.nan, "1"]),
+                                         st.floats(max_value=0.0))},
+        check=lambda kw, a, _: _assert(np.shape(a) == np.shape(ORBIT_RUN.t) and bool(
+            np.all((a >= 0.0) & (a <= math.pi)))),
+        covers=(f,),
+        examples=30,
+        min_success=0.9,
+    ) for f in (dz.lvlh_angles, dz.nadir_angles)},
     "lvlh_start": Entry(
         call=dz.lvlh_start,
         valid=st.fixed_dictionaries({"orbit_rate": st.floats(1e-3, 10.0)},
