@@ -55,7 +55,9 @@ from .damper import Damper, flat_spin_time
 from .deployment import Deployment
 from .ensemble import DEFAULT_BLOCK, Batch, DeploymentSweep, Sweep, sweep
 from .errors import DzhanibekovError
+from .lvlh import lvlh_angles, nadir_angles
 from .methods import DEFAULT_METHOD, METHODS, check_method
+from .orbit import GravityGradient
 from .results import Trajectory
 from .rotations import quaternions_of
 from .simulate import simulate
@@ -65,8 +67,12 @@ __all__ = ["monte_carlo", "MonteCarlo", "StudyError", "binomial_interval",
            "separatrix_distance", "sample_rng", "ASKS", "INTERVALS", "DEFAULT_LEVEL", "PILOT",
            "KEEP_INPUTS"]
 
-ASKS = ("tumbles", "flat_spin", "flips")
+ASKS = ("tumbles", "flat_spin", "flips", "lvlh_angle", "leaves_nadir")
 """The questions a study asks by name (any other is a callable ``traj -> value``)."""
+
+_YES_OR_NO = ("tumbles", "flat_spin", "leaves_nadir")
+_IN_ORBIT = ("lvlh_angle", "leaves_nadir")
+"""The asks of a system in the gravity gradient (its orbit defines the frame they measure from)."""
 
 INTERVALS = ("wilson", "clopper-pearson")
 """The confidence intervals on offer."""
@@ -844,6 +850,10 @@ def _outcome(spec: _Spec, result: Any, i: int) -> Any:
     traj = result[i]
     if ask == "flat_spin":
         return bool(np.isfinite(flat_spin_time(traj)))
+    if ask == "lvlh_angle":
+        return _checked_outcome(np.max(lvlh_angles(traj)))
+    if ask == "leaves_nadir":
+        return bool(np.max(nadir_angles(traj)) > math.pi / 2)
     assert callable(ask)
     return _checked_outcome(ask(traj))
 
@@ -888,7 +898,7 @@ def _mixed(value: bool | float, first: bool | float) -> str:
 
 
 def _values(spec: _Spec, values: list[Any]) -> np.ndarray:
-    if spec.ask in ("tumbles", "flat_spin"):
+    if spec.ask in _YES_OR_NO:
         return np.array(values, dtype=bool)
     if spec.ask == "flips":
         return np.array(values, dtype=np.int64)
@@ -921,7 +931,7 @@ class MonteCarlo:
     Attributes
     ----------
     ask : str
-        The question: ``"tumbles"``, ``"flat_spin"``, ``"flips"``, or the name of the callable.
+        The question: one of :data:`ASKS`, or the name of the callable.
     n : int
         Samples drawn (numbered ``0 … n − 1``).
     seed : numpy.random.SeedSequence
@@ -929,8 +939,9 @@ class MonteCarlo:
     samples : ndarray of int64, shape (runs,)
         The samples that ran, ascending: all `n` of a plain study.
     outcomes : ndarray, shape (runs,)
-        Their outcomes: bool for ``"tumbles"``, ``"flat_spin"`` and callables that return
-        bools, int64 for ``"flips"``, float64 for other callables.
+        Their outcomes: bool for ``"tumbles"``, ``"flat_spin"``, ``"leaves_nadir"`` and
+        callables that return bools, int64 for ``"flips"``, float64 for ``"lvlh_angle"`` and
+        other callables.
     inputs : dict of str to ndarray
         What each sample that ran drew, with a leading axis of length runs: ``inertia``
         (runs, 3) principal moments (for a deployment: of the deployed body, ascending),
@@ -1021,7 +1032,7 @@ class MonteCarlo:
     @property
     def p(self) -> float:
         """The estimated probability of a yes-or-no outcome (``"tumbles"``, ``"flat_spin"``,
-        a callable returning bools)."""
+        ``"leaves_nadir"``, a callable returning bools)."""
         self._require_boolean("p")
         return self.mean
 
@@ -1285,7 +1296,7 @@ class MonteCarlo:
         entropy = entropy_of_text(str(a["seed_entropy"]))
         key = spawn_key_of_text(str(a["seed_spawn_key"]))
         outcomes = np.asarray(ds["outcome"].values)
-        if (a["ask"] in ("tumbles", "flat_spin") or outcomes.dtype == np.bool_
+        if (a["ask"] in _YES_OR_NO or outcomes.dtype == np.bool_
                 or str(a.get("outcome_type", "")) == "bool"):
             outcomes = outcomes.astype(bool)
         inputs = {name: np.ascontiguousarray(ds[name].values) for name in
@@ -1397,13 +1408,17 @@ def monte_carlo(
         The root of the samples' generators (None: fresh entropy, kept in ``study.seed``).
     t_end : float
         How long each sample runs (for a deployment: past its last knot).
-    ask : {"tumbles", "flat_spin", "flips"} or callable ``Trajectory -> bool or number``
+    ask : {"tumbles", "flat_spin", "flips", "lvlh_angle", "leaves_nadir"} or callable
         ``"tumbles"``: a constant body (free or damped) flips at least once in
         ``[0, t_end]`` (see Notes); a deployment tumbles after its last knot, the closed
         form's verdict on the deployed body as :func:`~dzhanibekov.sweep` gives it.
         ``"flat_spin"`` (a body with a damper): the major axis carries
         :data:`~dzhanibekov.FLAT_SHARE` of ``|L|`` at a frame before `t_end`.
-        ``"flips"``: how many flips in ``[0, t_end]``. A callable gets each sample's
+        ``"flips"``: how many flips in ``[0, t_end]``. In the gravity gradient,
+        ``"lvlh_angle"``: the largest angle from the orbiting frame at a frame (radians,
+        :func:`~dzhanibekov.lvlh_angles`), and ``"leaves_nadir"``: the body's z axis more
+        than 90° from nadir at a frame (:func:`~dzhanibekov.nadir_angles`), past which the
+        gravity gradient holds it on zenith instead. A callable gets each sample's
         trajectory (its frames: see `frames`) and returns a bool or a number.
     q0 : array_like (4,), scipy Rotation, callable or distribution
         Initial attitude, scalar first, as `omega0` is drawn.
@@ -1415,8 +1430,8 @@ def monte_carlo(
         samples ``0 … 15`` (:data:`PILOT`, drawn whatever `n` is) would pick alone for
         `rtol`, so that the step depends on the seed only.
     frames : int, optional
-        Frames per run: 2 (default) when one number per run is asked, 201 for ``"flat_spin"``
-        and callables. A fixed-step run's substeps follow the frames; :meth:`~MonteCarlo.rerun`
+        Frames per run: 2 (default) when one number per run is asked, 201 for ``"flat_spin"``,
+        the orbit asks and callables. A fixed-step run's substeps follow the frames; :meth:`~MonteCarlo.rerun`
         uses the same.
     rtol, atol : float, optional
         As for :func:`~dzhanibekov.simulate`.
@@ -1513,8 +1528,12 @@ def monte_carlo(
                          "systems")
     method_ = method if method is not None else "exact" if kind == "free" else DEFAULT_METHOD
     check_method(method_)
+    if ask in _IN_ORBIT and not _in_gravity_gradient(system, entropy, key):
+        raise ValueError(f"`ask={ask!r}` needs a system in the gravity gradient: pass "
+                         "dz.System(body, torques=[dz.GravityGradient(n)]) or a callable "
+                         "giving such systems")
     if frames_ is None:
-        frames_ = 201 if (ask == "flat_spin" or callable(ask)) else 2
+        frames_ = 201 if (ask in ("flat_spin", *_IN_ORBIT) or callable(ask)) else 2
     keep_inputs_ = n <= KEEP_INPUTS if keep_inputs is None else keep_inputs
     settings = _Settings(t_end, frames_, dt, method_, rtol, atol, threads)
     spec = _Spec(system, omega0, q0, ask, kind, entropy, key, settings, keep_inputs_, knots)
@@ -1535,6 +1554,12 @@ def _first_kind(system: Any, entropy: Any, key: tuple[int, ...]) -> tuple[str, i
         value = _sample_zero(system, entropy, key)
     knots = len(value.times) if isinstance(value, Deployment) else 0
     return _kind(value), knots
+
+
+def _in_gravity_gradient(system: Any, entropy: Any, key: tuple[int, ...]) -> bool:
+    """Whether sample 0's system is in the gravity gradient (what the orbit asks measure)."""
+    value = _sample_zero(system, entropy, key) if _is_random(system) else system
+    return any(isinstance(t, GravityGradient) for t in getattr(value, "torques", ()))
 
 
 def _sample_zero(system: Any, entropy: Any, key: tuple[int, ...]) -> Any:
