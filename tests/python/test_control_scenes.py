@@ -1,8 +1,9 @@
 """The closed loop's shipped scenes (issue 32), run in full (a few hundredths of a second
-each): ``detumble`` (a 3U CubeSat under B-dot) and ``slew`` (a 90° turn on limited wheels),
-checked against what they state and what the code cannot fake — the CubeSat's moments from
-its box, Avanzini & Giulietti's gain from its formula, the momentum a body started at rest
-keeps at zero, the least time a torque limit allows a rest-to-rest turn."""
+each): ``detumble`` (a 3U CubeSat under B-dot), ``slew`` (a 90° turn on limited wheels) and
+``caught`` (the paper's flipping box held by wheels), checked against what they state and
+what the code cannot fake — the CubeSat's moments from its box, Avanzini & Giulietti's gain
+from its formula, the momentum a body started at rest keeps at zero, the least time a torque
+limit allows a rest-to-rest turn, the angular momentum the wheels must end holding."""
 
 from __future__ import annotations
 
@@ -114,6 +115,19 @@ def test_the_slew_takes_no_less_than_its_torque_limits_least_time(
     assert cut["torque"][:, :2].any() and not cut["torque"][:, 2].any()   # the limit bound
     at_limit = np.abs(s["wheel_torque"]) == 0.004
     assert np.array_equal(cut["torque"][1:], at_limit[1:])   # frame 0: before any sample
+
+
+def test_the_caught_scene_holds_the_box_that_flips_when_free() -> None:
+    scene = dz.SCENES["caught"]
+    free = scene.replace(parts=(), draw=Draw(path=True, figures=("path",))).run()
+    held = scene.run()
+    assert free.flips == 2 and held.flips == 0
+    assert dz.pointing_angle(held)[-1] < 1e-9 and np.abs(held.omega[-1]).max() < 1e-9
+    # no external torque: the body back at rest, its wheels hold all of L₀, in space as it was
+    s = dz.part_state(held, "quaternion_feedback")
+    l0 = np.array(scene.body.inertia) * np.array(scene.omega0)
+    assert np.abs(s["wheel_momentum"][-1] - l0).max() < 1e-9 * np.linalg.norm(l0)
+    assert np.abs(s["wheel_torque"]).max() <= 5.0 and np.abs(s["wheel_momentum"]).max() <= 60.0
 
 
 def test_the_scenes_draw_their_figures(detumble: dz.Trajectory) -> None:
