@@ -632,7 +632,8 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     method = draw(st.sampled_from(FREE_METHODS))
     # (the orbit's figures need an orbit or a wheel: `figure_args` gives them one)
     chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(
-        [f for f in FIGURES if f not in ("lvlh", "wheel_off")]), unique=True, max_size=3)))
+        [f for f in FIGURES if f not in ("lvlh", "wheel_off", "pointing")]), unique=True,
+        max_size=3)))
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
         name=draw(st.from_regex(NAME_RE, fullmatch=True)),
@@ -838,13 +839,16 @@ def figure_args(figure: str) -> st.SearchStrategy[dict[str, Any]]:
     # the orbit's figures draw what only a run in orbit, or with a wheel, has
     # (by a method that runs them: the scenes' own may be the free body's exact solution)
     system = {"lvlh": {"orbit": dz.GravityGradient(0.7), "method": "rk4"},
-              "wheel_off": {"wheel": dz.Wheel((0.0, 0.0, 1.0), 2.0), "method": "rk4"}
-              }.get(figure, {})
+              "wheel_off": {"wheel": dz.Wheel((0.0, 0.0, 1.0), 2.0), "method": "rk4"},
+              "pointing": {"method": "rk4"}}.get(figure, {})
 
     def build(fields: dict[str, Any]) -> dz.Scene:
         d = fields["draw"]
         fields["draw"] = dz.scenes.Draw(**{**d.__dict__, **needs})
         fields.update(system)
+        if figure == "pointing":   # wheels under feedback, sampled 8 times a run
+            fields["parts"] = (dz.QuaternionFeedback(1.0, 2.0, fields["t_end"] / 8,
+                                                     torque_limit=1.0, momentum_limit=2.0),)
         if system:
             fields.pop("deployment", None)
             fields.pop("damper", None)

@@ -14,7 +14,8 @@ from ..orbit import GravityGradient
 from ..control import QuaternionFeedback
 from ..pointing import detumbled_at, part_state, pointing_angle
 from ..results import Trajectory
-from .figures import COLORS, Drawable, _saved, _time_axes, _title, _width, compute
+from .figures import (FIGURE_FUNCTIONS, COLORS, Drawable, _saved, _time_axes, _title, _width,
+                      compute)
 
 __all__ = ["detumble_figure", "pointing_figure"]
 
@@ -62,7 +63,8 @@ def detumble_figure(scene: Drawable, *, threshold: float = math.radians(0.5),
     n = _orbit_rate(traj)
     x = traj.t * n / (2 * math.pi) if n else traj.t
     rate = np.degrees(np.linalg.norm(traj.omega, axis=1))
-    ax.semilogy(x, rate, color=COLORS["box"], lw=1.2, label="|ω|")
+    # a body at rest has no place on a log scale: gaps there
+    ax.plot(x, np.where(rate > 0, rate, np.nan), color=COLORS["box"], lw=1.2, label="|ω|")
     limit = float(threshold)
     ax.axhline(math.degrees(limit), color="#c0392b", lw=0.9, ls="--",
                label=f"{math.degrees(limit):g}°")
@@ -74,6 +76,7 @@ def detumble_figure(scene: Drawable, *, threshold: float = math.radians(0.5),
     if n:
         ax.axhline(math.degrees(2 * n), color="#9a9a9a", lw=0.8, ls="-.",
                    label="2n (the field's turn)")
+    ax.set_yscale("log")   # after the threshold's line: a scale with something positive
     ax.set_xlabel("orbits" if n else "t")
     ax.set_ylabel("|ω| (degrees per unit time)")
     ax.set_xlim(0, x[-1])
@@ -142,3 +145,9 @@ def pointing_figure(scene: Drawable, *, save: str | Path | None = None) -> Figur
     torque_ax.set_xlim(0, traj.t[-1])
     angle_ax.set_title(_title(result, _width(fig)), fontsize=9)
     return _saved(fig, save)
+
+
+# the names a scene's `draw.figures` gives them (figures.py cannot import this module: it
+# imports figures.py's helpers)
+FIGURE_FUNCTIONS["detumble"] = detumble_figure
+FIGURE_FUNCTIONS["pointing"] = pointing_figure

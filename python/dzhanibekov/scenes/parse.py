@@ -32,6 +32,7 @@ import numpy as np
 
 from .._args import as_array, as_float, as_int, run_options
 from ..body import Body, InertiaWarning
+from ..control import QuaternionFeedback
 from ..damper import Damper
 from ..deployment import Deployment
 from ..geometry import CONVENTIONS, ellipsoid_semi_axes
@@ -66,12 +67,15 @@ __all__ = [
 ]
 
 FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy", "lvlh",
-           "wheel_off")
+           "wheel_off",
+           "detumble", "pointing")
 """Figures a scene may ask for: the phases panel (Fig. 2), the signal point's path in 3-D
 (Fig. 3), ω(t) with the flips marked, the invariants' drift, the polhode, the share of
 ``|L|`` on each body axis, the total kinetic energy (with ``|L_world|``), the attitude
-relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``) and the spin axis's tilt
-beside the same run with its wheel off (with ``[wheel]``)."""
+relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``), the spin axis's tilt
+beside the same run with its wheel off (with ``[wheel]``), the rate ``|ω|`` against orbits
+(a detumble) and the angle from a target with the wheels' momenta and torques (with a
+``quaternion_feedback`` in ``[[parts]]``)."""
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
@@ -533,8 +537,10 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
               *(() if given_system is None else (*given_system.parts, *given_system.torques)))
     has = {"lvlh": v.get("orbit") is not None or any(
                isinstance(t, GravityGradient) for t in listed),
-           "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed)}
-    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]")):
+           "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed),
+           "pointing": any(isinstance(p, QuaternionFeedback) for p in listed)}
+    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]"),
+                          ("pointing", "[[parts]] entry of kind \"quaternion_feedback\"")):
         if figure in draw.figures and not has[figure]:
             raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
 

@@ -304,3 +304,32 @@ def test_a_law_sampled_more_often_than_max_steps_allows_is_refused_naming_t_end(
         dz.simulate(dz.System(dz.Body((0.042, 0.042, 0.0067)), torques=[fast]),
                     (0.05, -0.03, 0.07), t_end=t_end, frames=2, method="dop853",
                     max_steps=max_steps)
+
+
+def test_wheels_given_a_torque_follow_their_limits_line_and_report_each_cut() -> None:
+    # open loop: a law that asks the wheels for a constant body torque of 0.12 about z, on
+    # motors of 0.1 and wheels of 0.37, held for 0.5. As the actuators are documented: each
+    # command is cut at its sample so that the wheel lands on its momentum limit at the
+    # hold's end, then to the torque limit. So the z wheel's momentum (ḣ = −τ) runs down at
+    # 0.1 (torque limit) to −0.35 at t = 3.5, at (−0.37 + 0.35)/0.5 = 0.04 (momentum limit)
+    # to −0.37 at t = 4, and stays; the body, at rest at the start, holds I ω = −h
+    period, tau_max, h_max, inertia = 0.5, 0.1, 0.37, (2.0, 3.0, 4.0)
+    law = dz.Controller(lambda t, q, omega, field, h: (0.0, 0.0, 0.12), period=period,
+                        torque_limit=tau_max, momentum_limit=h_max)
+    traj = dz.simulate(dz.System(dz.Body(inertia), parts=[law]), (0.0, 0.0, 0.0),
+                       t_end=6.0, frames=25, method="dop853", rtol=1e-12)
+    t = traj.t
+    line = np.where(t <= 3.5, -0.1 * t, np.maximum(-0.35 - 0.04 * (t - 3.5), -h_max))
+    s = state(traj, "controller")
+    h = s["wheel_momentum"]
+    assert np.abs(h[:, 2] - line).max() < 1e-12
+    assert np.all(h[:, :2] == 0.0)
+    assert np.abs(inertia[2] * traj.omega[:, 2] + h[:, 2]).max() < 1e-12
+    # each frame shows the command held since its last sample, and what cut it then
+    last = np.floor(t / period - 1e-9) * period           # frame 0: before any sample
+    held = np.where(last < 3.5, -0.1, np.where(last < 4.0, -0.04, 0.0))
+    assert np.abs(s["wheel_torque"][1:, 2] - held[1:]).max() < 1e-12
+    cut = dz.saturation(traj, "controller")
+    assert np.array_equal(cut["torque"][1:, 2], last[1:] < 3.5)
+    assert np.array_equal(cut["momentum"][1:, 2], last[1:] >= 3.5)
+    assert not cut["torque"][:, :2].any() and not cut["momentum"][:, :2].any()

@@ -304,9 +304,11 @@ def test_figures_of_a_body_at_rest_draw_without_warnings():
                      omega0=(0.0, 0.0, 0.0), t_end=1.0, frames=3, signal_point=(0.0, 0.0, 0.0),
                      draw=Draw(path=True, momentum=True,
                                figures=("path", "omega", "invariants", "polhode", "phases")))
-    # the orbit's figures draw a run in orbit, or with a wheel: the same body at rest there
+    # the orbit's figures draw a run in orbit, or with a wheel (the pointing figure: with
+    # wheels under feedback): the same body at rest there
     needs = {"lvlh": dict(orbit=dz.GravityGradient(1.0)),
-             "wheel_off": dict(wheel=dz.Wheel((0.0, 0.0, 1.0), 0.5))}
+             "wheel_off": dict(wheel=dz.Wheel((0.0, 0.0, 1.0), 0.5)),
+             "pointing": dict(parts=(dz.QuaternionFeedback(1.0, 2.0, 0.25),))}
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         for name, figure in plotting.FIGURE_FUNCTIONS.items():

@@ -17,7 +17,8 @@ def test_the_scene_files_ship_inside_the_package():
     assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
                      "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
-                     "dual-spin.toml", "spin-up.toml"}
+                     "dual-spin.toml", "spin-up.toml",
+                     "detumble.toml", "slew.toml", "caught.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -151,7 +152,7 @@ BAD = [
     ("mesh = [24, 12]", "mesh = [24, 1000]", "ellipsoid.mesh[1]", "must be at most 256"),
     ('figures = ["path"]', 'figures = ["path", "movie"]', "draw.figures",
      "must name only ['phases', 'path', 'omega', 'invariants', 'polhode', 'shares', 'energy', "
-     "'lvlh', 'wheel_off']"),
+     "'lvlh', 'wheel_off', 'detumble', 'pointing']"),
     ('figures = ["path"]', 'figures = "path"', "draw.figures", "must be a list of names"),
     ('figures = ["path"]', 'figures = ["path"]\nphases = [50.0, 150.0]', "draw.phases",
      "must be times in [0, run.t_end = 100]"),
@@ -202,7 +203,7 @@ def test_a_file_that_is_not_toml_or_not_there(tmp_path):
     path.write_text("title = 'unterminated\n")
     with pytest.raises(dz.SceneError, match=rf"^{path}: is not valid TOML: "):
         dz.load_scene(path)
-    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: deployment, dual-spin, example, explorer-1, fig3a"):
+    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: caught, deployment, detumble, dual-spin, example, explorer-1, fig3a"):
         dz.load_scene(tmp_path / "missing.toml")
     assert isinstance(dz.SceneError("f", "k", "m"), ValueError)
 
