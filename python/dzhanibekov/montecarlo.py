@@ -1401,7 +1401,8 @@ def monte_carlo(
         ``"tumbles"``: a constant body (free or damped) flips at least once in
         ``[0, t_end]`` (see Notes); a deployment tumbles after its last knot, the closed
         form's verdict on the deployed body as :func:`~dzhanibekov.sweep` gives it.
-        ``"flat_spin"`` (a body with a damper): the major axis carries
+        ``"flat_spin"`` (a body with a part that dissipates: a damper, a hinged appendage, a
+        spring–mass damper, a slosh tank): the major axis carries
         :data:`~dzhanibekov.FLAT_SHARE` of ``|L|`` at a frame before `t_end`.
         ``"flips"``: how many flips in ``[0, t_end]``. A callable gets each sample's
         trajectory (its frames: see `frames`) and returns a bool or a number.
@@ -1506,9 +1507,10 @@ def monte_carlo(
         dt = as_float("dt", dt, positive=True)
     entropy, key = seq.entropy, tuple(seq.spawn_key)
     # sample 0 says the kind of system (the draw is made again with the others)
-    kind, knots = _first_kind(system, entropy, key)
-    if ask == "flat_spin" and kind != "damper":
-        raise ValueError("`ask='flat_spin'` needs a damper: pass the system as "
+    kind, knots, dissipates = _first_kind(system, entropy, key)
+    if ask == "flat_spin" and not dissipates:
+        raise ValueError("`ask='flat_spin'` needs a part that dissipates (a damper, a hinge or "
+                         "spring with damping, a slosh tank): pass the system as "
                          "dz.System(body, parts=[dz.Damper(j, c)]) or a callable giving such "
                          "systems")
     method_ = method if method is not None else "exact" if kind == "free" else DEFAULT_METHOD
@@ -1528,13 +1530,17 @@ def monte_carlo(
     return runner.near_separatrix(n, runs, level, interval)
 
 
-def _first_kind(system: Any, entropy: Any, key: tuple[int, ...]) -> tuple[str, int]:
-    """The kind of system of sample 0 (a fixed system's own), and its knots if a deployment."""
+def _first_kind(system: Any, entropy: Any, key: tuple[int, ...]) -> tuple[str, int, bool]:
+    """The kind of system of sample 0 (a fixed system's own), its knots if a deployment, and
+    whether its parts dissipate (a flat spin can be asked of it)."""
     value = system
     if _is_random(system):
         value = _sample_zero(system, entropy, key)
     knots = len(value.times) if isinstance(value, Deployment) else 0
-    return _kind(value), knots
+    kind = _kind(value)
+    dissipates = kind == "damper" or (
+        kind == "system" and "energy_balance" in value.conserved)
+    return kind, knots, dissipates
 
 
 def _sample_zero(system: Any, entropy: Any, key: tuple[int, ...]) -> Any:
