@@ -20,7 +20,7 @@ pytest.importorskip("h5netcdf")
 BOX = dz.Body.box(1.0, 2.0, 3.0, mass=2.0)
 START = (0.3, 0.2, 1.0), (1.0, 0.0, 0.0, 0.0)
 STATEFUL = [n for n, m in dz.MODELS.items() if m.state and not m.law]
-RUN = dict(t_end=0.5, frames=5, method="rk4", dt=1e-3)
+RUN = dict(t_end=0.2, frames=5, method="rk4", dt=1e-2)
 
 
 def second(part: dz.Part) -> dz.Part:
