@@ -22,7 +22,7 @@ from .body import NEAR_SYMMETRY, PAPER_INERTIA, SYMMETRY_TOLERANCE, Body, Inerti
 from .damper import (FLAT_SHARE, Damper, StiffDamperWarning, axis_shares, damper_rate,
                      flat_spin_estimate, flat_spin_time)
 from .deployment import Deployment
-from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion
+from .dispersion import DamperDispersion, DeploymentDispersion, InertiaDispersion, PartDispersion
 from .system import System
 from .parts import Hinge, Slosh, SpringMassDamper
 from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
@@ -145,6 +145,7 @@ __all__ = [
     "InertiaDispersion",
     "DeploymentDispersion",
     "DamperDispersion",
+    "PartDispersion",
 ]
 
 _LAZY = {"plotting": ".plotting", "maps": ".plotting.maps", "viewer": ".viewer"}

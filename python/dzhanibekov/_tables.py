@@ -11,7 +11,9 @@ them carry no CF ``units`` and the attribute ``unit_system`` says so; quaternion
 
 - ``Trajectory``: dims ``time``, ``axis`` (x, y, z), ``quaternion`` (Q, U, V, W);
   ``omega(time, axis)``, ``q(time, quaternion)``, ``flip_times(flip)``; each part's state
-  (``damper(time, axis)``); ``energy(time)``, ``momentum_body(time, axis)`` and
+  under the name the run shows it (``damper(time, axis)``, ``hinge_angle(time)``; the
+  ``k``-th of several parts of a model as ``<model>_<k>``: ``damper_1(time, axis)``,
+  ``hinge_3_angle(time)``, the part on row ``k`` of ``part_<model>``); ``energy(time)``, ``momentum_body(time, axis)`` and
   ``momentum_world(time, axis)`` as the run's system defines them; and the system itself
   (see :func:`system_vars`): the body, and each part's fields under its model
   (``part_kind(part)``, ``part_<model>_<parameter>(part_<model>, …)``, see
@@ -40,7 +42,8 @@ from .parts import _columns
 __all__ = ["require", "trajectory_dataset", "batch_dataset", "sweep_dataset",
            "deployment_sweep_dataset", "trajectory_frame", "batch_frame", "sweep_frame",
            "system_vars", "knot_vars", "unstorable", "DRIFTS", "OPTIONAL_DRIFTS",
-           "QUATERNION", "AXIS"]
+           "QUATERNION", "AXIS", "model_of_state", "state_names",
+           "state_fields", "state_dims"]
 
 AXIS = ("x", "y", "z")
 QUATERNION = ("Q", "U", "V", "W")
@@ -176,23 +179,65 @@ def knot_vars(deployments: Any, lead: tuple[str, ...]) -> dict[str, Any]:
                              {"long_name": "deployment knot tensors, body axes"})}
 
 
+def model_of_state(name: str) -> str | None:
+    """The model of the part whose state a run shows under `name` (``run.parts``): the
+    model's own name for the only part of its model with state, ``<model>_<k>`` for the
+    ``k``-th of several (the core's naming, :attr:`System.part_names`; ``k`` is also the
+    part's row along ``part_<model>`` of the parameters' columns). None for a name that is
+    no part's."""
+    models = {m.name for m in _core.MODELS}
+    if name in models:
+        return name
+    model, _, k = name.rpartition("_")
+    return model if model in models and k.isdigit() and str(int(k)) == k else None
+
+
+def state_names(models: Any) -> list[str]:
+    """The names a run shows the state of parts of `models` under (the models of a system's
+    parts with state, in the system's order), as the core names them: the model's name for
+    the only one of its model, ``<model>_<k>`` for the ``k``-th of several."""
+    models = list(models)
+    seen: dict[str, int] = {}
+    out = []
+    for m in models:
+        k = seen.get(m, 0)
+        seen[m] = k + 1
+        out.append(m if models.count(m) == 1 else f"{m}_{k}")
+    return out
+
+
+def state_fields(name: str) -> list[tuple[str, str, int, str]]:
+    """The variables of the state shown under `name` (see :func:`model_of_state`): (variable,
+    field, width, what it holds), as :func:`_derived` writes them: `name` itself for a state
+    of one 3-vector (a damper's σ), else ``<name>_<field>`` per field."""
+    model = model_of_state(name)
+    if model is None:
+        raise ValueError(f"{name!r} names no part's state")
+    fields = _core.model_info(model).state
+    if len(fields) == 1 and fields[0][1] == 3:
+        return [(name, fields[0][0], 3, fields[0][3])]
+    return [(f"{name}_{field}", field, width, about) for field, width, _, about in fields]
+
+
+def state_dims(variable: str, width: int) -> tuple[str, ...]:
+    """The dims of a state variable after ``time``: none for a number, ``axis`` for a
+    3-vector, else ``<variable>_index``."""
+    return () if width == 1 else ("axis",) if width == 3 else (f"{variable}_index",)
+
+
 def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
-    """A run's parts' state and what its system says of each frame."""
+    """A run's parts' state and what its system says of each frame: each part's state under
+    the name the run shows it (the model's, or ``<model>_<k>`` for the ``k``-th of several
+    parts of a model, see :func:`state_fields`)."""
     out: dict[str, Any] = {}
     for name, state in run.parts.items():
-        fields = _core.model_info(name).state
-        if len(fields) == 1 and fields[0][1] == 3:   # one vector, a damper's: the part's name
-            out[name] = (prefix + ("time", "axis"), state,
-                         {"long_name": f"the {name}'s state (its sphere's rates, body axes)"})
-            continue
-        at = 0   # a part of several fields (the closed loop's): one variable each, by name
-        for field, width, _, about in fields:
+        at = 0   # one variable per field, by name (a damper's σ: the part's name alone)
+        for var, field, width, about in state_fields(name):
             block = state[..., at:at + width]
             at += width
-            dims, values = ((prefix + ("time", "axis"), block) if width == 3 else
-                            (prefix + ("time",), block[..., 0]) if width == 1 else
-                            (prefix + ("time", f"{name}_{field}_index"), block))
-            out[f"{name}_{field}"] = (dims, values, {"long_name": f"the {name}'s {about}"})
+            values = block[..., 0] if width == 1 else block
+            out[var] = (prefix + ("time",) + state_dims(var, width), values,
+                        {"long_name": f"the {name}'s {about}"})
     inv = run.invariants()
     out["energy"] = (prefix + ("time",), inv["energy"],
                      {"long_name": "total kinetic energy"})
@@ -346,7 +391,8 @@ def sweep_dataset(sweep: Any) -> Any:
 
 
 def _frame(index: Any, run: Any, rows: int) -> Any:
-    """Columns u v w Q U V W, each part's state (``damper_x`` …), the energy and the total
+    """Columns u v w Q U V W, each part's state (``damper_x`` …, ``hinge_angle``, each of
+    several of a model by its index: ``damper_0_x``), the energy and the total
     angular momentum in space (``L_x`` …), `rows` rows."""
     pd = require("pandas", "`to_dataframe`")
     columns: dict[str, np.ndarray] = {}
@@ -355,8 +401,13 @@ def _frame(index: Any, run: Any, rows: int) -> Any:
     for k, name in enumerate(QUATERNION):
         columns[name] = run.q.reshape(rows, 4)[:, k]
     for part, state in run.parts.items():
-        for k, axis in enumerate(AXIS):
-            columns[f"{part}_{axis}"] = state.reshape(rows, -1)[:, k]
+        flat, at = state.reshape(rows, -1), 0
+        for var, _, width, _ in state_fields(part):
+            names = ([var] if width == 1 else [f"{var}_{axis}" for axis in AXIS] if width == 3
+                     else [f"{var}_{i}" for i in range(width)])
+            for k, column in enumerate(names):
+                columns[column] = flat[:, at + k]
+            at += width
     if rows:
         columns["energy"] = run.energy.reshape(rows)
         for k, axis in enumerate(AXIS):

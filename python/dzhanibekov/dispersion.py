@@ -10,6 +10,8 @@ what an engineer does not know exactly, with the distributions stated:
 - :class:`DeploymentDispersion`: a deployment's timing (its start and its duration) and the
   body at each of its knots (as :class:`InertiaDispersion` draws them).
 - :class:`DamperDispersion`: a damper's sphere inertia and viscous coefficient.
+- :class:`PartDispersion`: any part's parameters by name (a hinge's damping, a spring's
+  stiffness, …, every model of ``dz.MODELS``), in a whole system.
 
 Each draws its random numbers from the generator it is given, in a fixed order, so that the
 same generator state gives the same value.
@@ -34,8 +36,11 @@ from ._args import as_array, as_float
 from .body import Body, InertiaWarning, as_body
 from .damper import Damper
 from .deployment import Deployment
+from .parts import Part, from_fields, params_of
+from .system import System
 
-__all__ = ["InertiaDispersion", "DeploymentDispersion", "DamperDispersion", "MAX_REDRAWS"]
+__all__ = ["InertiaDispersion", "DeploymentDispersion", "DamperDispersion", "PartDispersion",
+           "MAX_REDRAWS"]
 
 MAX_REDRAWS = 1000
 """Draws a dispersion makes for one value before it gives up: more means the nominal value
@@ -335,6 +340,147 @@ class DamperDispersion:
     def __repr__(self) -> str:
         return (f"DamperDispersion({self.damper!r}, inertia={self.inertia!r}, "
                 f"damping={self.damping!r})")
+
+
+class PartDispersion:
+    """Systems drawn around a nominal one, with parameters of its parts dispersed by name: a
+    hinged antenna's damping, a spring–mass damper's stiffness, a damper's ``c``, … any
+    number parameter of any model of ``dz.MODELS``.
+
+    The law, per draw (random numbers in this order): the system (if `system` is itself
+    drawn), then for each part dispersed, in the system's order, each parameter dispersed,
+    in the order of the model's parameters (``dz.MODELS[model].params``):
+
+    - a number ``s``: ``p' = p (1 + s Z)``, ``Z`` standard normal, drawn again while ``p'``
+      is not positive (a normal law truncated to positive values, as
+      :class:`DamperDispersion` draws); a parameter that is 0 stays 0;
+    - a callable ``rng -> value`` or a scipy.stats distribution (``.rvs(random_state=rng)``):
+      the value it gives (the core checks it, as for any part).
+
+    Parameters
+    ----------
+    system : System, or callable ``rng -> System``
+        The nominal system, or a dispersion drawing one (its draw comes first).
+    part : int or str
+        Which parts: an index into ``system.parts + system.torques`` (the order of the
+        system's parts in results and files), or a model's name (every part of that model:
+        Explorer 1's four whips, ``"hinge"``).
+    shared : bool
+        With a model's name: draw each parameter once for all its parts (one design whose
+        value is uncertain) rather than once per part (default: each its own).
+    **spreads : float, callable or distribution
+        By the parameter's name (a number parameter of the part's model): a relative
+        standard deviation (non-negative), or what draws the value.
+
+    Returns
+    -------
+    A callable ``rng -> System``: what :func:`~dzhanibekov.monte_carlo` takes as `system`.
+
+    Raises
+    ------
+    TypeError, ValueError
+        A system that is not one, a part it does not have, a parameter its model does not
+        have as a number, a negative or non-finite spread. A draw raises ValueError when
+        :data:`MAX_REDRAWS` draws give no positive value, or when the core refuses a drawn
+        value.
+
+    Examples
+    --------
+    >>> import numpy as np, dzhanibekov as dz
+    >>> rod = dz.System(dz.Body.cylinder(0.3, 1.5, mass=10.0), parts=[dz.Hinge(
+    ...     0.1, (1e-4, 0.01, 0.01), (0.3, 0.0, 0.0), (0.0, 1.0, 0.0), (1.0, 0.0, 0.0), 0.5,
+    ...     stiffness=1.0, damping=0.05)])
+    >>> disperse = dz.PartDispersion(rod, "hinge", damping=lambda rng: rng.uniform(0, 0.1))
+    >>> round(disperse(np.random.default_rng(0)).parts[0].damping, 4)
+    0.0637
+    """
+
+    __slots__ = ("system", "part", "spreads", "shared")
+
+    def __init__(self, system: Any, part: Any, *, shared: bool = False, **spreads: Any) -> None:
+        if not isinstance(shared, bool):
+            raise TypeError(f"`shared` must be True or False, got {shared!r}")
+        self.shared = shared
+        if not isinstance(system, System) and not callable(system):
+            raise TypeError(f"`system` must be a dz.System or a callable rng -> dz.System, got "
+                            f"{type(system).__name__}")
+        if isinstance(part, bool) or not isinstance(part, (int, np.integer, str)):
+            raise TypeError(f"`part` must be an index of the system's parts or a model's name, "
+                            f"got {type(part).__name__}")
+        if not spreads:
+            raise ValueError("give at least one parameter to disperse, by its name "
+                             "(e.g. damping=0.2)")
+        self.system = system
+        self.part: int | str = part if isinstance(part, str) else int(part)
+        self.spreads: dict[str, Any] = {}
+        for name, value in spreads.items():
+            if hasattr(value, "rvs") or callable(value):
+                self.spreads[name] = value
+                continue
+            spread = as_float(name, value)
+            if spread < 0:
+                raise ValueError(f"`{name}` must be a non-negative relative spread, a callable "
+                                 f"rng -> value or a distribution, got {spread!r}")
+            self.spreads[name] = spread
+        if isinstance(system, System):
+            self._targets(system)   # the part and its parameters, checked now
+
+    def _targets(self, system: System) -> list[int]:
+        """The places of the parts dispersed in ``system.parts + system.torques``, checked
+        with the parameters."""
+        every = (*system.parts, *system.torques)
+        if isinstance(self.part, str):
+            places = [k for k, p in enumerate(every) if p.model == self.part]
+            if not places:
+                held = sorted({p.model for p in every}) or ["none"]
+                raise ValueError(f"`part` {self.part!r} names no part of the system (its "
+                                 f"models: {', '.join(held)})")
+        else:
+            if not -len(every) <= self.part < len(every):
+                raise ValueError(f"`part` must be an index of the system's {len(every)} parts "
+                                 f"(parts, then torques), got {self.part}")
+            places = [self.part % len(every)]
+        for k in places:
+            model = every[k].model
+            numbers = [p.name for p in params_of(model) if p.kind == "scalar"]
+            for name in self.spreads:
+                if name not in numbers:
+                    raise ValueError(f"`{name}` is no number parameter of a {model} part (its "
+                                     f"number parameters: {', '.join(numbers) or 'none'})")
+        return places
+
+    def __call__(self, rng: np.random.Generator) -> System:
+        system = self.system
+        if not isinstance(system, System):
+            system = system(rng)
+            if not isinstance(system, System):
+                raise TypeError(f"`system` must give a dz.System, gave "
+                                f"{type(system).__name__}")
+        every: list[Part] = [*system.parts, *system.torques]
+        drawn: dict[str, Any] = {}   # the values drawn once, for `shared`
+        for k in self._targets(system):
+            part = every[k]
+            fields = dict(part.fields())
+            for p in params_of(part.model):
+                if p.name not in self.spreads:
+                    continue
+                how = self.spreads[p.name]
+                if self.shared and p.name in drawn:
+                    fields[p.name] = drawn[p.name]
+                elif isinstance(how, float):
+                    fields[p.name] = _positive(fields[p.name], how, rng, p.name)
+                else:
+                    fields[p.name] = how.rvs(random_state=rng) if hasattr(how, "rvs") \
+                        else how(rng)
+                drawn[p.name] = fields[p.name]
+            every[k] = from_fields(part.model, fields)
+        n = len(system.parts)
+        return System(system.body, parts=every[:n], torques=every[n:])
+
+    def __repr__(self) -> str:
+        spreads = ", ".join(f"{k}={v!r}" for k, v in self.spreads.items())
+        shared = ", shared=True" if self.shared else ""
+        return f"PartDispersion({self.system!r}, {self.part!r}{shared}, {spreads})"
 
 
 def _positive(nominal: float, spread: float, rng: np.random.Generator, name: str) -> float:

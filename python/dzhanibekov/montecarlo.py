@@ -43,7 +43,7 @@ import numbers
 import re
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -56,12 +56,16 @@ from .deployment import Deployment
 from .ensemble import DEFAULT_BLOCK, Batch, DeploymentSweep, Sweep, sweep
 from .errors import DzhanibekovError
 from .lvlh import lvlh_angles, nadir_angles
-from .methods import DEFAULT_METHOD, METHODS, check_method
+from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
+from .options import NAMES, RunKeywords, RunOptions, merged
 from .orbit import GravityGradient
 from .results import Trajectory
 from .rotations import quaternions_of
 from .simulate import simulate
 from .system import System
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 
 __all__ = ["monte_carlo", "MonteCarlo", "StudyError", "binomial_interval",
            "separatrix_distance", "sample_rng", "ASKS", "INTERVALS", "DEFAULT_LEVEL", "PILOT",
@@ -375,6 +379,7 @@ class _Settings(NamedTuple):
     rtol: float | None
     atol: float | None
     threads: int | None
+    max_steps: int = DEFAULT_MAX_STEPS
 
 
 @dataclass(frozen=True)
@@ -447,7 +452,7 @@ def _run(rows: _Rows, settings: _Settings, *, keep: str) -> Any:
     """
     s = settings
     options: dict[str, Any] = dict(t_end=s.t_end, frames=s.frames, dt=s.dt, method=s.method,
-                                   rtol=s.rtol, atol=s.atol)
+                                   rtol=s.rtol, atol=s.atol, max_steps=s.max_steps)
     system: Any
     if rows.kind == "deployment":
         system = rows.deployments
@@ -1360,22 +1365,16 @@ def monte_carlo(
     n: int,
     *,
     seed: Any,
-    t_end: float,
     ask: str | Callable[[Trajectory], Any] = "tumbles",
     q0: Any = (1.0, 0.0, 0.0, 0.0),
-    method: str | None = None,
-    dt: float | None = None,
-    frames: int | None = None,
-    rtol: float | None = None,
-    atol: float | None = None,
     runs: int | None = None,
     level: float = DEFAULT_LEVEL,
     interval: str = "wilson",
     chunk: int = DEFAULT_BLOCK,
     keep_inputs: bool | None = None,
-    threads: int | None = None,
     client: Any = None,
-    progress: bool | None = None,
+    options: RunOptions | None = None,
+    **keywords: Unpack[RunKeywords],
 ) -> MonteCarlo:
     """Will it tumble? A Monte Carlo study of `n` samples of a system and its start.
 
@@ -1406,13 +1405,12 @@ def monte_carlo(
         Samples, at least 1.
     seed : int, sequence of int, numpy.random.SeedSequence or None
         The root of the samples' generators (None: fresh entropy, kept in ``study.seed``).
-    t_end : float
-        How long each sample runs (for a deployment: past its last knot).
     ask : {"tumbles", "flat_spin", "flips", "lvlh_angle", "leaves_nadir"} or callable
         ``"tumbles"``: a constant body (free or damped) flips at least once in
         ``[0, t_end]`` (see Notes); a deployment tumbles after its last knot, the closed
         form's verdict on the deployed body as :func:`~dzhanibekov.sweep` gives it.
-        ``"flat_spin"`` (a body with a damper): the major axis carries
+        ``"flat_spin"`` (a body with a part that dissipates: a damper, a hinged appendage, a
+        spring–mass damper, a slosh tank): the major axis carries
         :data:`~dzhanibekov.FLAT_SHARE` of ``|L|`` at a frame before `t_end`.
         ``"flips"``: how many flips in ``[0, t_end]``. In the gravity gradient,
         ``"lvlh_angle"``: the largest angle from the orbiting frame at a frame (radians,
@@ -1422,6 +1420,13 @@ def monte_carlo(
         trajectory (its frames: see `frames`) and returns a bool or a number.
     q0 : array_like (4,), scipy Rotation, callable or distribution
         Initial attitude, scalar first, as `omega0` is drawn.
+    options : RunOptions, optional
+        The runs' options as one value (:class:`~dzhanibekov.RunOptions`, its fields taken as
+        they are), overridden by the keywords below; a study locates flips as its question
+        needs them. Without `options`, the keywords not given take the study's defaults.
+    t_end : float
+        How long each sample runs (for a deployment: past its last knot): a keyword, or
+        `options`' own; required.
     method : str, optional
         Default: ``"exact"`` (the closed form: exact and cheapest) for a free body, the
         package's default (``"rk4"``) for deployments and dampers.
@@ -1433,8 +1438,12 @@ def monte_carlo(
         Frames per run: 2 (default) when one number per run is asked, 201 for ``"flat_spin"``,
         the orbit asks and callables. A fixed-step run's substeps follow the frames; :meth:`~MonteCarlo.rerun`
         uses the same.
-    rtol, atol : float, optional
+    rtol, atol, max_steps : optional
         As for :func:`~dzhanibekov.simulate`.
+    threads : int, optional
+        Threads per call to the core (default: all cores of the machine that runs it).
+    progress : bool, optional
+        A progress bar (tqdm): None shows it on a terminal for a study of more than a second.
     runs : int, optional
         Run only this many of the `n` samples, chosen by their distance to the separatrix (a
         rare-event study, see the module): at least 4, below `n`. Default: all.
@@ -1447,12 +1456,8 @@ def monte_carlo(
     keep_inputs : bool, optional
         Keep every sample's inputs in the study (default: for at most :data:`KEEP_INPUTS`
         samples); a sample's inputs can always be drawn again (:meth:`~MonteCarlo.inputs_of`).
-    threads : int, optional
-        Threads per call to the core (default: all cores of the machine that runs it).
     client : dask.distributed.Client, optional
         Run the chunks as tasks on this cluster (draws included); the same numbers.
-    progress : bool, optional
-        A progress bar (tqdm): None shows it on a terminal for a study of more than a second.
 
     Returns
     -------
@@ -1494,9 +1499,18 @@ def monte_carlo(
     >>> round(study.p, 3), [round(x, 3) for x in study.interval]
     (0.322, [0.302, 0.343])
     """
+    given = merged("monte_carlo", options, keywords, _TAKES)
+    if options is None and "t_end" not in keywords:
+        raise TypeError("monte_carlo() needs `t_end`, how long each sample runs (a keyword, "
+                        "or a field of `options`)")
+    own = options is not None   # its fields are taken as they are; else the study's defaults
+    method = given.method if own or "method" in keywords else None
+    frames = given.frames if own or "frames" in keywords else None
+    dt, rtol, atol, max_steps = given.dt, given.rtol, given.atol, given.max_steps
+    threads, progress = given.threads, given.progress
     n = as_int("n", n, minimum=1)
     seq = _seed_sequence(seed)
-    t_end = as_float("t_end", t_end, positive=True)
+    t_end = as_float("t_end", given.t_end, positive=True)
     level = _level(level)
     interval = _interval_method(interval)
     chunk = as_int("chunk", chunk, minimum=1)
@@ -1521,9 +1535,10 @@ def monte_carlo(
         dt = as_float("dt", dt, positive=True)
     entropy, key = seq.entropy, tuple(seq.spawn_key)
     # sample 0 says the kind of system (the draw is made again with the others)
-    kind, knots = _first_kind(system, entropy, key)
-    if ask == "flat_spin" and kind != "damper":
-        raise ValueError("`ask='flat_spin'` needs a damper: pass the system as "
+    kind, knots, dissipates = _first_kind(system, entropy, key)
+    if ask == "flat_spin" and not dissipates:
+        raise ValueError("`ask='flat_spin'` needs a part that dissipates (a damper, a hinge or "
+                         "spring with damping, a slosh tank): pass the system as "
                          "dz.System(body, parts=[dz.Damper(j, c)]) or a callable giving such "
                          "systems")
     method_ = method if method is not None else "exact" if kind == "free" else DEFAULT_METHOD
@@ -1535,7 +1550,8 @@ def monte_carlo(
     if frames_ is None:
         frames_ = 201 if (ask in ("flat_spin", *_IN_ORBIT) or callable(ask)) else 2
     keep_inputs_ = n <= KEEP_INPUTS if keep_inputs is None else keep_inputs
-    settings = _Settings(t_end, frames_, dt, method_, rtol, atol, threads)
+    max_steps = as_int("max_steps", max_steps, minimum=1)
+    settings = _Settings(t_end, frames_, dt, method_, rtol, atol, threads, max_steps)
     spec = _Spec(system, omega0, q0, ask, kind, entropy, key, settings, keep_inputs_, knots)
     spec = replace(spec, settings=_planned(spec))
     # outcomes (8 bytes), and inputs (about 25 float64 values) if kept, for every sample
@@ -1547,13 +1563,21 @@ def monte_carlo(
     return runner.near_separatrix(n, runs, level, interval)
 
 
-def _first_kind(system: Any, entropy: Any, key: tuple[int, ...]) -> tuple[str, int]:
-    """The kind of system of sample 0 (a fixed system's own), and its knots if a deployment."""
+_TAKES = tuple(n for n in NAMES if n != "flips")
+"""The run options a study takes: it locates the flips as its question needs them."""
+
+
+def _first_kind(system: Any, entropy: Any, key: tuple[int, ...]) -> tuple[str, int, bool]:
+    """The kind of system of sample 0 (a fixed system's own), its knots if a deployment, and
+    whether its parts dissipate (a flat spin can be asked of it)."""
     value = system
     if _is_random(system):
         value = _sample_zero(system, entropy, key)
     knots = len(value.times) if isinstance(value, Deployment) else 0
-    return _kind(value), knots
+    kind = _kind(value)
+    dissipates = kind == "damper" or (
+        kind == "system" and "energy_balance" in value.conserved)
+    return kind, knots, dissipates
 
 
 def _in_gravity_gradient(system: Any, entropy: Any, key: tuple[int, ...]) -> bool:

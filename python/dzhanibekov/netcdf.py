@@ -121,6 +121,10 @@ class Layout:
     """Dimensions of a fixed length (``axis``: 3, ``quaternion``: 4)."""
     least: Mapping[str, int] = field(default_factory=dict)
     """Dimensions of a least length (``time``: 2)."""
+    state: Callable[[str], Var | None] | None = None
+    """The layout of the parts' state variables, by name (any number of parts of a model:
+    ``damper``, or ``damper_0``, ``damper_1``, … see :func:`state_vars`), beside
+    `variables`."""
     grid_coordinates: bool = False
     """Whether 1-D coordinates of the grid dimensions (a sweep's ``u0``, ``Iz`` …, named
     for their dimension) may be there besides `variables`."""
@@ -319,18 +323,44 @@ def sweep_outcomes(d: Loaded) -> str | None:
 # -- the system a file describes ------------------------------------------------------------------
 
 PART_NAMES = tuple(m.name for m in _core.MODELS if m.state and not m.law)
-"""The parts a file may name (``parts``), each with its state variable of that name."""
+"""The models of parts with state: a file names each such part (``parts``) as a run shows its
+state (the model's name, or ``<model>_<k>`` for the ``k``-th of several,
+:func:`dzhanibekov._tables.model_of_state`), with its state variables under that name."""
 
 
 def state_vars(name: str) -> dict[str, tuple[str, ...]]:
-    """The variables of part `name`'s state and their dims after ``time``, as
-    `_tables._derived` writes them: the part's name for a state of one 3-vector (a
+    """The variables of the state of the part shown as `name` and their dims after ``time``,
+    as `_tables._derived` writes them: the part's name for a state of one 3-vector (a
     damper's σ), else one variable per field, ``<name>_<field>``."""
-    fields = _core.model_info(name).state
-    if len(fields) == 1 and fields[0][1] == 3:
-        return {name: ("axis",)}
-    return {f"{name}_{field}": () if width == 1 else ("axis",) if width == 3
-            else (f"{name}_{field}_index",) for field, width, _, _ in fields}
+    return {var: _tables.state_dims(var, width)
+            for var, _, width, _ in _tables.state_fields(name)}
+
+
+def _part_state_name(name: str) -> bool:
+    """Whether `name` is how a run shows the state of a part a file can hold."""
+    return _tables.model_of_state(name) in PART_NAMES
+
+
+def _state_owner(variable: str) -> str | None:
+    """The part (as a run shows its state) whose state variable `variable` is, if any."""
+    head = variable
+    while head:
+        if _part_state_name(head) and variable in state_vars(head):
+            return head
+        head = head.rpartition("_")[0]
+    return None
+
+
+def _state_var(lead: tuple[str, ...]) -> Callable[[str], Var | None]:
+    """The layout of a part's state variable named `variable` (whatever the part's place
+    among those of its model), or None if it is no part's state variable."""
+    def var(variable: str) -> Var | None:
+        owner = _state_owner(variable)
+        if owner is None:
+            return None
+        return Var(lead + ("time",) + state_vars(owner)[variable], "f", (finite,),
+                   optional=True)
+    return var
 
 
 def _state_of(d: Loaded, name: str) -> np.ndarray:
@@ -356,9 +386,9 @@ def system_parts(d: Loaded) -> str | None:
     deployment's knots, and each named part's parameters and state; none for an empty
     batch."""
     runs = _runs(d)
-    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_legacy_parts.NAMES, *_DERIVED,
-                                 *(v for n in PART_NAMES for v in state_vars(n)))
-               if name in d.values]
+    states = [name for name in d.values if _state_owner(name) is not None]
+    present = [name for name in (*_BODY_VARS, *_KNOT_VARS, *_legacy_parts.NAMES, *_DERIVED)
+               if name in d.values] + states
     present += [name for name in d.values if name.startswith("part_")]
     if runs == 0:
         return None if not present else f"`{present[0]}` must not be there: the batch is empty"
@@ -368,12 +398,15 @@ def system_parts(d: Loaded) -> str | None:
         return ("the system's body must be given once: `body_tensor`, `body_mass` and "
                 "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
     parts = tuple(d["parts"]) if "parts" in d.attrs else ()
-    for name in PART_NAMES:
+    for name in parts:
         for var in state_vars(name):
-            if (name in parts) != (var in d.values):
-                return (f"the attribute `parts` {'names' if name in parts else 'does not name'} "
-                        f"the {name}, but its state `{var}` is "
-                        f"{'missing' if name in parts else 'there'}")
+            if var not in d.values:
+                return (f"the attribute `parts` names the {name}, but its state `{var}` is "
+                        "missing")
+    for var in states:
+        if _state_owner(var) not in parts:
+            return (f"the attribute `parts` does not name the {_state_owner(var)}, but its "
+                    f"state `{var}` is there")
     outline = [name in d.values for name in _SHAPE_VARS]
     if any(outline) and (not all(outline[:2]) or not all(body)):
         return "`body_vertices` and `body_edges` must be there together, with the body's tensor"
@@ -402,10 +435,12 @@ def system_parts(d: Loaded) -> str | None:
         return None
     if isinstance(found, str):
         return found
-    named = {p.model for row in found for p in (*row[0], *row[1]) if p.model in PART_NAMES}
-    if sorted(named) != sorted(parts):
-        return (f"the attribute `parts` names {list(parts)}, but the parts with state of "
-                f"`part_kind` are {sorted(named)}")
+    for row in found:
+        named = _tables.state_names(p.model for p in (*row[0], *row[1])
+                                    if p.model in PART_NAMES)
+        if named != list(parts):
+            return (f"the attribute `parts` names {list(parts)}, but the parts with state of "
+                    f"`part_kind` are shown as {named}")
     return None
 
 
@@ -718,7 +753,14 @@ def study_derived(d: Loaded, study: Any) -> str | None:
 _COUNT = Attr("i", (non_negative,))
 _METHOD = Attr("U", (one_of(tuple(METHODS)),))
 _KEPT_NAMES = Attr("U", (one_of(_KEPT),), shape=None)
-_PARTS = Attr("U", (one_of(PART_NAMES),), shape=None)
+def _state_names(a: np.ndarray) -> str | None:
+    bad = [str(v) for v in np.ravel(a) if not _part_state_name(str(v))]
+    return None if not bad else (f"must name parts with state as a run shows them (a model "
+                                 f"of {list(PART_NAMES)}, or <model>_<k> for the k-th of "
+                                 f"several), got {bad[0]!r}")
+
+
+_PARTS = Attr("U", (_state_names,), shape=None)
 _LABELS = {"axis": Var(("axis",), "U", (labels(_tables.AXIS),)),
            "quaternion": Var(("quaternion",), "U", (labels(_tables.QUATERNION),))}
 _FIXED = {"axis": 3, "axis_": 3, "quaternion": 4, "body_edge_end": 2, "body_face_corner": 3}
@@ -739,8 +781,6 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
         "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
         "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
                             optional=_OPT),
-        **{var: Var(lead + ("time",) + dims, "f", (finite,), optional=_OPT)
-           for name in PART_NAMES for var, dims in state_vars(name).items()},
         **_legacy_vars(lead),
         **_part_vars(lead),
         "energy": Var(lead + ("time",), "f", (finite,), optional=_OPT),
@@ -857,7 +897,7 @@ LAYOUTS: Mapping[str, Layout] = {
             "parts": _PARTS,
         },
         rules=(trajectory_q_unit, trajectory_flips, system_parts),
-        build=build_trajectory,
+        build=build_trajectory, state=_state_var(()),
         after=trajectory_derived,
         sizes=_FIXED, least={"time": 2, "knot": 1},
     ),
@@ -883,7 +923,7 @@ LAYOUTS: Mapping[str, Layout] = {
         },
         attrs={"method": _METHOD, "drift_kept": _KEPT_NAMES, "parts": _PARTS},
         rules=(run_numbers, batch_q_unit, batch_flips, system_parts),
-        build=build_batch,
+        build=build_batch, state=_state_var(("run",)),
         after=batch_derived,
         sizes=_FIXED, least={"time": 2, "knot": 1},
     ),
@@ -1197,13 +1237,24 @@ def _kind_of(dtype: np.dtype[Any]) -> str:
 _KIND_WORDS = {"f": "float64", "i": "integers", "U": "text", "n": "integers or float64"}
 
 
+def _specs(ds: Any, layout: Layout) -> dict[str, Var]:
+    """The layout's variables, with those of the parts' state the file holds."""
+    specs = dict(layout.variables)
+    if layout.state is not None:
+        for name in ds.variables:
+            if name not in specs and (var := layout.state(name)) is not None:
+                specs[name] = var
+    return specs
+
+
 def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
     """Each variable's dimensions and type against the layout, before any value is read;
     returns the variables' shapes."""
     grid: tuple[str, ...] | None = None
     sizes: dict[str, int] = {}
     shapes: dict[str, tuple[int, ...]] = {}
-    for name, spec in layout.variables.items():
+    specs = _specs(ds, layout)
+    for name, spec in specs.items():
         if name not in ds.variables:
             if spec.optional:
                 continue
@@ -1235,7 +1286,7 @@ def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
                 kind == "f" and var.dtype != np.float64):
             raise _Bad(f"`{name}` must hold {_KIND_WORDS[spec.kind]}, got {var.dtype}")
         shapes[name] = tuple(var.shape)
-    for name in sorted(set(ds.variables) - set(layout.variables)):
+    for name in sorted(set(ds.variables) - set(specs)):
         var = ds.variables[name]
         if not (layout.grid_coordinates and grid is not None and name in grid
                 and tuple(var.dimensions) == (name,) and _kind_of(var.dtype) in "fi"):
@@ -1246,7 +1297,7 @@ def _check_structure(ds: Any, layout: Layout) -> dict[str, tuple[int, ...]]:
 
 def _read_values(ds: Any, layout: Layout, shapes: dict[str, tuple[int, ...]]) -> Loaded:
     values: dict[str, np.ndarray] = {}
-    for name, spec in layout.variables.items():
+    for name, spec in _specs(ds, layout).items():
         if name not in shapes:
             continue
         try:

@@ -150,6 +150,21 @@ def check_damper(kwargs: dict[str, Any], d: Any, caught: list[warnings.WarningMe
     assert isinstance(d, dz.Damper) and d.inertia > 0 and d.damping > 0
 
 
+def part_dispersion(part: Any, damping: Any, stiffness: Any, seed: int) -> dz.System:
+    nominal = dz.System(dz.Body.box(1.0, 2.0, 3.0, mass=2.0), parts=[
+        dz.Damper(0.05, 0.02),
+        dz.SpringMassDamper(0.1, (0.0, 0.0, 0.5), (1.0, 0.0, 0.0), 4.0, 0.2)])
+    return dz.PartDispersion(nominal, part, damping=damping,
+                             stiffness=stiffness)(np.random.default_rng(seed))
+
+
+def check_part_dispersion(kwargs: dict[str, Any], s: Any,
+                          caught: list[warnings.WarningMessage]) -> None:
+    assert isinstance(s, dz.System) and [p.model for p in s.parts] == ["damper", "spring_mass"]
+    assert s.parts[0] == dz.Damper(0.05, 0.02)   # the part not named is the nominal one
+    assert s.parts[1].damping > 0 and s.parts[1].stiffness > 0
+
+
 ENTRIES: dict[str, Entry] = {
     "monte_carlo": Entry(
         call=dz.monte_carlo,
@@ -193,6 +208,19 @@ ENTRIES: dict[str, Entry] = {
                  "damping": st.one_of(hostile_real(positive=False), st.just(-0.1))},
         check=check_damper,
         covers=(dz.DamperDispersion,),
+        min_success=0.9,
+    ),
+    "PartDispersion": Entry(
+        call=part_dispersion,
+        valid=st.fixed_dictionaries({"part": st.sampled_from([1, -1, "spring_mass"]),
+                                     "damping": st.floats(0, 0.5),
+                                     "stiffness": st.floats(0, 0.5),
+                                     "seed": st.integers(0, 2**32)}),
+        hostile={"part": st.one_of(JUNK, st.sampled_from([0, 2, -3, "damper", "hinge", True, 0.5])),
+                 "damping": st.one_of(hostile_real(positive=False), st.just(-0.1)),
+                 "stiffness": st.one_of(hostile_real(positive=False), st.just(-0.1))},
+        check=check_part_dispersion,
+        covers=(dz.PartDispersion,),
         min_success=0.9,
     ),
 }

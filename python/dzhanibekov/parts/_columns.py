@@ -101,6 +101,8 @@ def _model_columns(model: str, per_run: list[list[Part]]
                 default=0)
     out: dict[str, tuple[tuple[str, ...], np.ndarray, str]] = {}
     for p in params:
+        if p.kind not in _SHAPES:  # a function: no column (see `unstorable`)
+            continue
         extra = tuple(knots if d == "knot" else 3 for d in _SHAPES[p.kind])
         a = np.full((len(fields), count) + extra, "" if _word(p.kind) else np.nan,
                     dtype=object if _word(p.kind) else np.float64)

@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.axes import Axes
@@ -30,11 +30,15 @@ from .._args import as_array, as_int, check_size
 from .._files import save_figure
 from ..body import PAPER_INERTIA
 from ..ensemble import Sweep, grid, sweep
+from ..options import NAMES, RunKeywords, RunOptions, merged
+
+if TYPE_CHECKING:
+    from typing_extensions import Unpack
 from .figures import _figure_of
 
 __all__ = [
     "stability_map", "separatrix_gap", "map_sweep", "map_figure", "render_maps", "QUANTITIES",
-    "PARAMETERS", "MAPS",
+    "PARAMETERS", "MAPS", "MAP_OPTIONS",
 ]
 
 PARAMETERS: dict[str, tuple[str, Callable[[np.ndarray, np.ndarray], np.ndarray]]] = {
@@ -264,8 +268,21 @@ MAPS = ("rates", "inertia")
 """The maps `render_maps` draws: over initial rates, and over inertia ratios."""
 
 
-def map_sweep(kind: str, *, size: int = 81, t_end: float = 200.0, dt: float = 1e-2,
-              progress: bool | None = None) -> Sweep:
+_TAKES = tuple(n for n in NAMES if n not in ("flips", "frames"))
+"""The run options a map takes: its sweep counts the flips and keeps no frames."""
+MAP_OPTIONS = RunOptions(t_end=200.0, dt=1e-2, frames=2)
+"""A map's runs without `options`: 200 time units at a step of 0.01 (its keywords override
+these)."""
+
+
+def _map_options(function: str, options: RunOptions | None, keywords: Any) -> RunOptions:
+    """`options` (else :data:`MAP_OPTIONS`) with `keywords` over it, two frames per run."""
+    base = MAP_OPTIONS if options is None else options
+    return merged(function, base, keywords, _TAKES).replace(frames=2)
+
+
+def map_sweep(kind: str, *, size: int = 81, options: RunOptions | None = None,
+              **keywords: Unpack[RunKeywords]) -> Sweep:
     """The sweep behind a shipped map.
 
     ``"rates"``: the paper's body (z intermediate) from ``ω0 = (u0, v0, 1)``, ``u0, v0`` in
@@ -280,21 +297,21 @@ def map_sweep(kind: str, *, size: int = 81, t_end: float = 200.0, dt: float = 1e
     kind : {"rates", "inertia"}
     size : int
         Starts per axis (at least 2).
-    t_end, dt : float
-        Each run's length and step.
-    progress : bool, optional
+    options : RunOptions, optional
+        The runs' options (default :data:`MAP_OPTIONS`: ``t_end=200``, ``dt=0.01``), each
+        overridden by its keyword; a map's runs keep two frames.
+    t_end, dt, method, rtol, atol, max_steps, threads, progress
         As for :func:`~dzhanibekov.sweep`.
     """
 
+    given = _map_options("map_sweep", options, keywords)
     size = as_int("size", size, minimum=2)
     if kind == "rates":
         rates = np.linspace(0.0, 1.5, size)
-        return sweep(PAPER_INERTIA, grid(rates, rates, 1.0), t_end=t_end, dt=dt, frames=2,
-                     progress=progress)
+        return sweep(PAPER_INERTIA, grid(rates, rates, 1.0), options=given)
     if kind == "inertia":
         ratios = np.linspace(0.5, 1.5, size)
-        return sweep(grid(1.0, ratios, ratios), (0.2, 0.2, 1.0), t_end=t_end, dt=dt, frames=2,
-                     progress=progress)
+        return sweep(grid(1.0, ratios, ratios), (0.2, 0.2, 1.0), options=given)
     raise ValueError(f"`kind` must be one of {MAPS}, got {kind!r}")
 
 
@@ -308,15 +325,17 @@ def map_figure(result: Sweep, *, save: str | Path | None = None) -> Figure:
 
 
 def render_maps(folder: str | Path, kinds: tuple[str, ...] = MAPS, *, size: int = 81,
-                t_end: float = 200.0, dt: float = 1e-2,
-                progress: bool | None = None) -> tuple[list[Path], list[Sweep]]:
+                options: RunOptions | None = None, **keywords: Unpack[RunKeywords]
+                ) -> tuple[list[Path], list[Sweep]]:
     """Writes ``map-KIND.png`` (:func:`map_figure`) and ``map-KIND.npz`` (the sweep's
-    per-run arrays) for each kind into `folder`. Returns the files and the sweeps."""
+    per-run arrays) for each kind into `folder`, the runs' options as for
+    :func:`map_sweep`. Returns the files and the sweeps."""
+    given = _map_options("render_maps", options, keywords)
     folder = Path(folder)
     files: list[Path] = []
     results = []
     for kind in kinds:
-        result = map_sweep(kind, size=size, t_end=t_end, dt=dt, progress=progress)
+        result = map_sweep(kind, size=size, options=given)
         path = folder / f"map-{kind}.png"
         map_figure(result, save=path)
         data = folder / f"map-{kind}.npz"

@@ -447,7 +447,7 @@ def test_a_run_that_does_not_finish_names_its_sample():
     (dict(n=0), "`n` must be at least 1"),
     (dict(n=-3), "`n` must be at least 1"),
     (dict(ask="tumble"), "`ask` must be one of"),
-    (dict(ask="flat_spin"), "needs a damper"),
+    (dict(ask="flat_spin"), "needs a part that dissipates"),
     (dict(runs=10), "`runs` must be below `n`"),
     (dict(runs=3), "`runs` must be at least 4"),
     (dict(level=1.0), "`level` must lie in"),
