@@ -10,6 +10,7 @@ import numpy as np
 
 from ._args import as_float
 from ._core import model_info
+from ._tables import model_of_state
 from .lvlh import lvlh_frame
 from .control import QuaternionFeedback
 from .results import Trajectory
@@ -94,8 +95,9 @@ def detumbled_at(traj: Trajectory, rate: float) -> float:
 
 
 def part_state(traj: Trajectory, kind: str) -> dict[str, np.ndarray]:
-    """The state of the run's part of model `kind` (a name of ``dz.MODELS``) by field, as the
-    core declares it: each ``(frames, width)``.
+    """The state of the run's part of model `kind` (a name of ``dz.MODELS``, or
+    ``<model>_<k>`` for the ``k``-th of several parts of one model, as ``traj.parts`` names
+    them) by field, as the core declares it: each ``(frames, width)``.
 
     Examples
     --------
@@ -111,7 +113,7 @@ def part_state(traj: Trajectory, kind: str) -> dict[str, np.ndarray]:
         raise ValueError(f"`kind` must be one of the run's parts with state "
                          f"({', '.join(map(repr, traj.parts)) or 'none'}), got {kind!r}")
     block, out, at = traj.parts[kind], {}, 0
-    for name, width, *_ in model_info(kind).state:
+    for name, width, *_ in model_info(model_of_state(kind) or kind).state:
         out[name] = block[:, at:at + width]
         at += width
     return out

@@ -184,3 +184,14 @@ def test_a_file_that_misses_one_part_s_state_is_refused(tmp_path):
     ds.to_netcdf(tmp_path / "more.nc", engine="h5netcdf")
     with pytest.raises(dz.ReadError, match=r"the parts with state of `part_kind` are shown as"):
         dz.load(tmp_path / "more.nc")
+
+
+def test_part_state_reads_the_kth_of_several_parts_of_one_model_by_its_state_name():
+    hinges = [dz.Hinge(0.2, (1e-4, 0.01, 0.01), (0.5, 0.0, 0.0), (0.0, 0.0, 1.0),
+                       (1.0, 0.0, 0.0), 0.3, 2.0, 0.05, angle0=a) for a in (0.05, -0.1)]
+    sat = dz.System(BOX, parts=hinges)
+    traj = dz.simulate(sat, (0.0, 0.0, 0.5), t_end=0.5, frames=3, method="rk4", dt=1e-3)
+    for k, start in enumerate((0.05, -0.1)):
+        state = dz.part_state(traj, f"hinge_{k}")
+        assert state["angle"][0, 0] == start          # each part's own start, by its place
+        np.testing.assert_array_equal(state["angle"][:, 0], traj.parts[f"hinge_{k}"][:, 0])
