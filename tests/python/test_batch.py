@@ -275,3 +275,22 @@ def test_a_single_run_of_a_system_is_its_batch_row_in_every_field(name):
     summary = dz.summarize(system, (0.3, 0.02, 1.0), **kwargs)
     assert np.array_equal(summary.flip_times, one.flip_times) and summary.drift == one.drift
     assert (summary.dt, summary.n_steps, summary.nfev) == (one.dt, one.n_steps, one.nfev)
+
+
+def test_a_single_runs_warnings_come_before_it_runs_and_point_at_the_caller(paper_body):
+    # the core calls back with the plan before the run: a run refused as an error by the
+    # warning filter never starts, and the warning names the caller's line
+    with pytest.warns(dz.StepSizeWarning, match="step") as caught:
+        dz.simulate(paper_body, (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert caught[0].filename == __file__
+    with pytest.warns(dz.StepSizeWarning) as caught:
+        dz.summarize(paper_body, (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert caught[0].filename == __file__
+    progressed = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", dz.StepSizeWarning)
+        with pytest.raises(dz.StepSizeWarning):
+            dz.simulate(dz.System(paper_body, torques=[dz.CallableTorque(
+                lambda t, q, w: progressed.append(t) or np.zeros(3))]),
+                (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert progressed == []
