@@ -95,24 +95,26 @@ impl Edge {
 
 /// The model a system makes for a run, with its start, in principal axes where the body is
 /// constant (see [`Edge`]) and with its moments over a power of two near the largest: the
-/// free body, or the general model in the least state size that holds it.
+/// free body, or the general model in the least state size that holds it. The general
+/// models are boxed: a few kilobytes each, which every move of the enum (out of `build`, into
+/// a [`Planned`]) copied, for the free body too (a quarter of a batch's planning time).
 enum Built {
     /// The free body, its start in principal axes (its run scales itself).
     Free(crate::body::RigidBody, [f64; 3], [f64; 4]),
     /// Every part folded: no part's code in the right-hand side.
-    Lean(GeneralModel<7, false>, [f64; 7]),
-    G7(GeneralModel<7>, [f64; 7]),
-    G8(GeneralModel<8>, [f64; 8]),
-    G10(GeneralModel<10>, [f64; 10]),
-    G11(GeneralModel<11>, [f64; 11]),
-    G12(GeneralModel<12>, [f64; 12]),
-    G14(GeneralModel<14>, [f64; 14]),
-    G16(GeneralModel<16>, [f64; 16]),
-    G24(GeneralModel<24>, [f64; 24]),
+    Lean(Box<GeneralModel<7, false>>, [f64; 7]),
+    G7(Box<GeneralModel<7>>, [f64; 7]),
+    G8(Box<GeneralModel<8>>, [f64; 8]),
+    G10(Box<GeneralModel<10>>, [f64; 10]),
+    G11(Box<GeneralModel<11>>, [f64; 11]),
+    G12(Box<GeneralModel<12>>, [f64; 12]),
+    G14(Box<GeneralModel<14>>, [f64; 14]),
+    G16(Box<GeneralModel<16>>, [f64; 16]),
+    G24(Box<GeneralModel<24>>, [f64; 24]),
     /// Parts whose mass moves in the body (see [`Moving`]): a model of its own, in two sizes
     /// only, so that no other model carries its code and the build makes few copies of it.
-    M10(GeneralModel<10, true, Moving>, [f64; 10]),
-    M24(GeneralModel<24, true, Moving>, [f64; 24]),
+    M10(Box<GeneralModel<10, true, Moving>>, [f64; 10]),
+    M24(Box<GeneralModel<24, true, Moving>>, [f64; 24]),
 }
 
 /// The state sizes of a model with parts whose mass moves (see [`Built::M10`]).
@@ -124,17 +126,50 @@ macro_rules! each_size {
     ($built:expr, $model:ident, $x0:ident => $e:expr, $free:pat => $f:expr) => {
         match $built {
             $free => $f,
-            Built::Lean($model, $x0) => $e,
-            Built::G7($model, $x0) => $e,
-            Built::G8($model, $x0) => $e,
-            Built::G10($model, $x0) => $e,
-            Built::G11($model, $x0) => $e,
-            Built::G12($model, $x0) => $e,
-            Built::G14($model, $x0) => $e,
-            Built::G16($model, $x0) => $e,
-            Built::G24($model, $x0) => $e,
-            Built::M10($model, $x0) => $e,
-            Built::M24($model, $x0) => $e,
+            Built::Lean(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G7(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G8(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G10(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G11(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G12(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G14(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G16(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G24(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::M10(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::M24(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
         }
     };
 }
@@ -148,13 +183,13 @@ fn general<const N: usize, const HOT: bool, M: Movers>(
     q: [f64; 4],
     t_end: f64,
     mass: Option<f64>,
-) -> Result<(GeneralModel<N, HOT, M>, [f64; N])> {
+) -> Result<(Box<GeneralModel<N, HOT, M>>, [f64; N])> {
     let model = GeneralModel::<N, HOT, M>::try_new(law, parts)?
         .with_hub_mass(mass)?
         .until(t_end);
     let x0 = model.state_from(0.0, omega, q);
     finite_start(&x0)?;
-    Ok((model, x0))
+    Ok((Box::new(model), x0))
 }
 
 /// The sample times the parts of `system` have in `[0, t_end]` (the user's units).
