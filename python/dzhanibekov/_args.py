@@ -6,6 +6,7 @@ ValueError for the right kind with a bad value.
 
 from __future__ import annotations
 
+import math
 import numbers
 import os
 import sys
@@ -60,6 +61,8 @@ def as_float(name: str, value: Any, *, positive: bool = False) -> float:
 
 def as_int(name: str, value: Any, *, minimum: int, maximum: int = MAX_INT) -> int:
     """An integer in ``[minimum, maximum]`` (Python or NumPy integer; no floats, no bools)."""
+    if type(value) is int and minimum <= value <= maximum:  # the common case, at once
+        return value
     _not_a_duration(name, value, "an integer")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Integral):
         raise TypeError(f"`{name}` must be an integer, got {type(value).__name__} "
@@ -93,8 +96,9 @@ def as_array(name: str, value: Any, shape: str, *, last: int, ndim: tuple[int, .
         # 2**31 rows holds one)
         check_size(8 * arr.size, f"`{name}` as a float64 array of shape {arr.shape}",
                    f"pass a smaller `{name}`")
-    arr = np.require(arr, dtype=np.float64, requirements=["C", "A"])
-    if not np.isfinite(arr).all():
+        arr = np.require(arr, dtype=np.float64, requirements=["C", "A"])
+    # a start's few values are checked faster one by one than by NumPy
+    if not (all(map(math.isfinite, arr.flat)) if arr.size <= 8 else np.isfinite(arr).all()):
         raise ValueError(f"`{name}` must be finite, got non-finite values")
     return arr
 
@@ -179,6 +183,8 @@ def check_size(nbytes: int, what: str, hint: str) -> None:
 def as_real(name: str, value: Any) -> float:
     """A real number as a float, whatever its value (infinities and NaN pass: the core says
     what values are allowed)."""
+    if type(value) is float:  # the common case, at once
+        return value
     _not_a_duration(name, value, "a real number")
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"`{name}` must be a real number, got {type(value).__name__} "

@@ -27,6 +27,7 @@ __all__ = [
     "Part",
     "RUN_STATUSES",
     "RigidBody",
+    "Run",
     "RunColumns",
     "RunOptions",
     "StepPlan",
@@ -266,6 +267,35 @@ class RunColumns:
     def dt(self) -> npt.NDArray[np.float64]: ...
 
 @final
+class Run:
+    @property
+    def t(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def omega(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def q(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def parts(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def flip_times(self) -> npt.NDArray[np.float64] | None: ...
+    @property
+    def flat_time(self) -> float | None: ...
+    @property
+    def drift(
+        self,
+    ) -> tuple[float, float, float, float, float | None, float | None]: ...
+    @property
+    def kept(self) -> list[str]: ...
+    @property
+    def dt(self) -> float: ...
+    @property
+    def n_steps(self) -> int: ...
+    @property
+    def nfev(self) -> int: ...
+    @property
+    def n_rejected(self) -> int: ...
+
+@final
 class BatchResult:
     @property
     def t(self) -> npt.NDArray[np.float64]: ...
@@ -314,6 +344,15 @@ def plan(
     options: RunOptions,
     inertia: npt.NDArray[np.float64] | None = None,
 ) -> BatchPlan: ...
+def simulate(
+    system: System,
+    omega0: npt.NDArray[np.float64],
+    q0: npt.NDArray[np.float64],
+    options: RunOptions,
+    keep_frames: bool = True,
+    warn: Callable[[StepPlan], object] | None = None,
+    progress: Callable[[float], object] | None = None,
+) -> Run: ...
 def simulate_batch(
     systems: list[System],
     omega0: npt.NDArray[np.float64],
@@ -322,7 +361,6 @@ def simulate_batch(
     keep_frames: bool,
     isa: str | None = None,
     inertia: npt.NDArray[np.float64] | None = None,
-    progress: Callable[[float], object] | None = None,
     first_row: int = 0,
 ) -> BatchResult: ...
 def sweep(

@@ -28,7 +28,7 @@ from .rotations import to_rotation
 from .system import System, Systems
 
 __all__ = ["Drift", "Trajectory", "Summary", "BatchDrift", "Batch", "Sweep", "DeploymentSweep",
-           "verdict", "observe"]
+           "verdict", "observe", "run_drift", "trajectory"]
 
 
 def verdict(flips: int, t_end: float) -> str:
@@ -398,6 +398,21 @@ def batch_drift(columns: Any) -> BatchDrift:
 
     return BatchDrift(energy, momentum, momentum_world, q_norm, optional("jacobi", jacobi),
                       kept, optional("energy_balance", balance))
+
+
+def run_drift(run: Any) -> Drift:
+    """The drift of the core's one run (`_core.Run`)."""
+    energy, momentum, momentum_world, q_norm, jacobi, balance = run.drift
+    return Drift(energy, momentum, momentum_world, q_norm, jacobi,
+                 tuple(run.kept) or _FREE_KEEPS, balance)
+
+
+def trajectory(run: Any, system: System, method: str) -> Trajectory:
+    """The core's one run (`_core.Run`) of `system` by `method` as a :class:`Trajectory`."""
+    return Trajectory(t=run.t, omega=run.omega, q=run.q, flip_times=run.flip_times,
+                      system=system, method=method, dt=run.dt, n_steps=run.n_steps,
+                      nfev=run.nfev, drift=run_drift(run), n_rejected=run.n_rejected,
+                      parts=split_parts(system, run.parts), _flat_time=run.flat_time)
 
 
 @dataclass(frozen=True, eq=False)

@@ -85,16 +85,20 @@ def rows_of(system: Any, omega0: Any, q0: Any, *, function: str,
     shape_of = f"(..., {{}})" if max_batch_ndim > 1 else "({0},) or (M, {0})"
     ndim = tuple(range(1, max_batch_ndim + 2))
     omega = as_array("omega0", omega0, shape_of.format(3), last=3, ndim=ndim)
-    if _ndim(q0) == 0 and not isinstance(q0, (list, tuple, np.ndarray)):
+    if not isinstance(q0, (list, tuple, np.ndarray)) and _ndim(q0) == 0:
         raise TypeError(f"`q0` (the third argument of `{function}`) must be a quaternion "
                         f"(Q, U, V, W), scalar first, or a scipy Rotation, got "
                         f"{type(q0).__name__}; t_end and the other options are keyword "
                         f"arguments: {function}(system, omega0, t_end=...)")
     q = as_array("q0", q0, shape_of.format(4), last=4, ndim=ndim)
-    zero = ~np.any(q.reshape(-1, 4) != 0, axis=1)
-    if zero.any():
+    if q.ndim == 1:
+        zero = None if q.any() else 0
+    else:
+        rows = ~np.any(q.reshape(-1, 4) != 0, axis=1)
+        zero = int(np.argmax(rows)) if rows.any() else None
+    if zero is not None:
         raise ValueError("`q0` must be a non-zero quaternion (Q, U, V, W), scalar first, "
-                         "got (0, 0, 0, 0)" + _at(int(np.argmax(zero)), q.shape[:-1]))
+                         "got (0, 0, 0, 0)" + _at(zero, q.shape[:-1]))
     if swapped is not None:  # before the moments are built into a body, which would refuse
         raise swapped
     moments: np.ndarray | None = None
@@ -140,8 +144,8 @@ def rows_of(system: Any, omega0: Any, q0: Any, *, function: str,
 
 
 def _one_row(a: np.ndarray) -> np.ndarray:
-    """A start (n,) as the one row (1, n) of C-contiguous float64 the core takes."""
-    return np.ascontiguousarray(a, dtype=np.float64).reshape(1, len(a))
+    """A start (n,) (C-contiguous float64, as `as_array` gives it) as the one row (1, n)."""
+    return a.reshape(1, len(a))
 
 
 def _at(flat: int, shape: tuple[int, ...]) -> str:

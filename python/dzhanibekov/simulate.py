@@ -19,14 +19,14 @@ from .damper import warn_stiff
 from .deployment import Deployment
 from .methods import METHODS
 from .options import RunKeywords, RunOptions, merged
-from .results import Batch, Trajectory, batch_drift, split_parts
+from .results import Batch, Trajectory, batch_drift, split_parts, trajectory
 from .rows import Rows, row_error, rows_of, warn_unphysical
 from .system import System
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
 
-__all__ = ["METHODS", "simulate", "rotate", "plan", "run_batch"]
+__all__ = ["METHODS", "simulate", "rotate", "plan", "run_one", "run_batch"]
 
 MAX_COORDINATE = float(np.finfo(np.float64).max / 4)
 """The largest body-point coordinate `rotate` takes: a rotated coordinate sums three terms
@@ -243,9 +243,38 @@ def simulate(
     progress = given.progress
     if progress is not None and not isinstance(progress, bool):
         raise TypeError(f"`progress` must be True, False or None, got {progress!r}")
-    core = plan(rows, core, stacklevel=3)
-    batch = run_batch(rows, core, progress=progress)
-    return batch if rows.batch else batch[0]
+    if not rows.batch:
+        run = run_one(rows, core, progress=progress, stacklevel=3)
+        return trajectory(run, rows.systems.first, core.method)
+    return run_batch(rows, plan(rows, core, stacklevel=3), progress=progress)
+
+
+def run_one(rows: Rows, options: _core.RunOptions, *, progress: bool | None = None,
+            keep_frames: bool = True, stacklevel: int) -> _core.Run:
+    """The one run of `rows` (no batch axis), planned and run in one call into the core,
+    which builds its model once; the warnings its plan calls for (RK4's dissipation, a stiff
+    damper) before it starts. `stacklevel` counts from this function."""
+    system = rows.systems.first
+    frames, method = options.frames, options.method
+    dt_given, rtol = options.dt is not None, options.rtol
+
+    def planned(p: _core.StepPlan) -> None:  # called by the core before the run starts
+        warn_step(p, method, dt_given, rtol, stacklevel=stacklevel + 2)
+        warn_stiff(p, method, stacklevel=stacklevel + 2)
+        if keep_frames:  # ω, q and parts a frame, and the frame times
+            check_size((8 + sum(system.part_widths)) * frames * 8, f"frames={frames}",
+                       "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo "
+                       "study) for per-run outcomes, which keep no frames")
+
+    progress = resolve(progress)
+    # the core reports how far the run got
+    report = RunProgress(options.t_end, progress is True) if progress is not False else None
+    try:
+        return _core.simulate(system._core, rows.omega[0], rows.q[0], options, keep_frames,
+                              warn=planned, progress=report)
+    finally:
+        if report is not None:
+            report.close()
 
 
 def plan(rows: Rows, options: _core.RunOptions, *, stacklevel: int) -> _core.RunOptions:
@@ -277,14 +306,13 @@ lanes' 16, so that the lanes are grouped as in one call; rows never depend on it
 
 def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = None,
               keep_frames: bool = True) -> Batch:
-    """The runs of `rows` (planned) over one frame grid, as a :class:`Batch` (a single run's
-    too: its row 0); with a progress bar, in blocks of `PROGRESS_BLOCK` rows."""
+    """The runs of `rows` (planned) over one frame grid, as a :class:`Batch`; with a progress
+    bar, in blocks of `PROGRESS_BLOCK` rows."""
     m, width = len(rows), sum(rows.systems.first.part_widths) if len(rows) else 0
     if keep_frames:
-        what = f"a batch of {m} runs × {options.frames} frames" if rows.batch else \
-            f"frames={options.frames}"
         # each run's ω, q and parts a frame, and the frame times
-        check_size((m * (7 + width) + 1) * options.frames * 8, what,
+        check_size((m * (7 + width) + 1) * options.frames * 8,
+                   f"a batch of {m} runs × {options.frames} frames",
                    "ask for fewer runs or frames, or use `dz.sweep` (or a Monte Carlo study) "
                    "for per-run outcomes, which keep no frames")
 
@@ -293,19 +321,12 @@ def run_batch(rows: Rows, options: _core.RunOptions, *, progress: bool | None = 
     def run(block: slice) -> Any:
         part = rows.take(block)
         systems, moments = part.core()
-        # a single run reports its progress from the core
-        report = RunProgress(options.t_end, progress is True) \
-            if m == 1 and progress is not False else None
         try:
             # row i of the whole batch is seeded i (its parts' noise), whatever the blocks
             return _core.simulate_batch(systems, part.omega, part.q, options, keep_frames,
-                                        inertia=moments, progress=report,
-                                        first_row=block.start or 0)
+                                        inertia=moments, first_row=block.start or 0)
         except ValueError as exc:
             raise row_error(exc, rows, block.start or 0) from None
-        finally:
-            if report is not None:
-                report.close()
 
     out = _in_blocks(run, m, progress)
     system = rows.systems.first if m else None

@@ -13,9 +13,9 @@ import numpy as np
 
 from .body import Body
 from .options import NAMES, RunKeywords, RunOptions, merged
-from .results import Summary
+from .results import Summary, run_drift
 from .rows import rows_of
-from .simulate import plan, run_batch
+from .simulate import plan, run_batch, run_one
 
 if TYPE_CHECKING:
     from typing_extensions import Unpack
@@ -77,6 +77,12 @@ def summarize(
     # the options' kinds first: a bad option is named before any guess about the arguments
     options_ = given.replace(flips=True, threads=None).core()
     rows = rows_of(system, omega0, q0, function="summarize", max_batch_ndim=1, stacklevel=3)
+    if not rows.batch:
+        one = run_one(rows, options_, keep_frames=False, stacklevel=3)
+        assert one.flip_times is not None
+        return Summary(flip_times=one.flip_times, drift=run_drift(one), t_end=options_.t_end,
+                       system=rows.systems.first, method=options_.method, dt=one.dt,
+                       n_steps=one.n_steps, nfev=one.nfev)
     core = plan(rows, options_, stacklevel=3)
     run = run_batch(rows, core, keep_frames=False)
     flip_times = run.flip_times

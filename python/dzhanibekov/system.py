@@ -192,7 +192,18 @@ def as_system(value: Any, name: str = "system") -> System:
         return value
     if isinstance(value, Deployment):
         return System(value)
-    return System(as_body(value, name))
+    global _last_system
+    last = _last_system
+    if last is not None and last[0] is value:
+        return last[1]
+    system = System(as_body(value, name))
+    if isinstance(value, Body):  # a body never changes: its system serves its next run too
+        _last_system = (value, system)
+    return system
+
+
+_last_system: tuple[Body, System] | None = None
+"""The system of the last body `as_system` was given, and that body."""
 
 
 class Systems(Sequence[System]):

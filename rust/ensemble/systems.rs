@@ -191,7 +191,7 @@ pub fn batch_bytes(m: usize, frames: usize, width: usize, keep: Keep, threads: u
 }
 
 /// A batch of one row: its single run, whose frames become the batch's without a copy (a
-/// single run is a batch of one, and costs what the run costs).
+/// batch of one costs what the run costs).
 fn one_row(
     system: &System,
     omega0: [f64; 3],

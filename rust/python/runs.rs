@@ -1,4 +1,4 @@
-//! The runs: planning, a batch (a single run is a batch of one), a sweep, and what a system says of its frames; their
+//! The runs: planning, one run, a batch, a sweep, and what a system says of its frames; their
 //! results as frozen classes of NumPy arrays.
 
 use std::sync::Arc;
@@ -23,11 +23,11 @@ use crate::ode::Stats;
 use crate::run::options::RunOptions;
 use crate::run::progress::{metered, Meter};
 use crate::run::step_size::StepPlan;
-use crate::run::{watchdog, FrameGrid, Keep};
+use crate::run::{watchdog, FrameGrid, Keep, Planned};
 
 use super::arrays::owned;
 use super::values::{PyRunOptions, PySystem};
-use super::{detach, detach_reporting};
+use super::{detach, detach_reporting, detach_with};
 
 /// The step a run will take and what it predicts (see `run::step_size::StepPlan`).
 #[pyclass(name = "StepPlan", module = "dzhanibekov._core", frozen, get_all)]
@@ -285,10 +285,9 @@ fn batch_options(threads: Option<usize>, isa: Option<&str>) -> PyResult<BatchOpt
     })
 }
 
-/// Runs every row (as `plan` takes them) over one frame grid; a single long run calls
-/// `progress(share)` now and then with the share of its span done (see `run::progress`).
+/// Runs every row (as `plan` takes them) over one frame grid.
 #[pyfunction]
-#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, progress = None, first_row = 0))]
+#[pyo3(signature = (systems, omega0, q0, options, keep_frames, isa = None, inertia = None, first_row = 0))]
 #[allow(clippy::too_many_arguments)]
 fn simulate_batch(
     py: Python<'_>,
@@ -299,7 +298,6 @@ fn simulate_batch(
     keep_frames: bool,
     isa: Option<&str>,
     inertia: Option<PyReadonlyArray2<'_, f64>>,
-    progress: Option<Py<PyAny>>,
     first_row: u64,
 ) -> PyResult<PyBatchResult> {
     let (mut systems, omega, q) = rows_of(&systems, inertia.as_ref(), &omega0, &q0, first_row)?;
@@ -321,29 +319,13 @@ fn simulate_batch(
     let (m, f, k) = (rows.len(), grid.frames(), rows.parts_width()?);
     let keep = keep(&options, keep_frames);
     let long = watchdog::is_long(&method, &grid, m);
-    // a Python torque function's failure stops the run: its own error reaches the caller
-    // a single run reports how far it got; a batch's rows, run on other threads, do not
-    let meter = Arc::new(Meter::new());
-    let mut shown = -1.0;
-    let out = detach_reporting(
+    let out = detach_with(
         py,
         long,
-        |cancel| {
-            let run = || simulate_systems(rows, &grid, method, keep, &batch, cancel);
-            match (&progress, m) {
-                (Some(_), 1) => metered(meter.clone(), run),
-                _ => run(),
-            }
-        },
+        |cancel| simulate_systems(rows, &grid, method, keep, &batch, cancel),
         || python.stop(),
-        |py| match &progress {
-            Some(report) if meter.share() != shown => {
-                shown = meter.share();
-                report.call1(py, (shown,)).map(|_| ())
-            }
-            _ => Ok(()),
-        },
     );
+    // a Python torque function's failure stops the run: its own error reaches the caller
     let out = match python.failure() {
         Some(e) => return Err(e),
         None => out?,
@@ -380,6 +362,120 @@ fn simulate_batch(
         flip_times: column(py, out.flip_times)?,
         flat_time: column(py, out.flat_time)?,
         runs: Py::new(py, runs)?,
+    })
+}
+
+/// One run's output: the frame times, rates `(F, 3)`, attitudes `(F, 4)` and parts' state
+/// `(F, k)` (no frames where none were kept); its flip times (None unless asked for); the
+/// time its spin went flat (None where not watched, NaN: not by the end); its drift
+/// `(energy, momentum, momentum_world, q_norm, jacobi, energy_balance)` (the last two None
+/// where its model has none) and what its model keeps; its step and cost.
+#[pyclass(name = "Run", module = "dzhanibekov._core", frozen, get_all)]
+struct PyRun {
+    t: Py<PyArray1<f64>>,
+    omega: Py<PyArray2<f64>>,
+    q: Py<PyArray2<f64>>,
+    parts: Py<PyArray2<f64>>,
+    flip_times: Option<Py<PyArray1<f64>>>,
+    flat_time: Option<f64>,
+    drift: (f64, f64, f64, f64, Option<f64>, Option<f64>),
+    kept: Vec<&'static str>,
+    dt: f64,
+    n_steps: u64,
+    nfev: u64,
+    n_rejected: u64,
+}
+
+/// One run of `system` from `omega0` (3,) and `q0` (4,): its step planned and the run made
+/// on one model, built once; `warn(plan)` called with its plan (a `StepPlan`) before it
+/// starts, and `progress(share)` now and then with the share of its span done (see
+/// `run::progress`). The same bits as row 0 of `simulate_batch` with the planned step.
+#[pyfunction]
+#[pyo3(signature = (system, omega0, q0, options, keep_frames = true, warn = None, progress = None))]
+#[allow(clippy::too_many_arguments)]
+fn simulate(
+    py: Python<'_>,
+    system: &PySystem,
+    omega0: PyReadonlyArray1<'_, f64>,
+    q0: PyReadonlyArray1<'_, f64>,
+    options: &PyRunOptions,
+    keep_frames: bool,
+    warn: Option<Py<PyAny>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<PyRun> {
+    let (omega0, q0) = match (omega0.as_slice()?, q0.as_slice()?) {
+        (&[a, b, c], &[w, x, y, z]) => ([a, b, c], [w, x, y, z]),
+        (w, q) => {
+            let shapes = (w.len(), q.len());
+            return Err(
+                Error::invalid("omega0, q0", "must have shapes (3,) and (4,)", shapes).into(),
+            );
+        }
+    };
+    // the run's own system, seeded as a batch's row 0, with its own view of each Python
+    // torque function (its failure, its Ctrl-C)
+    let mut systems = [system.inner.clone().with_seed(0)];
+    let python = super::callable::PythonCalls::of(py, &mut systems);
+    let options = options.inner;
+    let planned = py.detach(|| Planned::new(&systems[0], omega0, q0, &options))?;
+    if let Some(warn) = &warn {
+        warn.call1(py, (PyStepPlan::from(planned.plan),))?;
+    }
+    let (method, grid) = options.with_dt(planned.plan.dt)?.method_and_grid()?;
+    let keep = keep(&options, keep_frames);
+    let meter = Arc::new(Meter::new());
+    let mut shown = -1.0;
+    let out = detach_reporting(
+        py,
+        watchdog::is_long(&method, &grid, 1),
+        |cancel| {
+            let run = || planned.run(&grid, method, keep, cancel);
+            match &progress {
+                Some(_) => metered(meter.clone(), run),
+                None => run(),
+            }
+        },
+        || python.stop(),
+        |py| match &progress {
+            Some(report) if meter.share() != shown => {
+                shown = meter.share();
+                report.call1(py, (shown,)).map(|_| ())
+            }
+            _ => Ok(()),
+        },
+    );
+    // a Python torque function's failure stops the run: its own error reaches the caller
+    let out = match python.failure() {
+        Some(e) => return Err(e),
+        None => out?,
+    };
+    let (n, k) = (out.omega.len() / 3, systems[0].parts_width());
+    let part_frames = out.parts.len().checked_div(k).unwrap_or(n);
+    let d = out.drift;
+    let known = |x: Option<f64>| x.filter(|x| !x.is_nan());
+    Ok(PyRun {
+        t: frame_times(py, &grid, keep_frames)?,
+        omega: shaped2(py, out.omega, (n, 3))?,
+        q: shaped2(py, out.q, (n, 4))?,
+        parts: shaped2(py, out.parts, (part_frames, k))?,
+        flip_times: match options.flips {
+            true => Some(column(py, out.flip_times)?),
+            false => None,
+        },
+        flat_time: out.flat_time,
+        drift: (
+            d.energy,
+            d.momentum,
+            d.momentum_world,
+            d.q_norm,
+            known(d.jacobi),
+            known(d.energy_balance),
+        ),
+        kept: d.kept.names(),
+        dt: out.dt,
+        n_steps: out.stats.n_steps,
+        nfev: out.stats.nfev,
+        n_rejected: out.stats.n_rejected,
     })
 }
 
@@ -506,8 +602,10 @@ pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyBatchPlan>()?;
     m.add_class::<PyRunColumns>()?;
     m.add_class::<PyBatchResult>()?;
+    m.add_class::<PyRun>()?;
     m.add_class::<PySweepResult>()?;
     m.add_function(wrap_pyfunction!(plan, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(observe, m)?)?;

@@ -34,7 +34,7 @@ pub(crate) use fixed::{CHECK_EVERY, DIVERGED_HINT};
 pub(crate) use grid::max_steps_limit;
 pub use grid::FrameGrid;
 pub use registry::{Method, MethodInfo, Runs, METHODS};
-pub use system::{plan_system, simulate_system, Edge};
+pub use system::{plan_system, simulate_system, Edge, Planned};
 
 /// The method named `name` and the frame grid of its run: tolerances `rtol`, `atol`, first
 /// step `dt` (`None`: picked in the run, for each run of a batch or sweep as alone) and a cap

@@ -16,6 +16,7 @@ use crate::float::{exponent, ldexp, RateScale, UNSCALED};
 use crate::kinematics::normalized;
 use crate::ode::controller::check_rtol;
 
+use super::options::RunOptions;
 use super::registry::StepRule;
 use super::step_size::{
     error_model, predicted_error, reaching, rk4_predicted_drift, step_for_accuracy, StepPlan,
@@ -94,24 +95,26 @@ impl Edge {
 
 /// The model a system makes for a run, with its start, in principal axes where the body is
 /// constant (see [`Edge`]) and with its moments over a power of two near the largest: the
-/// free body, or the general model in the least state size that holds it.
+/// free body, or the general model in the least state size that holds it. The general
+/// models are boxed: a few kilobytes each, which every move of the enum (out of `build`, into
+/// a [`Planned`]) copied, for the free body too (a quarter of a batch's planning time).
 enum Built {
     /// The free body, its start in principal axes (its run scales itself).
     Free(crate::body::RigidBody, [f64; 3], [f64; 4]),
     /// Every part folded: no part's code in the right-hand side.
-    Lean(GeneralModel<7, false>, [f64; 7]),
-    G7(GeneralModel<7>, [f64; 7]),
-    G8(GeneralModel<8>, [f64; 8]),
-    G10(GeneralModel<10>, [f64; 10]),
-    G11(GeneralModel<11>, [f64; 11]),
-    G12(GeneralModel<12>, [f64; 12]),
-    G14(GeneralModel<14>, [f64; 14]),
-    G16(GeneralModel<16>, [f64; 16]),
-    G24(GeneralModel<24>, [f64; 24]),
+    Lean(Box<GeneralModel<7, false>>, [f64; 7]),
+    G7(Box<GeneralModel<7>>, [f64; 7]),
+    G8(Box<GeneralModel<8>>, [f64; 8]),
+    G10(Box<GeneralModel<10>>, [f64; 10]),
+    G11(Box<GeneralModel<11>>, [f64; 11]),
+    G12(Box<GeneralModel<12>>, [f64; 12]),
+    G14(Box<GeneralModel<14>>, [f64; 14]),
+    G16(Box<GeneralModel<16>>, [f64; 16]),
+    G24(Box<GeneralModel<24>>, [f64; 24]),
     /// Parts whose mass moves in the body (see [`Moving`]): a model of its own, in two sizes
     /// only, so that no other model carries its code and the build makes few copies of it.
-    M10(GeneralModel<10, true, Moving>, [f64; 10]),
-    M24(GeneralModel<24, true, Moving>, [f64; 24]),
+    M10(Box<GeneralModel<10, true, Moving>>, [f64; 10]),
+    M24(Box<GeneralModel<24, true, Moving>>, [f64; 24]),
 }
 
 /// The state sizes of a model with parts whose mass moves (see [`Built::M10`]).
@@ -123,17 +126,50 @@ macro_rules! each_size {
     ($built:expr, $model:ident, $x0:ident => $e:expr, $free:pat => $f:expr) => {
         match $built {
             $free => $f,
-            Built::Lean($model, $x0) => $e,
-            Built::G7($model, $x0) => $e,
-            Built::G8($model, $x0) => $e,
-            Built::G10($model, $x0) => $e,
-            Built::G11($model, $x0) => $e,
-            Built::G12($model, $x0) => $e,
-            Built::G14($model, $x0) => $e,
-            Built::G16($model, $x0) => $e,
-            Built::G24($model, $x0) => $e,
-            Built::M10($model, $x0) => $e,
-            Built::M24($model, $x0) => $e,
+            Built::Lean(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G7(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G8(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G10(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G11(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G12(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G14(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G16(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::G24(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::M10(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
+            Built::M24(boxed, $x0) => {
+                let $model = &**boxed;
+                $e
+            }
         }
     };
 }
@@ -147,13 +183,13 @@ fn general<const N: usize, const HOT: bool, M: Movers>(
     q: [f64; 4],
     t_end: f64,
     mass: Option<f64>,
-) -> Result<(GeneralModel<N, HOT, M>, [f64; N])> {
+) -> Result<(Box<GeneralModel<N, HOT, M>>, [f64; N])> {
     let model = GeneralModel::<N, HOT, M>::try_new(law, parts)?
         .with_hub_mass(mass)?
         .until(t_end);
     let x0 = model.state_from(0.0, omega, q);
     finite_start(&x0)?;
-    Ok((model, x0))
+    Ok((Box::new(model), x0))
 }
 
 /// The sample times the parts of `system` have in `[0, t_end]` (the user's units).
@@ -301,9 +337,8 @@ fn finite_start<const N: usize>(x: &[f64; N]) -> Result<()> {
 }
 
 /// Simulates `system` from body rates `omega0` and attitude `q0`, both of the user's own axes
-/// (`q0` normalised here), over `grid` with `method`, keeping what `keep` asks: the one run of
-/// every system. The frames come back in the user's axes; the parts' state (a damper's σ)
-/// too.
+/// (`q0` normalised here), over `grid` with `method`, keeping what `keep` asks: the run of a
+/// batch's row. The frames come back in the user's axes; the parts' state (a damper's σ) too.
 ///
 /// # Errors
 /// A method that cannot run the system ([`Error::Unsupported`]), bad starts, and the errors
@@ -320,9 +355,25 @@ pub fn simulate_system(
     method.for_kinds(system.kinds())?;
     check_sample_times(system, grid.t_end(), grid.max_steps())?;
     let (built, edge, m) = build(system, omega0, q0, grid.t_end())?;
+    run_built(system, &built, edge, m, grid, method, keep, cancel)
+}
+
+/// The run of a system's built model (see [`build`]): its frames and ends back in the
+/// user's moments and axes.
+#[allow(clippy::too_many_arguments)]
+fn run_built(
+    system: &System,
+    built: &Built,
+    edge: Edge,
+    m: i32,
+    grid: &FrameGrid,
+    method: Method,
+    keep: Keep,
+    cancel: &AtomicBool,
+) -> Result<RunOutput> {
     let mut out = each_size!(built,
-        model, x0 => simulate_model(&model, x0, grid, method, keep, cancel)?,
-        Built::Free(body, omega, q) => simulate(&body, omega, q, grid, method, keep, cancel)?
+        model, x0 => simulate_model(model, *x0, grid, method, keep, cancel)?,
+        Built::Free(body, omega, q) => simulate(body, *omega, *q, grid, method, keep, cancel)?
     );
     // the parts' state in the user's moments and axes
     let dims = system.parts_dims();
@@ -342,6 +393,62 @@ pub fn simulate_system(
     edge.frames_out(&mut end.omega, &mut end.q, &mut end.parts, layout);
     // turned back into the user's axes, rates at the edge of float64 can leave it
     super::finite_frames(out, grid)
+}
+
+/// One run of a system, planned and then run on the model built once for both (a batch
+/// plans all its rows before it runs any, so builds each row's model twice).
+pub struct Planned<'a> {
+    system: &'a System,
+    built: Built,
+    edge: Edge,
+    m: i32,
+    /// The step the run takes and what it predicts, as [`plan_system`] gives it.
+    pub plan: StepPlan,
+}
+
+impl<'a> Planned<'a> {
+    /// The plan of the run of `system` from `omega0` and `q0` (the user's axes) with
+    /// `options`, as [`plan_system`] makes it.
+    ///
+    /// # Errors
+    /// As [`plan_system`].
+    pub fn new(
+        system: &'a System,
+        omega0: [f64; 3],
+        q0: [f64; 4],
+        options: &RunOptions,
+    ) -> Result<Self> {
+        let o = options;
+        o.method.for_kinds(system.kinds())?;
+        let (built, edge, m) =
+            build(system, omega0, q0, o.t_end).map_err(|e| blame_sizes(system, omega0, e))?;
+        let plan = plan_built(system, omega0, &built, o)?;
+        Ok(Self {
+            system,
+            built,
+            edge,
+            m,
+            plan,
+        })
+    }
+
+    /// The run as planned, over `grid` with `method` (the planned step's: see
+    /// [`RunOptions::with_dt`]), keeping what `keep` asks; the same bits as
+    /// [`simulate_system`] with the planned step.
+    ///
+    /// # Errors
+    /// As [`simulate_system`].
+    pub fn run(
+        &self,
+        grid: &FrameGrid,
+        method: Method,
+        keep: Keep,
+        cancel: &AtomicBool,
+    ) -> Result<RunOutput> {
+        check_sample_times(self.system, grid.t_end(), grid.max_steps())?;
+        let (system, built) = (self.system, &self.built);
+        run_built(system, built, self.edge, self.m, grid, method, keep, cancel)
+    }
 }
 
 /// The step a run of `system` from `omega0` (with `q0`) will take and what it predicts:
@@ -365,7 +472,26 @@ pub fn plan_system(
     method.for_kinds(system.kinds())?;
     let (built, _, _) =
         build(system, omega0, q0, t_end).map_err(|e| blame_sizes(system, omega0, e))?;
-    let (rate, stiffness) = each_size!(&built,
+    let options = RunOptions {
+        t_end,
+        frames,
+        method,
+        dt,
+        rtol,
+        ..RunOptions::default()
+    };
+    plan_built(system, omega0, &built, &options)
+}
+
+/// The plan of a run of `system`'s built model (see [`plan_system`]).
+fn plan_built(
+    system: &System,
+    omega0: [f64; 3],
+    built: &Built,
+    options: &RunOptions,
+) -> Result<StepPlan> {
+    let o = options;
+    let (rate, stiffness) = each_size!(built,
         model, x0 => (rate_in_units(model, x0), model.stiffness()),
         Built::Free(body, omega, q) => {
             let model = FreeRigidBody::new(*body);
@@ -373,9 +499,9 @@ pub fn plan_system(
         }
     );
     let rate = rate.map_err(|e| blame_sizes(system, omega0, e))?;
-    let mut plan = plan_step(rate, stiffness, t_end, frames, method, dt, rtol)?;
+    let mut plan = plan_step(rate, stiffness, o.t_end, o.frames, o.method, o.dt, o.rtol)?;
     if plan.out_of_reach {
-        plan.reached_by = reaching(system.kinds(), rate, t_end, rtol);
+        plan.reached_by = reaching(system.kinds(), rate, o.t_end, o.rtol);
     }
     Ok(plan)
 }

@@ -12,8 +12,8 @@ from dzhanibekov.scenes.scene import Draw
 
 @pytest.fixture
 def core_calls(monkeypatch):
-    """Records every call into the core's simulate_batch, rotate and ellipsoid_mesh."""
-    calls = {"simulate_batch": [], "rotate": [], "ellipsoid_mesh": []}
+    """Records every call into the core's simulate (one run), rotate and ellipsoid_mesh."""
+    calls = {"simulate": [], "rotate": [], "ellipsoid_mesh": []}
 
     def spy(name):
         real = getattr(_core, name)
@@ -29,7 +29,7 @@ def core_calls(monkeypatch):
     return calls
 
 
-def keep_frames(call):  # _core.simulate_batch(systems, omega0, q0, options, keep_frames)
+def keep_frames(call):  # _core.simulate(system, omega0, q0, options, keep_frames)
     return call[4]
 
 
@@ -38,7 +38,7 @@ def test_a_path_only_scene_rotates_the_signal_point_alone(core_calls):
     plan = dz.scenes.make_plan(scene)
     assert plan.rotations == (Rotation(None, ("signal",)),) and plan.meshes == ()
     result = dz.scenes.execute(plan)
-    assert len(core_calls["simulate_batch"]) == 1 and keep_frames(core_calls["simulate_batch"][0])
+    assert len(core_calls["simulate"]) == 1 and keep_frames(core_calls["simulate"][0])
     assert core_calls["ellipsoid_mesh"] == []
     ((q, points),) = core_calls["rotate"]
     assert q.shape == (201, 4) and points.shape == (1, 3)
@@ -54,7 +54,7 @@ def test_a_scene_asking_only_for_flip_times_keeps_no_frames(core_calls):
     assert not plan.keep_frames and plan.keep_flips
     assert plan.rotations == () and plan.meshes == () and not plan.invariants
     result = dz.scenes.execute(plan)
-    (call,) = core_calls["simulate_batch"]
+    (call,) = core_calls["simulate"]
     assert keep_frames(call) is False
     assert core_calls["rotate"] == [] and core_calls["ellipsoid_mesh"] == []
     assert result.trajectory is None and result.world == {}
@@ -128,7 +128,7 @@ def test_flips_are_located_only_when_asked_or_drawn(core_calls):
     scene = dz.SCENES["fig3a"].replace(flips=False, draw=Draw(figures=("path",)))
     assert not dz.scenes.make_plan(scene).keep_flips
     result = dz.scenes.execute(dz.scenes.make_plan(scene))
-    assert core_calls["simulate_batch"][0][3].flips is False
+    assert core_calls["simulate"][0][3].flips is False
     assert result.flip_times is None and result.verdict is None
 
 

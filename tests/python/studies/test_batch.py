@@ -243,3 +243,54 @@ def test_a_long_single_run_reports_its_progress_from_the_core(capsys, monkeypatc
         quiet = dz.simulate(dz.PAPER_INERTIA, (0.01, 0.01, 1.0), **run)
     assert capsys.readouterr().err == ""
     np.testing.assert_array_equal(shown.q, quiet.q)
+
+
+def _systems_with_parts():
+    body = dz.Body((1.0, 2.0, 3.0))
+    return {
+        "damper": dz.System(dz.Body((1.0, 10.0, 10.0)), parts=[dz.Damper(0.05, 0.02)]),
+        "wheel and gravity gradient": dz.System(
+            body, parts=[dz.Wheel((0.0, 0.0, 1.0), 0.5)], torques=[dz.GravityGradient(0.1)]),
+        "Python torque": dz.System(body, torques=[dz.CallableTorque(
+            lambda t, q, w: np.array([0.0, 0.01 * np.sin(t), 0.0]))]),
+        "deployment": dz.System(dz.Deployment([0.0, 5.0], [(1.0, 2.0, 3.0), (1.5, 2.5, 3.0)])),
+    }
+
+
+@pytest.mark.parametrize("name", list(_systems_with_parts()))
+def test_a_single_run_of_a_system_is_its_batch_row_in_every_field(name):
+    # the single run goes through its own call into the core (planned and run on one model);
+    # a batch of one row of the same inputs through the batch's: every field the same bits
+    system = _systems_with_parts()[name]
+    kwargs = dict(t_end=10.0, frames=11, dt=1e-2)
+    one = dz.simulate(system, (0.3, 0.02, 1.0), **kwargs)
+    row = dz.simulate([system], [(0.3, 0.02, 1.0)], **kwargs)[0]
+    assert_same_run(row, one)
+    assert row.parts.keys() == one.parts.keys()
+    for part in one.parts:
+        assert np.array_equal(row.parts[part], one.parts[part]), part
+    assert (row._flat_time is None) == (one._flat_time is None)
+    if one._flat_time is not None:
+        assert np.array_equal(row._flat_time, one._flat_time)
+    summary = dz.summarize(system, (0.3, 0.02, 1.0), **kwargs)
+    assert np.array_equal(summary.flip_times, one.flip_times) and summary.drift == one.drift
+    assert (summary.dt, summary.n_steps, summary.nfev) == (one.dt, one.n_steps, one.nfev)
+
+
+def test_a_single_runs_warnings_come_before_it_runs_and_point_at_the_caller(paper_body):
+    # the core calls back with the plan before the run: a run refused as an error by the
+    # warning filter never starts, and the warning names the caller's line
+    with pytest.warns(dz.StepSizeWarning, match="step") as caught:
+        dz.simulate(paper_body, (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert caught[0].filename == __file__
+    with pytest.warns(dz.StepSizeWarning) as caught:
+        dz.summarize(paper_body, (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert caught[0].filename == __file__
+    progressed = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", dz.StepSizeWarning)
+        with pytest.raises(dz.StepSizeWarning):
+            dz.simulate(dz.System(paper_body, torques=[dz.CallableTorque(
+                lambda t, q, w: progressed.append(t) or np.zeros(3))]),
+                (0.0, 40.0, 0.0), t_end=1000.0, dt=0.05, frames=2)
+    assert progressed == []
