@@ -17,7 +17,7 @@ def test_the_scene_files_ship_inside_the_package():
     assert names == {"example.toml", "fig3a.toml", "fig3b.toml", "fig3c.toml",
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
                      "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
-                     "dual-spin.toml", "spin-up.toml"}
+                     "dual-spin.toml", "spin-up.toml", "slosh-flip.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -151,7 +151,7 @@ BAD = [
     ("mesh = [24, 12]", "mesh = [24, 1000]", "ellipsoid.mesh[1]", "must be at most 256"),
     ('figures = ["path"]', 'figures = ["path", "movie"]', "draw.figures",
      "must name only ['phases', 'path', 'omega', 'invariants', 'polhode', 'shares', 'energy', "
-     "'lvlh', 'wheel_off']"),
+     "'lvlh', 'wheel_off', 'energy_balance', 'part_motion', 'capture']"),
     ('figures = ["path"]', 'figures = "path"', "draw.figures", "must be a list of names"),
     ('figures = ["path"]', 'figures = ["path"]\nphases = [50.0, 150.0]', "draw.phases",
      "must be times in [0, run.t_end = 100]"),

@@ -66,12 +66,14 @@ __all__ = [
 ]
 
 FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy", "lvlh",
-           "wheel_off")
+           "wheel_off", "energy_balance", "part_motion", "capture")
 """Figures a scene may ask for: the phases panel (Fig. 2), the signal point's path in 3-D
 (Fig. 3), ω(t) with the flips marked, the invariants' drift, the polhode, the share of
 ``|L|`` on each body axis, the total kinetic energy (with ``|L_world|``), the attitude
-relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``) and the spin axis's tilt
-beside the same run with its wheel off (with ``[wheel]``)."""
+relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``), the spin axis's tilt
+beside the same run with its wheel off (with ``[wheel]``), and for energy sinks (``[[parts]]``
+of kind ``spring_mass``, ``hinge`` or ``slosh``) the energy balance, the parts' motion and,
+with a ``slosh``, the flips before capture against its damping."""
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
@@ -534,7 +536,13 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
     has = {"lvlh": v.get("orbit") is not None or any(
                isinstance(t, GravityGradient) for t in listed),
            "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed)}
-    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]")):
+    sinks = {p.model for p in listed} & {"spring_mass", "hinge", "slosh"}
+    has |= {"energy_balance": bool(sinks), "part_motion": bool(sinks),
+            "capture": "slosh" in sinks}
+    for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]"),
+                          ("energy_balance", "energy sink in [[parts]]"),
+                          ("part_motion", "energy sink in [[parts]]"),
+                          ("capture", "slosh in [[parts]]")):
         if figure in draw.figures and not has[figure]:
             raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
 
