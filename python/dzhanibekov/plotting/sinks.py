@@ -211,7 +211,7 @@ def part_motion_figure(scene: Drawable, *, save: str | Path | None = None) -> Fi
                 ax.plot(traj.t, y[:, k], color=COLORS["omega"][k], lw=1.1, label=f"n_{'xyz'[k]}")
             ax.set_ylabel("rod direction (body axes)")
             ax.set_ylim(-1.05, 1.05)
-            ax.legend(loc="upper right", fontsize=8, ncols=3)
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
         elif isinstance(part, Hinge):
             ax.plot(traj.t, np.degrees(y[:, 0]), color=COLORS["box"], lw=1.1, label="β")
             ax.set_ylabel("hinge angle β (°)")
