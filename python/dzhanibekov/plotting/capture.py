@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 from matplotlib.figure import Figure
 
+from .. import _core
 from .._args import as_float
 from ..parts import Slosh
 from ..results import Trajectory
@@ -34,6 +35,15 @@ def _intermediate(traj: Trajectory) -> int:
     if not np.allclose(tensor, np.diag(diagonal), rtol=0.0, atol=1e-12 * diagonal.max()):
         raise ValueError("`traj` must run a body given in its principal axes")
     return int(np.argsort(diagonal)[1])
+
+
+def _alignment(traj: Trajectory) -> np.ndarray:
+    """The cosine of the intermediate axis's angle from ``L`` at every frame (0 at rest)."""
+    ell = traj.momentum_body
+    size = np.linalg.norm(ell, axis=1)
+    column = ell[:, _intermediate(traj)]
+    out: np.ndarray = np.divide(column, size, out=np.zeros_like(column), where=size > 0)
+    return out
 
 
 def intermediate_flips(traj: Trajectory, *, within: float = WITHIN) -> np.ndarray:
@@ -68,9 +78,7 @@ def intermediate_flips(traj: Trajectory, *, within: float = WITHIN) -> np.ndarra
     within = as_float("within", within, positive=True)
     if not within < math.pi / 2:
         raise ValueError(f"`within` must be below π/2, got {within!r}")
-    axis = _intermediate(traj)
-    ell = traj.momentum_body
-    c = ell[:, axis] / np.linalg.norm(ell, axis=1)
+    c = _alignment(traj)
     side = np.where(c > math.cos(within), 1, np.where(c < -math.cos(within), -1, 0))
     held = np.nonzero(side)[0]
     turns = held[1:][np.diff(side[held]) != 0]
@@ -92,7 +100,8 @@ def capture_sweep(traj: Trajectory, dampings: Sequence[float]) -> np.ndarray:
             p.mass, p.pivot, p.length, c, p.direction0, p.rate0) for p in parts]
         run = simulate(System(traj.system.body, parts=swapped, torques=traj.system.torques),
                        traj.omega[0], traj.q[0], t_end=traj.t_end, frames=len(traj.t),
-                       dt=traj.dt or None, method=traj.method)
+                       dt=None if _core.method_info(traj.method).adaptive else traj.dt or None,
+                       method=traj.method)
         assert isinstance(run, Trajectory)
         counts.append(len(intermediate_flips(run)))
     return np.array(counts, dtype=np.int64)
@@ -138,8 +147,7 @@ def capture_figure(scene: Drawable, *, dampings: Sequence[float] | None = None,
               else [as_float("dampings", c) for c in dampings])
     counts = capture_sweep(traj, values)
     axis = _intermediate(traj)
-    ell = traj.momentum_body
-    alignment = ell[:, axis] / np.linalg.norm(ell, axis=1)
+    alignment = _alignment(traj)
     flips = intermediate_flips(traj)
     fig = Figure(figsize=(7.0, 6.0), layout="constrained")
     run_ax, sweep_ax = fig.subplots(2, 1, height_ratios=(1, 1))
