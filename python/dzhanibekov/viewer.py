@@ -135,6 +135,40 @@ def _rows(scene: Drawable, rows: Any) -> list[Scene | SceneResult | Trajectory]:
     return [scene[int(k)] for k in chosen]
 
 
+def _sink_points(traj: Trajectory) -> list[tuple[str, np.ndarray]]:
+    """Each moving part of the run (a spring's mass, a hinged panel, a slosh pendulum) as
+    its name and, at every frame, two points in body axes (from the hub's mass centre): where
+    it is held (the spring's rest point, the hinge, the pivot) and where its mass is (the
+    spring's mass at its displacement, the panel's far end at its angle, the pendulum's bob
+    on its rod), shape (frames, 2, 3)."""
+    from .parts import Hinge, Slosh, SpringMassDamper
+
+    system = traj.system
+    stateful = [p for p in (*system.parts, *system.torques) if p._core.width > 0]
+    out = []
+    for name, part in zip(system.part_names, stateful):
+        state = traj.parts[name]
+        if isinstance(part, SpringMassDamper):
+            held = np.asarray(part.anchor)
+            d = np.asarray(part.direction) / np.linalg.norm(part.direction)
+            moved = held + state[:, :1] * d
+        elif isinstance(part, Hinge):
+            held = np.asarray(part.hinge)
+            e = np.asarray(part.axis) / np.linalg.norm(part.axis)
+            s0 = np.asarray(part.arm) / np.linalg.norm(part.arm)
+            beta = state[:, :1]
+            # s(β) = s₀ cos β + (e × s₀) sin β, the panel's end at twice its centre's distance
+            moved = held + 2 * part.length * (np.cos(beta) * s0 + np.sin(beta) * np.cross(e, s0))
+        elif isinstance(part, Slosh):
+            held = np.asarray(part.pivot)
+            n = state[:, :3] / np.linalg.norm(state[:, :3], axis=1, keepdims=True)
+            moved = held + part.length * n
+        else:
+            continue
+        out.append((name, np.stack([np.broadcast_to(held, moved.shape), moved], axis=1)))
+    return out
+
+
 def _lines(points: np.ndarray, edges: np.ndarray) -> tuple[list[float | None], ...]:
     """Edges as one polyline with gaps (None) between them."""
     xs: list[float | None] = []
@@ -167,9 +201,17 @@ def figure(scene: Drawable, *, frames: int | None = None, fps: float = 20.0,
     size = 1.1 * float(max([np.abs(p).max() for p in points + paths] or [1.0]))
     body_name = drawn_label(result.scene.body, result.scene.body_spec)
     colors = ["#c0392b", "#2e86c1", "#27ae60", "#8e44ad", "#d35400", "#16a085"]
+    from .simulate import rotate
+
+    sinks = _sink_points(traj)
 
     def traces(frame: int) -> list[Any]:
         out = []
+        for name, points in sinks:
+            at = rotate(traj.q[frame:frame + 1], points[frame])[0]
+            out.append(go.Scatter3d(x=at[:, 0], y=at[:, 1], z=at[:, 2], mode="lines+markers",
+                                    name=name, line={"color": "#6e2c00", "width": 5},
+                                    marker={"color": "#6e2c00", "size": [2, 6]}))
         if shape is not None:
             corners = result.at("box", frame)
             x, y, z = _lines(corners, shape.edges)

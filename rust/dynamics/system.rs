@@ -14,6 +14,7 @@ use crate::kinematics::rotation_matrix;
 
 use super::general::MAX_PARTS_STATE;
 use super::kinds::{Conserved, Kinds};
+use super::multibody::{Hub, MassMatrix, MAX_RATES};
 use super::part::{block, Dim, EnergyRole, Function, MapFunction};
 use super::registry::{kinds_of, AnyPart};
 use super::Deployment;
@@ -256,8 +257,10 @@ impl System {
     /// The energy, the total angular momentum in body axes and in space at one frame from
     /// the body rates `omega`, the parts' state `parts` and the attitude `q` (user axes), as
     /// the run's model defines them: the body's kinetic energy and its parts' own (a wheel's
-    /// spin relative to the body left out: with constant momentum, a constant), the body's
-    /// angular momentum and what its parts store (a schedule's at `t`).
+    /// spin relative to the body left out: with constant momentum, a constant; a spring's
+    /// potential), the body's angular momentum and what its parts store (a schedule's at
+    /// `t`). With parts whose mass moves, the kinetic energy and momentum are the whole
+    /// system's about its mass centre, by the mass matrix ([`Self::moving_observed`]).
     pub fn observe(
         &self,
         t: f64,
@@ -266,8 +269,10 @@ impl System {
         q: [f64; 4],
     ) -> (f64, Vector3<f64>, Vector3<f64>) {
         let omega = Vector3::from(omega);
-        let body_l = self.tensor_at(t) * omega;
-        let (mut energy, mut l) = (0.5 * omega.dot(&body_l), body_l);
+        let (mut energy, mut l) = self.moving_observed(t, &omega, parts).unwrap_or_else(|| {
+            let body_l = self.tensor_at(t) * omega;
+            (0.5 * omega.dot(&body_l), body_l)
+        });
         let mut at = 0;
         for part in &self.parts {
             let x = &parts[at..at + part.width()];
@@ -277,5 +282,48 @@ impl System {
         }
         let world = rotation_matrix(&Quaternion::new(q[0], q[1], q[2], q[3])) * l;
         (energy, l, world)
+    }
+
+    /// For parts whose mass moves (and a body with a mass), the kinetic energy of the hub and
+    /// those parts, `½ (H·ω + p·v)`, and their angular momentum `H` about the system's mass
+    /// centre, from the hub's rates `omega` and the parts' state (coordinates and conjugate
+    /// momenta `p`): `𝕄 [ω; v] = [H; p]` is solved for `H` and the rates `v` by the mass
+    /// matrix's own solve — `ω` is linear in `H` at fixed `p`, `ω = S⁻¹ H + ω_p`, so three
+    /// solves give `S⁻¹`'s columns and one more `ω_p`. None without such parts.
+    fn moving_observed(
+        &self,
+        t: f64,
+        omega: &Vector3<f64>,
+        parts: &[f64],
+    ) -> Option<(f64, Vector3<f64>)> {
+        let mut carried = Vec::new();
+        let mut p = [0.0; MAX_RATES];
+        let (mut row, mut at) = (0, 0);
+        for part in &self.parts {
+            let x = &parts[at..at + part.width()];
+            at += part.width();
+            if let Some((c, momenta)) = part.carried(x) {
+                if row + c.rates > MAX_RATES {
+                    return None;
+                }
+                p[row..row + c.rates].copy_from_slice(&momenta[..c.rates]);
+                row += c.rates;
+                carried.push(c);
+            }
+        }
+        if carried.is_empty() {
+            return None;
+        }
+        let moved: f64 = carried.iter().map(|c| c.mass).sum();
+        let hub = Hub::try_new(self.tensor_at(t), self.mass?, moved).ok()?;
+        let m = MassMatrix::<MAX_RATES>::assemble(&hub, &carried);
+        let (omega_p, _) = m.solve(&Vector3::zeros(), &p);
+        let columns = Matrix3::from_columns(
+            &[0, 1, 2].map(|i| m.solve(&Vector3::ith(i, 1.0), &[0.0; MAX_RATES]).0),
+        );
+        let h = columns.try_inverse()? * (omega - omega_p);
+        let (_, v) = m.solve(&h, &p);
+        let kinetic = 0.5 * (h.dot(omega) + (0..row).map(|r| p[r] * v[r]).sum::<f64>());
+        Some((kinetic, h))
     }
 }

@@ -632,7 +632,8 @@ def scene_fields(draw: st.DrawFn, *, figures: tuple[str, ...] | None = None, sma
     method = draw(st.sampled_from(FREE_METHODS))
     # (the orbit's figures need an orbit or a wheel: `figure_args` gives them one)
     chosen = figures if figures is not None else tuple(draw(st.lists(st.sampled_from(
-        [f for f in FIGURES if f not in ("lvlh", "wheel_off", "pointing")]), unique=True,
+        [f for f in FIGURES if f not in ("lvlh", "wheel_off", "pointing", *SINK_FIGURES)]),
+        unique=True,
         max_size=3)))
     phases = draw(st.lists(st.floats(0.0, 1.0), max_size=4))
     fields: dict[str, Any] = dict(
@@ -834,7 +835,22 @@ def check_result(kwargs: dict[str, Any], result: Any, caught: list[warnings.Warn
 
 # -- figures ---------------------------------------------------------------------------------------
 
+SINK_FIGURES = ("energy_balance", "part_motion", "capture")
+"""The figures of a run with an energy sink (a slosh tank for `capture`)."""
+
+
+def _sink_run(damping: float, frames: int, x0: float) -> dict[str, Any]:
+    body = dz.Body.from_tensor(np.diag([3.0, 1.0, 2.0]), mass=1.0)
+    parts = [dz.Slosh(0.05, (0.0, 0.0, 0.5), 0.3, damping, (1.0, 0.0, 0.0)),
+             dz.SpringMassDamper(0.02, (0.0, 0.4, 0.0), (1.0, 0.0, 0.0), 0.5, damping, x0=x0)]
+    return {"scene": dz.simulate(dz.System(body, parts=parts), (0.01, 0.01, 1.0), t_end=5.0,
+                                 frames=frames, dt=0.01)}
+
+
 def figure_args(figure: str) -> st.SearchStrategy[dict[str, Any]]:
+    if figure in SINK_FIGURES:  # a short run with a slosh tank and a spring
+        return st.builds(_sink_run, st.floats(0.0, 0.1), st.integers(2, 60),
+                         st.floats(-0.1, 0.1))
     needs = {"phases": {}, "path": {"path": True}}.get(figure, {})
     # the orbit's figures draw what only a run in orbit, or with a wheel, has
     # (by a method that runs them: the scenes' own may be the free body's exact solution)

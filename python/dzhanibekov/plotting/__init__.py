@@ -2,7 +2,7 @@
 stability maps of a sweep (:mod:`.maps`), the dual-spin and gravity-gradient maps
 (:mod:`.stability`), a Monte Carlo study's figure (:mod:`.study`), the
 animation (:func:`animation`, a ``FuncAnimation`` for notebooks) and its GIF/MP4 files
-(:mod:`.movie`)."""
+(:mod:`.movie`), the energy sinks' figures (:mod:`.sinks`, :mod:`.capture`)."""
 
 from . import maps, movie, stability, study
 from .figures import (
@@ -20,6 +20,9 @@ from .figures import (
 )
 from .control import detumble_figure, pointing_figure
 from .stability import dual_spin_figure, gravity_gradient_figure
+from . import capture, sinks
+from .capture import capture_figure
+from .sinks import energy_balance_figure, part_motion_figure
 from .study import study_figure
 
 __all__ = [
@@ -43,4 +46,12 @@ __all__ = [
     "detumble_figure",
     "pointing_figure",
     "FIGURE_FUNCTIONS",
+    "sinks",
+    "capture",
+    "energy_balance_figure",
+    "part_motion_figure",
+    "capture_figure",
 ]
+
+FIGURE_FUNCTIONS.update(energy_balance=energy_balance_figure, part_motion=part_motion_figure,
+                        capture=capture_figure)

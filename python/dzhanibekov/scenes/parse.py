@@ -68,14 +68,16 @@ __all__ = [
 
 FIGURES = ("phases", "path", "omega", "invariants", "polhode", "shares", "energy", "lvlh",
            "wheel_off",
-           "detumble", "pointing")
+           "detumble", "pointing", "energy_balance", "part_motion", "capture")
 """Figures a scene may ask for: the phases panel (Fig. 2), the signal point's path in 3-D
 (Fig. 3), ω(t) with the flips marked, the invariants' drift, the polhode, the share of
 ``|L|`` on each body axis, the total kinetic energy (with ``|L_world|``), the attitude
 relative to the orbiting frame (roll, pitch, yaw; with ``[orbit]``), the spin axis's tilt
 beside the same run with its wheel off (with ``[wheel]``), the rate ``|ω|`` against orbits
-(a detumble) and the angle from a target with the wheels' momenta and torques (with a
-``quaternion_feedback`` in ``[[parts]]``)."""
+(a detumble), the angle from a target with the wheels' momenta and torques (with a
+``quaternion_feedback`` in ``[[parts]]``), and for energy sinks (``[[parts]]`` of kind
+``spring_mass``, ``hinge`` or ``slosh``) the energy balance, the parts' motion and, with a
+``slosh``, the flips before capture against its damping."""
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 _MAX_CELLS = 256
@@ -539,8 +541,14 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
                isinstance(t, GravityGradient) for t in listed),
            "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed),
            "pointing": any(isinstance(p, QuaternionFeedback) for p in listed)}
+    sinks = {p.model for p in listed} & {"spring_mass", "hinge", "slosh"}
+    has |= {"energy_balance": bool(sinks), "part_motion": bool(sinks),
+            "capture": "slosh" in sinks}
     for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]"),
-                          ("pointing", "[[parts]] entry of kind \"quaternion_feedback\"")):
+                          ("pointing", "[[parts]] entry of kind \"quaternion_feedback\""),
+                          ("energy_balance", "energy sink in [[parts]]"),
+                          ("part_motion", "energy sink in [[parts]]"),
+                          ("capture", "slosh in [[parts]]")):
         if figure in draw.figures and not has[figure]:
             raise SceneError(src, "draw.figures", f"names {figure!r}, which needs an {table}")
 

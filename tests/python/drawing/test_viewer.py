@@ -8,6 +8,7 @@ and say why; `.ci/run` installs chromium where apt is available.
 import base64
 import gzip
 import json
+import math
 import os
 import re
 import shutil
@@ -159,3 +160,55 @@ def test_a_long_run_is_shown_within_the_viewers_own_bound(tmp_path):
         dz.viewer.figure(traj, frames=MAX_FRAMES + 1)
     scene = dz.SCENES["fig3a"].replace(frames=3001)  # a scene's run of many frames too
     assert len(dz.viewer.figure(scene).frames) == 201
+
+
+def _sinks_run():
+    body = dz.Body.from_tensor(np.diag([52.0833, 27.0833, 41.6666]), mass=1.0)
+    parts = [dz.SpringMassDamper(0.05, (0.0, 0.0, 3.0), (1.0, 0.0, 0.0), 0.5, 0.02, x0=0.5),
+             dz.Hinge(0.05, (1e-4, 0.01, 0.01), (0.0, 4.0, 0.0), (0.0, 0.0, 1.0),
+                      (0.0, 1.0, 0.0), 3.0, 0.5, 0.02, angle0=0.6),
+             dz.Slosh(0.05, (0.0, 0.0, -3.0), 4.0, 0.02, (1.0, 0.0, 0.0))]
+    return dz.simulate(dz.System(body, parts=parts), (0.01, 0.01, 1.0), t_end=20.0, frames=21,
+                       dt=1e-2)
+
+
+def test_the_parts_move_with_the_body():
+    # each sink is drawn where its state puts it, turned with the body: the spring's mass at
+    # its displacement along its line, the panel's end at twice its centre's distance from the
+    # hinge and at its angle from the turned rest arm, the bob at the rod's length
+    traj = _sinks_run()
+    fig = dz.viewer.figure(traj, frames=21)
+    assert len(fig.frames) == 21
+    for frame in fig.frames:
+        k = int(frame.name)
+        drawn = {t.name: np.column_stack([t.x, t.y, t.z]) for t in frame.data
+                 if t.name in ("spring_mass", "hinge", "slosh")}
+        assert set(drawn) == {"spring_mass", "hinge", "slosh"}
+        turned = dz.rotate(traj.q[k], np.eye(3))  # the body axes in space, one a row
+        spring, hinge, slosh = drawn["spring_mass"], drawn["hinge"], drawn["slosh"]
+        np.testing.assert_allclose(spring[0], 3.0 * turned[2], atol=1e-9)
+        np.testing.assert_allclose(spring[1] - spring[0],
+                                   traj.parts["spring_mass"][k, 0] * turned[0], atol=1e-9)
+        np.testing.assert_allclose(hinge[0], 4.0 * turned[1], atol=1e-9)
+        arm = hinge[1] - hinge[0]
+        assert abs(np.linalg.norm(arm) - 6.0) < 1e-9
+        beta = traj.parts["hinge"][k, 0]
+        assert abs(math.atan2(arm @ -turned[0], arm @ turned[1]) - beta) < 1e-9
+        assert abs(arm @ turned[2]) < 1e-9  # in the plane normal to the hinge axis z
+        n = traj.parts["slosh"][k, :3]
+        np.testing.assert_allclose(slosh[1] - slosh[0], 4.0 * (n @ turned) / np.linalg.norm(n),
+                                   atol=1e-9)
+    assert len({float(f.data[0].x[1]) for f in fig.frames}) > 10  # they move
+
+
+@needs_browser
+def test_the_parts_are_drawn_in_the_page(tmp_path):
+    page = dz.viewer.write_html(_sinks_run(), tmp_path / "sinks.html", frames=21)
+    shot = tmp_path / "shot.png"
+    run = _browser(f"--screenshot={shot}", "--window-size=900,800", page.as_uri())
+    assert run.returncode == 0 and shot.exists(), run.stderr[-2000:]
+    errors = [line for line in _console(run.stderr) if JS_ERROR.search(line)]
+    assert not errors, errors
+    pixels = np.asarray(Image.open(shot).convert("RGB"), dtype=float)
+    brown = (np.abs(pixels - [110, 44, 0]).sum(axis=2) < 40).sum()  # the parts' colour
+    assert brown > 100, brown

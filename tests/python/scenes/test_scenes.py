@@ -18,7 +18,7 @@ def test_the_scene_files_ship_inside_the_package():
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
                      "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
                      "dual-spin.toml", "spin-up.toml",
-                     "detumble.toml", "slew.toml", "caught.toml"}
+                     "detumble.toml", "slew.toml", "caught.toml", "slosh-flip.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -152,7 +152,8 @@ BAD = [
     ("mesh = [24, 12]", "mesh = [24, 1000]", "ellipsoid.mesh[1]", "must be at most 256"),
     ('figures = ["path"]', 'figures = ["path", "movie"]', "draw.figures",
      "must name only ['phases', 'path', 'omega', 'invariants', 'polhode', 'shares', 'energy', "
-     "'lvlh', 'wheel_off', 'detumble', 'pointing']"),
+     "'lvlh', 'wheel_off', 'detumble', 'pointing', 'energy_balance', 'part_motion', "
+     "'capture']"),
     ('figures = ["path"]', 'figures = "path"', "draw.figures", "must be a list of names"),
     ('figures = ["path"]', 'figures = ["path"]\nphases = [50.0, 150.0]', "draw.phases",
      "must be times in [0, run.t_end = 100]"),
