@@ -151,14 +151,7 @@ def test_systems_of_several_sinks_round_trip(key, tmp_path):
         assert starts == pytest.approx([0.01, 0.02, 0.03, 0.04], abs=1e-15)
 
 
-_MOVING = pytest.mark.xfail(strict=True, reason=(
-    "the core's System::observe (traj.energy, traj.momentum_world) adds each part's own "
-    "momentum to I ω, which leaves out the coupling of parts whose mass moves in the body "
-    "(spring-mass, hinge, slosh: the mass matrix); the run's own drift keeps L to 1e-15"))
-
-
-@pytest.mark.parametrize("key", [
-    pytest.param(k, marks=_MOVING) if k != "two-dampers" else k for k in SEVERAL])
+@pytest.mark.parametrize("key", list(SEVERAL))
 def test_a_loaded_run_s_frames_keep_the_angular_momentum_in_space(key, tmp_path):
     # what the loaded run's own (loaded) system derives of its frames: the angular momentum
     # fixed in space (no external torque), the energy falling (the sinks only dissipate)
