@@ -45,9 +45,7 @@ use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
-use super::multibody::{
-    self, Alone, AloneSolve, Carried, Hub, MassMatrix, LONE_WIDTH, MAX_RATES, PART_RATES,
-};
+use super::multibody::{self, Alone, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
 use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
@@ -932,29 +930,15 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         let x = &x;
         let h = Vector3::new(x[0], x[1], x[2]);
         let p = &moving.parts[0];
-        let (omega, rates, mut power) = alone.increment(&self.body_momentum(t, x), p.of(x), s);
-        // `dx` is written at places known when this is compiled, so that it stays in
-        // registers: read back from memory it had been written to a number at a time (at the
-        // part's place, known only when run), it stalled each stage on the store's forwarding
         let mut dx = [0.0; N];
-        match p.at {
-            3 => {
-                // the common layout: the part's state first, after `H`
-                let w = LONE_WIDTH.min(N - 7);
-                dx[3..3 + w].copy_from_slice(&rates[..w]);
-            }
-            at => {
-                let mut more = [0.0; N];
-                more[at..at + p.width].copy_from_slice(&rates[..p.width]);
-                dx = more;
-            }
-        }
+        let (omega, mut power) = alone.increment(
+            &self.body_momentum(t, x),
+            p.of(x),
+            s,
+            &mut dx[p.at..p.at + p.width],
+        );
         if moving.has_fixed() {
-            let mut more = [0.0; N];
-            power += moving.fixed_rates(&self.ctx(t, x, omega), x, s, &mut more);
-            for k in 3..N {
-                dx[k] += more[k];
-            }
+            power += moving.fixed_rates(&self.ctx(t, x, omega), x, s, &mut dx);
         }
         let mut dh = h.cross(&omega);
         if self.torqued {

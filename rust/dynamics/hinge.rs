@@ -54,7 +54,7 @@ use nalgebra::{Matrix3, Vector3};
 use crate::error::{Error, Result};
 
 use super::moving::{checked, point, unit, Coordinate};
-use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3, LONE_WIDTH};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 
 /// A hinged appendage (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -354,11 +354,13 @@ impl Alone for LoneHinge {
         h: &Vector3<f64>,
         x: &[f64],
         s: f64,
-    ) -> (Vector3<f64>, [f64; LONE_WIDTH], f64) {
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
         let (omega, v, cos, sin) = self.rates(h, x[0], x[1]);
         let dp = self.momentum_rate(x[0], cos, sin, v, &omega);
-        let dx = [v * s, dp * s, 0.0, 0.0, 0.0, 0.0];
-        (omega, dx, self.part.dissipation(v))
+        dx[0] = v * s;
+        dx[1] = dp * s;
+        (omega, self.part.dissipation(v))
     }
 
     fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {

@@ -55,14 +55,10 @@ use super::{LoneHinge, LoneSlosh, LoneSpring};
 /// [`super::LoneHinge`], [`super::LoneSlosh`]): the body rates and the part's own rates
 /// straight from `H` and its state, without the general joint solve.
 pub trait Alone: Debug + Send + Sync {
-    /// `ω` from `h` and the part's state `x`, `s ×` the part's state rates (its first
-    /// [`LONE_WIDTH`] at most, by value: they stay in registers) and the power it dissipates.
-    fn increment(
-        &self,
-        h: &Vector3<f64>,
-        x: &[f64],
-        s: f64,
-    ) -> (Vector3<f64>, [f64; LONE_WIDTH], f64);
+    /// `ω` from `h` and the part's state `x`, with `s ×` the part's state rates written into
+    /// `dx` and the power it dissipates.
+    fn increment(&self, h: &Vector3<f64>, x: &[f64], s: f64, dx: &mut [f64])
+        -> (Vector3<f64>, f64);
 
     /// `ω` alone.
     fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64>;
@@ -70,9 +66,6 @@ pub trait Alone: Debug + Send + Sync {
     /// The whole system's kinetic energy `½ (ω · H + v · p)`.
     fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64;
 }
-
-/// The most numbers of state of a part with a closed form alone on its hub (the pendulum's).
-pub const LONE_WIDTH: usize = 6;
 
 /// The closed form a model holds for its one part whose mass moves: an enum, not a trait
 /// object, so that the right-hand side inlines it (an indirect call each stage kept it out of
@@ -102,8 +95,9 @@ impl Alone for AloneSolve {
         h: &Vector3<f64>,
         x: &[f64],
         s: f64,
-    ) -> (Vector3<f64>, [f64; LONE_WIDTH], f64) {
-        each_alone!(self, l => l.increment(h, x, s))
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        each_alone!(self, l => l.increment(h, x, s, dx))
     }
 
     #[inline(always)]

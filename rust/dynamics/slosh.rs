@@ -45,7 +45,7 @@ use nalgebra::Vector3;
 use crate::error::Result;
 
 use super::moving::{checked, point};
-use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3, LONE_WIDTH};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 
 /// A slosh pendulum (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -302,15 +302,18 @@ impl Alone for LoneSlosh {
         h: &Vector3<f64>,
         x: &[f64],
         s: f64,
-    ) -> (Vector3<f64>, [f64; LONE_WIDTH], f64) {
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
         let r = self.rates(
             h,
             &Vector3::new(x[0], x[1], x[2]),
             &Vector3::new(x[3], x[4], x[5]),
         );
-        let (dn, dpi) = (r.direction * s, r.momentum * s);
-        let dx = [dn.x, dn.y, dn.z, dpi.x, dpi.y, dpi.z];
-        (r.omega, dx, self.part.dissipation(&r.nu))
+        for k in 0..3 {
+            dx[k] = r.direction[k] * s;
+            dx[3 + k] = r.momentum[k] * s;
+        }
+        (r.omega, self.part.dissipation(&r.nu))
     }
 
     fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {

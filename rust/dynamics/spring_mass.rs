@@ -34,7 +34,7 @@ use nalgebra::Vector3;
 use crate::error::Result;
 
 use super::moving::{checked, point, unit, Coordinate};
-use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3, LONE_WIDTH};
+use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 
 /// A spring–mass damper (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -209,11 +209,13 @@ impl Alone for LoneSpring {
         h: &Vector3<f64>,
         x: &[f64],
         s: f64,
-    ) -> (Vector3<f64>, [f64; LONE_WIDTH], f64) {
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
         let (omega, v) = self.rates(h, x[0], x[1]);
         let dp = self.momentum_rate(x[0], v, &omega);
-        let dx = [v * s, dp * s, 0.0, 0.0, 0.0, 0.0];
-        (omega, dx, self.part.dissipation(v))
+        dx[0] = v * s;
+        dx[1] = dp * s;
+        (omega, self.part.dissipation(v))
     }
 
     fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {
