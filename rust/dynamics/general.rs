@@ -45,7 +45,7 @@ use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
-use super::multibody::{self, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
+use super::multibody::{self, Alone, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
 use super::part::Moved;
 use super::part::{Ctx, Dim, EnergyRole, Frame};
 use super::registry::{kinds_of, AnyPart, Columns};
@@ -332,8 +332,9 @@ pub struct Moving {
     parts: Vec<Placed>,
     /// The hub (the body's mass and tensor), once the body's mass is given.
     hub: Option<Hub>,
-    /// A single such part, the system's only one on a body of constant inertia, in its
-    /// closed form (see [`super::Part::alone`]).
+    /// A single such part on a body of constant inertia, in its closed form (see
+    /// [`super::Part::alone`]), whatever else the system has (torques, wheels, parts whose
+    /// mass does not move: they change `H'` and the body's own momentum, not the solve).
     alone: Option<AloneSolve>,
     /// The parts with state, and those that dissipate, whose mass does not move.
     fixed_states: Vec<Placed>,
@@ -537,8 +538,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// # Errors
     /// Such parts and no mass; more rates than the joint solve holds.
     pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
-        let (inertia, only) = (&self.inertia, self.parts.len() == 1);
-        let only = only && self.stored.is_none() && !self.torqued;
+        let inertia = &self.inertia;
         let Some(moving) = self.moving.get_mut().filter(|m| !m.parts.is_empty()) else {
             return Ok(self);
         };
@@ -561,7 +561,9 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         let carried: f64 = movers.iter().map(|p| p.part.moving_mass()).sum();
         let hub = Hub::try_new(inertia.tensor_at(0.0), mass, carried)?;
         let constant = matches!(inertia, InertiaLaw::Constant(_));
-        let alone = (constant && only).then(|| movers[0].part.alone(&hub));
+        // one mover on a hub of constant tensor: its closed form, whatever the other parts
+        // (they change `H'` and the body's own momentum, not the solve)
+        let alone = (constant && movers.len() == 1).then(|| movers[0].part.alone(&hub));
         moving.alone = alone.flatten();
         moving.hub = Some(hub);
         Ok(self)
@@ -765,6 +767,12 @@ impl Moving {
     /// The joint solve at `(t, x)`, `l` the body's own momentum `H − Σ h_k` there.
     #[inline(never)]
     fn joint(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> Joint {
+        self.joint_inline(inertia, t, x, l)
+    }
+
+    /// [`Moving::joint`], inline.
+    #[inline(always)]
+    fn joint_inline(&self, inertia: &InertiaLaw, t: f64, x: &[f64], l: &Vector3<f64>) -> Joint {
         let mut carried = [Carried::default(); MAX_RATES];
         let mut p = [0.0; MAX_RATES];
         let mut row = 0;
@@ -791,6 +799,34 @@ impl Moving {
         }
     }
 
+    /// The joint solve at `(t, x)` (`q` the attitude there, `l` the body's own momentum) and
+    /// with it `s ×` the rates of every part with state into `dx` (a state's places): `ω` and
+    /// the power the parts dissipate. One call out of line, so that the solve's results (a
+    /// few kB, sized for the most parts) stay where they were made, never copied.
+    #[inline(never)]
+    #[allow(clippy::too_many_arguments)]
+    fn solve(
+        &self,
+        inertia: &InertiaLaw,
+        t: f64,
+        q: nalgebra::Quaternion<f64>,
+        x: &[f64],
+        l: &Vector3<f64>,
+        s: f64,
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        let j = self.joint_inline(inertia, t, x, l);
+        let omega = j.motion.omega;
+        let c = Ctx {
+            t,
+            q,
+            omega,
+            inertia,
+            moving: None,
+        };
+        (omega, self.rates(&c, x, &j, s, dx))
+    }
+
     /// What the joint solve gives mover `k`, whose rates start at `row`.
     #[inline(always)]
     fn moved(j: &Joint, k: usize, row: usize) -> Moved<'_> {
@@ -810,17 +846,9 @@ impl Moving {
 
     /// `s ×` the rates of every part with state into `dx` (a state's places), given what
     /// the parts see `c` and the joint solve `j` at `x`; the power they dissipate.
-    #[inline(never)]
+    #[inline(always)]
     fn rates(&self, c: &Ctx<'_>, x: &[f64], j: &Joint, s: f64, dx: &mut [f64]) -> f64 {
-        let mut power = 0.0;
-        for p in &self.fixed_states {
-            let d = &mut dx[p.at..p.at + p.width];
-            p.part.rates(c, p.of(x), d);
-            d.iter_mut().for_each(|v| *v *= s);
-        }
-        for p in &self.fixed_dissipators {
-            power += p.part.dissipation(c, p.of(x));
-        }
+        let mut power = self.fixed_rates(c, x, s, dx);
         let mut row = 0;
         for (k, p) in self.parts.iter().enumerate().take(MAX_RATES) {
             let moved = Ctx {
@@ -834,6 +862,24 @@ impl Moving {
             row += j.carried[k].rates;
         }
         power
+    }
+
+    /// `s ×` the rates of the parts with state whose mass does not move into `dx`, given what
+    /// they see `c` at `x`; the power they and the other fixed parts dissipate.
+    #[inline(never)]
+    fn fixed_rates(&self, c: &Ctx<'_>, x: &[f64], s: f64, dx: &mut [f64]) -> f64 {
+        for p in &self.fixed_states {
+            let d = &mut dx[p.at..p.at + p.width];
+            p.part.rates(c, p.of(x), d);
+            d.iter_mut().for_each(|v| *v *= s);
+        }
+        (self.fixed_dissipators.iter()).fold(0.0, |e, p| e + p.part.dissipation(c, p.of(x)))
+    }
+
+    /// Whether parts whose mass does not move have state or dissipate.
+    #[inline(always)]
+    fn has_fixed(&self) -> bool {
+        !(self.fixed_states.is_empty() && self.fixed_dissipators.is_empty())
     }
 
     /// The kinetic energy `½ (ω · l + v · p)` at `(t, x)`, `l` the body's own momentum.
@@ -852,16 +898,15 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     #[inline(never)]
     fn increment_moving(&self, moving: &Moving, t: f64, x: [f64; N], s: f64) -> [f64; N] {
         let x = &x;
-        let j = moving.joint(&self.inertia, t, x, &self.body_momentum(t, x));
-        let omega = j.motion.omega;
+        let mut dx = [0.0; N];
+        let l = self.body_momentum(t, x);
+        let (omega, power) = moving.solve(&self.inertia, t, attitude(x), x, &l, s, &mut dx);
         let h = Vector3::new(x[0], x[1], x[2]);
         let mut dh = h.cross(&omega);
         if self.torqued {
             dh += self.torque_at(t, x, omega);
         }
-        let mut dx = [0.0; N];
         dx[..3].copy_from_slice((dh * s).as_slice());
-        let power = moving.rates(&self.ctx(t, x, omega), x, &j, s, &mut dx);
         if let Some(k) = self.balance {
             dx[k] = power * s;
         }
@@ -870,13 +915,15 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         dx
     }
 
-    /// `s · x'` of a part alone on its hub, by its closed form (out of line, on a copy of
-    /// the state, as above).
+    /// `s · x'` of the one part whose mass moves, alone on its hub, by its closed form (out
+    /// of line, on a copy of the state, as above): the solve takes the body's own momentum,
+    /// the other parts' torques and rates are added as without moving mass.
     #[inline(never)]
     fn increment_alone(
         &self,
         moving: &Moving,
         alone: &AloneSolve,
+        t: f64,
         x: [f64; N],
         s: f64,
     ) -> [f64; N] {
@@ -884,11 +931,20 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         let h = Vector3::new(x[0], x[1], x[2]);
         let p = &moving.parts[0];
         let mut dx = [0.0; N];
-        let (omega, power) = alone
-            .0
-            .increment(&h, p.of(x), s, &mut dx[p.at..p.at + p.width]);
-        let dh = h.cross(&omega) * s;
-        dx[..3].copy_from_slice(dh.as_slice());
+        let (omega, mut power) = alone.increment(
+            &self.body_momentum(t, x),
+            p.of(x),
+            s,
+            &mut dx[p.at..p.at + p.width],
+        );
+        if moving.has_fixed() {
+            power += moving.fixed_rates(&self.ctx(t, x, omega), x, s, &mut dx);
+        }
+        let mut dh = h.cross(&omega);
+        if self.torqued {
+            dh += self.torque_at(t, x, omega);
+        }
+        dx[..3].copy_from_slice((dh * s).as_slice());
         if let Some(k) = self.balance {
             dx[k] = power * s;
         }
@@ -905,9 +961,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     #[inline(never)]
     fn omega_moving(&self, moving: &Moving, t: f64, x: [f64; N]) -> Vector3<f64> {
         match &moving.alone {
-            Some(alone) => alone
-                .0
-                .omega(&Vector3::new(x[0], x[1], x[2]), moving.parts[0].of(&x)),
+            Some(alone) => alone.omega(&self.body_momentum(t, &x), moving.parts[0].of(&x)),
             None => {
                 (moving.joint(&self.inertia, t, &x, &self.body_momentum(t, &x)))
                     .motion
@@ -922,7 +976,7 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
         if let (true, Some(moving)) = (HOT, self.moving.get()) {
             return match &moving.alone {
-                Some(alone) => self.increment_alone(moving, alone, *x, s),
+                Some(alone) => self.increment_alone(moving, alone, t, *x, s),
                 None => self.increment_moving(moving, t, *x, s),
             };
         }
@@ -1044,7 +1098,7 @@ impl<const N: usize, const HOT: bool, M: Movers> Model<N> for GeneralModel<N, HO
         let body = match self.moving.get() {
             None => 0.5 * l.dot(&self.inertia.omega_from(t, &l)),
             Some(m) => match &m.alone {
-                Some(alone) => alone.0.kinetic(&l, m.parts[0].of(x)),
+                Some(alone) => alone.kinetic(&l, m.parts[0].of(x)),
                 None => m.kinetic(&self.inertia, t, x, &l),
             },
         };
@@ -1363,5 +1417,75 @@ mod tests {
         assert!(m.energy_never_grows());
         let m = GeneralModel::<11>::try_new(InertiaLaw::Schedule(tilted()), vec![damper()]);
         assert!(!m.unwrap().energy_never_grows());
+    }
+
+    /// One part whose mass moves among parts whose mass does not (a damper with state before
+    /// it, a changing wheel, torques in both frames): its closed form gives the right-hand
+    /// side, `ω` and the energy the joint solve gives.
+    #[test]
+    fn a_lone_mover_among_other_parts_takes_its_closed_form_and_agrees_with_the_joint_solve() {
+        use crate::dynamics::{Hinge, Slosh, SpringMass, WheelSchedule};
+        let movers: [AnyPart; 3] = [
+            SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15)
+                .unwrap()
+                .into(),
+            Hinge::try_new(
+                0.25,
+                [0.01, 0.03, 0.035],
+                [0.8, 0.5, -0.2],
+                [0.1, 1.0, 0.3],
+                [1.0, -0.1, 0.2],
+                0.6,
+                0.7,
+                0.05,
+            )
+            .unwrap()
+            .into(),
+            Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04)
+                .unwrap()
+                .into(),
+        ];
+        let others: Vec<AnyPart> = vec![
+            ConstantTorque::try_new([0.02, -0.01, 0.03], Frame::Body)
+                .unwrap()
+                .into(),
+            ConstantTorque::try_new([0.0, 0.05, 0.1], Frame::World)
+                .unwrap()
+                .into(),
+            WheelSchedule::try_new([0.0, 0.6, 0.8], vec![0.0, 2.0], vec![0.4, 1.2])
+                .unwrap()
+                .into(),
+        ];
+        for (first, mover) in [(true, 0), (false, 0), (false, 1), (false, 2)] {
+            let mut parts = match first {
+                true => vec![damper()],
+                false => vec![],
+            };
+            parts.push(movers[mover].clone());
+            parts.extend(others.iter().cloned());
+            let m = GeneralModel::<24, true, Moving>::try_new(constant(), parts)
+                .unwrap()
+                .with_hub_mass(Some(5.0))
+                .unwrap();
+            assert!(m.moving.get().unwrap().alone.is_some());
+            let mut joint = m.clone();
+            joint.moving.get_mut().unwrap().alone = None;
+            let x = m.state_from(0.7, [0.3, -0.7, 1.1], [0.6, -0.2, 0.7, 0.3]);
+            let (a, b) = (m.increment(0.7, &x, 0.3), joint.increment(0.7, &x, 0.3));
+            for k in 0..24 {
+                assert!(
+                    (a[k] - b[k]).abs() < 1e-13,
+                    "{mover} {k}: {} {}",
+                    a[k],
+                    b[k]
+                );
+            }
+            assert!((m.omega_body(0.7, &x) - joint.omega_body(0.7, &x)).amax() < 1e-14);
+            assert_relative_eq!(
+                m.energy(0.7, &x),
+                joint.energy(0.7, &x),
+                max_relative = 1e-14
+            );
+        }
     }
 }

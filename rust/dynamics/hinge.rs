@@ -53,8 +53,8 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
 
+use super::moving::{checked, point, unit, Coordinate};
 use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
-use super::spring_mass::{checked, point, unit};
 
 /// A hinged appendage (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -69,10 +69,8 @@ pub struct Hinge {
     /// `e × s₀`.
     normal: Vector3<f64>,
     length: f64,
-    stiffness: f64,
-    damping: f64,
-    /// The angle and its rate at the start.
-    start: [f64; 2],
+    /// The torsional spring, the damper and the start.
+    coordinate: Coordinate,
 }
 
 /// The panel at one hinge angle: its arm `s`, `g = e × s`, and tensor `I_b`.
@@ -147,9 +145,7 @@ impl Hinge {
             arm,
             normal: axis.cross(&arm),
             length: checked("length", length, false)?,
-            stiffness: checked("stiffness", stiffness, false)?,
-            damping: checked("damping", damping, false)?,
-            start: [0.0; 2],
+            coordinate: Coordinate::try_new(stiffness, damping)?,
         })
     }
 
@@ -178,11 +174,11 @@ impl Hinge {
     }
 
     pub fn stiffness(&self) -> f64 {
-        self.stiffness
+        self.coordinate.stiffness
     }
 
     pub fn damping(&self) -> f64 {
-        self.damping
+        self.coordinate.damping
     }
 
     /// The panel at hinge angle `beta`.
@@ -229,18 +225,17 @@ impl Hinge {
         let moved = omega.cross(&pose.normal) - pose.arm * rate;
         self.mass * self.length * velocity.dot(&moved)
             + self.axis.dot(&(pose.inertia * spin).cross(spin))
-            - self.stiffness * beta
-            - self.damping * rate
+            - self.coordinate.force(beta, rate)
     }
 
     /// `½ k β²`.
     pub fn potential(&self, beta: f64) -> f64 {
-        0.5 * self.stiffness * beta * beta
+        self.coordinate.potential(beta)
     }
 
     /// The power the damping takes, `c β̇²`.
     pub fn dissipation(&self, rate: f64) -> f64 {
-        self.damping * rate * rate
+        self.coordinate.dissipation(rate)
     }
 }
 
@@ -344,15 +339,13 @@ impl LoneHinge {
         let centrifugal = self.moment * hg * omega.norm_squared();
         let swing = wg * (self.moment * omega.dot(&p.hinge) + self.swing * omega.dot(&s));
         let coriolis = rate * omega.dot(&(self.q2 * cos + self.q1 * sin));
-        (centrifugal - swing) - (coriolis + (p.stiffness * beta + p.damping * rate))
+        (centrifugal - swing) - (coriolis + p.coordinate.force(beta, rate))
     }
 }
 
-use super::kinds::Conserved;
-use super::multibody::PART_RATES;
-use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
-use super::spring_mass::{MOVING_KEEPS, MOVING_TRAITS};
-use crate::float::{ldexp, RateScale};
+use super::moving::{mover_hooks, moving_info, one_coordinate_hooks, OneCoordinate};
+use super::part::{Ctx, Dim, Field, Fields, ModelInfo, Param, ParamKind, Part};
+use crate::float::ldexp;
 
 impl Alone for LoneHinge {
     #[inline(always)]
@@ -364,8 +357,9 @@ impl Alone for LoneHinge {
         dx: &mut [f64],
     ) -> (Vector3<f64>, f64) {
         let (omega, v, cos, sin) = self.rates(h, x[0], x[1]);
+        let dp = self.momentum_rate(x[0], cos, sin, v, &omega);
         dx[0] = v * s;
-        dx[1] = self.momentum_rate(x[0], cos, sin, v, &omega) * s;
+        dx[1] = dp * s;
         (omega, self.part.dissipation(v))
     }
 
@@ -380,36 +374,70 @@ impl Alone for LoneHinge {
 }
 
 impl Part for Hinge {
-    const INFO: ModelInfo = ModelInfo {
-        name: "hinge",
-        about: "a rigid panel or rod on a one-axis hinge of the body with a torsional spring and damper",
-        law: false,
-        params: &[
+    const INFO: ModelInfo = moving_info(
+        "hinge",
+        "a rigid panel or rod on a one-axis hinge of the body with a torsional spring and damper",
+        &[
             Param::new("mass", ParamKind::Scalar, "the panel's mass (positive)"),
-            Param::new("moments", ParamKind::Vector, "its moments about its own centre: about the arm, the hinge axis, their normal"),
-            Param::new("hinge", ParamKind::Vector, "the hinge point, from the body's mass centre, body axes"),
+            Param::new(
+                "moments",
+                ParamKind::Vector,
+                "its moments about its own centre: about the arm, the hinge axis, their normal",
+            ),
+            Param::new(
+                "hinge",
+                ParamKind::Vector,
+                "the hinge point, from the body's mass centre, body axes",
+            ),
             Param::new("axis", ParamKind::Vector, "the hinge axis, body axes"),
-            Param::new("arm", ParamKind::Vector, "from the hinge towards the panel's centre at rest, body axes"),
-            Param::new("length", ParamKind::Scalar, "the distance of its centre from the hinge"),
-            Param::new("stiffness", ParamKind::Scalar, "the torsional spring's k (non-negative)"),
-            Param::new("damping", ParamKind::Scalar, "the damper's c (non-negative)"),
-            Param::new("angle0", ParamKind::Scalar, "the hinge angle at the start (0)").optional(),
+            Param::new(
+                "arm",
+                ParamKind::Vector,
+                "from the hinge towards the panel's centre at rest, body axes",
+            ),
+            Param::new(
+                "length",
+                ParamKind::Scalar,
+                "the distance of its centre from the hinge",
+            ),
+            Param::new(
+                "stiffness",
+                ParamKind::Scalar,
+                "the torsional spring's k (non-negative)",
+            ),
+            Param::new(
+                "damping",
+                ParamKind::Scalar,
+                "the damper's c (non-negative)",
+            ),
+            Param::new(
+                "angle0",
+                ParamKind::Scalar,
+                "the hinge angle at the start (0)",
+            )
+            .optional(),
             Param::new("rate0", ParamKind::Scalar, "its rate at the start (0)").optional(),
         ],
-        state: &[
-            Field { name: "angle", width: 1, body_vector: false, dim: Dim::NONE, about: "β, from rest" },
-            Field { name: "momentum", width: 1, body_vector: false, dim: Dim::MOMENTUM, about: "p = ∂T/∂β̇" },
+        &[
+            Field {
+                name: "angle",
+                width: 1,
+                body_vector: false,
+                dim: Dim::NONE,
+                about: "β, from rest",
+            },
+            Field {
+                name: "momentum",
+                width: 1,
+                body_vector: false,
+                dim: Dim::MOMENTUM,
+                about: "p = ∂T/∂β̇",
+            },
         ],
-        keeps: MOVING_KEEPS,
-        defines: Conserved::NONE,
-        energy: EnergyRole::Dissipates,
-        external: false,
-        unique: false,
-        traits: MOVING_TRAITS,
-    };
+    );
 
     fn from_fields(fields: &Fields) -> Result<Self> {
-        let mut h = Self::try_new(
+        let h = Self::try_new(
             fields.number("mass")?,
             fields.vector("moments")?,
             fields.vector("hinge")?,
@@ -419,48 +447,14 @@ impl Part for Hinge {
             fields.number("stiffness")?,
             fields.number("damping")?,
         )?;
-        h.start = [
-            fields.optional_number("angle0")?.unwrap_or(0.0),
-            fields.optional_number("rate0")?.unwrap_or(0.0),
-        ];
-        if !h.start.iter().all(|v| v.is_finite()) {
-            return Err(Error::invalid(
-                "angle0",
-                "and rate0 must be finite",
-                h.start,
-            ));
-        }
-        Ok(h)
+        Ok(Self {
+            coordinate: h.coordinate.starting(fields, "angle0")?,
+            ..h
+        })
     }
 
-    #[inline(always)]
-    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
-        Some((Hinge::carried(self, &self.pose(x[0])), [x[1], 0.0, 0.0]))
-    }
-
-    fn moving_rates(&self) -> usize {
-        1
-    }
-
-    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
-        Some(AloneSolve(std::sync::Arc::new(LoneHinge::new(hub, *self))))
-    }
-
-    fn moving_mass(&self) -> f64 {
-        self.mass
-    }
-
-    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
-        x[..2].copy_from_slice(&self.start);
-    }
-
-    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
-        [x[1], 0.0, 0.0]
-    }
-
-    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
-        x[1] = p[0];
-    }
+    mover_hooks!();
+    one_coordinate_hooks!();
 
     #[inline(always)]
     fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
@@ -474,30 +468,19 @@ impl Part for Hinge {
             dx[0] = rate;
             dx[1] = self.mass * m.velocity.dot(&moved)
                 + self.axis.dot(&(tensor * spin).cross(&spin))
-                - self.stiffness * x[0]
-                - self.damping * rate;
+                - self.coordinate.force(x[0], rate);
         }
     }
 
-    fn energy(&self, _t: f64, x: &[f64]) -> f64 {
-        self.potential(x[0])
-    }
-
-    #[inline(always)]
-    fn dissipation(&self, c: &Ctx<'_>, _x: &[f64]) -> f64 {
-        c.moving
-            .map_or(0.0, |m| Hinge::dissipation(self, m.rates[0]))
-    }
-
     fn stiffness(&self, _least: f64) -> f64 {
-        self.damping
+        self.coordinate.damping
             / (self.mass * self.length * self.length + self.moments.y).max(f64::MIN_POSITIVE)
     }
 
     fn frequency(&self, rate: f64) -> f64 {
         let j = (self.mass * self.length * self.length + self.moments.y).max(f64::MIN_POSITIVE);
         let reach = self.hinge.norm() + self.length;
-        (self.stiffness / j).sqrt()
+        (self.coordinate.stiffness / j).sqrt()
             + rate * (1.0 + reach / self.length.max(1e-300)).sqrt().min(1e3)
             + rate
     }
@@ -517,20 +500,28 @@ impl Part for Hinge {
         Ok(Self {
             mass: ldexp(self.mass, -m),
             moments: self.moments.map(|j| ldexp(j, -m)),
-            stiffness: ldexp(self.stiffness, -m),
-            damping: ldexp(self.damping, -m),
+            coordinate: self.coordinate.scaled(m),
             ..*self
         })
     }
+}
 
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        let rate = |v: f64| scale.rate_to_unit(v);
-        Ok(Self {
-            stiffness: rate(rate(self.stiffness)),
-            damping: rate(self.damping),
-            start: [self.start[0], rate(self.start[1])],
-            ..*self
-        })
+impl OneCoordinate for Hinge {
+    fn coordinate(&self) -> &Coordinate {
+        &self.coordinate
+    }
+
+    fn moved_mass(&self) -> f64 {
+        self.mass
+    }
+
+    #[inline(always)]
+    fn carried_at(&self, beta: f64) -> Carried {
+        Hinge::carried(self, &self.pose(beta))
+    }
+
+    fn lone_on(&self, hub: &Hub) -> AloneSolve {
+        AloneSolve::Hinge(Box::new(LoneHinge::new(hub, *self)))
     }
 }
 

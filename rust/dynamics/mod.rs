@@ -18,6 +18,7 @@ pub mod gravity;
 mod hinge;
 mod kinds;
 pub mod model;
+pub(crate) mod moving;
 pub mod multibody;
 pub mod part;
 pub mod registry;

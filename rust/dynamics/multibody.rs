@@ -44,11 +44,12 @@
 //! kept: the energy balance a run's drift reports. `T = ½ [ω; v] · [H; p]`.
 
 use std::fmt::Debug;
-use std::sync::Arc;
 
 use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{Error, Result};
+
+use super::{LoneHinge, LoneSlosh, LoneSpring};
 
 /// A part whose mass moves, alone on its hub, in closed form ([`super::LoneSpring`],
 /// [`super::LoneHinge`], [`super::LoneSlosh`]): the body rates and the part's own rates
@@ -66,13 +67,46 @@ pub trait Alone: Debug + Send + Sync {
     fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64;
 }
 
-/// A shared [`Alone`], as a model holds it (equal when it is the same one).
-#[derive(Debug, Clone)]
-pub struct AloneSolve(pub Arc<dyn Alone>);
+/// The closed form a model holds for its one part whose mass moves: an enum, not a trait
+/// object, so that the right-hand side inlines it (an indirect call each stage kept it out of
+/// line and wrote its rates through memory).
+#[derive(Debug, Clone, PartialEq)]
+pub enum AloneSolve {
+    Spring(LoneSpring),
+    Hinge(Box<LoneHinge>),
+    Slosh(LoneSlosh),
+}
 
-impl PartialEq for AloneSolve {
-    fn eq(&self, other: &Self) -> bool {
-        Arc::ptr_eq(&self.0, &other.0)
+/// `$e` with `$l` the closed form in each arm of `$a`.
+macro_rules! each_alone {
+    ($a:expr, $l:ident => $e:expr) => {
+        match $a {
+            AloneSolve::Spring($l) => $e,
+            AloneSolve::Hinge($l) => $e,
+            AloneSolve::Slosh($l) => $e,
+        }
+    };
+}
+
+impl Alone for AloneSolve {
+    #[inline(always)]
+    fn increment(
+        &self,
+        h: &Vector3<f64>,
+        x: &[f64],
+        s: f64,
+        dx: &mut [f64],
+    ) -> (Vector3<f64>, f64) {
+        each_alone!(self, l => l.increment(h, x, s, dx))
+    }
+
+    #[inline(always)]
+    fn omega(&self, h: &Vector3<f64>, x: &[f64]) -> Vector3<f64> {
+        each_alone!(self, l => l.omega(h, x))
+    }
+
+    fn kinetic(&self, h: &Vector3<f64>, x: &[f64]) -> f64 {
+        each_alone!(self, l => l.kinetic(h, x))
     }
 }
 

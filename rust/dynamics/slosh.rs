@@ -44,8 +44,8 @@ use nalgebra::Vector3;
 
 use crate::error::Result;
 
+use super::moving::{checked, point};
 use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
-use super::spring_mass::{checked, point};
 
 /// A slosh pendulum (see the module doc).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -284,10 +284,9 @@ impl LoneSlosh {
     }
 }
 
-use super::kinds::Conserved;
+use super::moving::{mover_hooks, moving_info, unit, Mover};
 use super::multibody::PART_RATES;
-use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
-use super::spring_mass::{unit, MOVING_KEEPS, MOVING_TRAITS};
+use super::part::{Ctx, Dim, Field, Fields, ModelInfo, Param, ParamKind, Part};
 use crate::error::Error;
 use crate::float::{ldexp, RateScale};
 
@@ -335,12 +334,45 @@ impl Alone for LoneSlosh {
     }
 }
 
+impl Mover for Slosh {
+    const RATES: usize = 2;
+
+    fn mover_mass(&self) -> f64 {
+        self.mass
+    }
+
+    fn lone(&self, hub: &Hub) -> AloneSolve {
+        AloneSolve::Slosh(LoneSlosh::new(hub, *self))
+    }
+
+    #[inline(always)]
+    fn carry(&self, x: &[f64]) -> (Carried, [f64; PART_RATES]) {
+        let rod = Rod::along(&vector(x));
+        let [a, b] = Slosh::momenta(self, &rod, &vector(&x[3..]));
+        (Slosh::carried(self, &rod), [a, b, 0.0])
+    }
+
+    fn begin(&self, x: &mut [f64]) {
+        x[..3].copy_from_slice(self.direction0.as_slice());
+        x[3..6].copy_from_slice(self.rate0.as_slice());
+    }
+
+    fn begin_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
+        let [a, b] = Rod::along(&vector(x)).rates_of(&vector(&x[3..]));
+        [a, b, 0.0]
+    }
+
+    fn put_momenta(&self, x: &mut [f64], p: &[f64]) {
+        let pi = Rod::along(&vector(x)).momentum_of([p[0], p[1]]);
+        x[3..6].copy_from_slice(pi.as_slice());
+    }
+}
+
 impl Part for Slosh {
-    const INFO: ModelInfo = ModelInfo {
-        name: "slosh",
-        about: "a tank's first sloshing mode as a spherical pendulum damped at its pivot, free of angle singularities",
-        law: false,
-        params: &[
+    const INFO: ModelInfo = moving_info(
+        "slosh",
+        "a tank's first sloshing mode as a spherical pendulum damped at its pivot, free of angle singularities",
+        &[
             Param::new("mass", ParamKind::Scalar, "the sloshing mass (positive)"),
             Param::new("pivot", ParamKind::Vector, "the pivot, from the body's mass centre, body axes"),
             Param::new("length", ParamKind::Scalar, "the rod's length (positive)"),
@@ -348,17 +380,11 @@ impl Part for Slosh {
             Param::new("direction0", ParamKind::Vector, "the rod's direction at the start, body axes"),
             Param::new("rate0", ParamKind::Vector, "the rod's angular velocity relative to the body at the start (0)").optional(),
         ],
-        state: &[
+        &[
             Field { name: "direction", width: 3, body_vector: true, dim: Dim::NONE, about: "n" },
             Field { name: "momentum", width: 3, body_vector: true, dim: Dim::MOMENTUM, about: "π" },
         ],
-        keeps: MOVING_KEEPS,
-        defines: Conserved::NONE,
-        energy: EnergyRole::Dissipates,
-        external: false,
-        unique: false,
-        traits: MOVING_TRAITS,
-    };
+    );
 
     fn from_fields(fields: &Fields) -> Result<Self> {
         let mut s = Self::try_new(
@@ -376,39 +402,7 @@ impl Part for Slosh {
         Ok(s)
     }
 
-    #[inline(always)]
-    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
-        let rod = Rod::along(&vector(x));
-        let [a, b] = Slosh::momenta(self, &rod, &vector(&x[3..]));
-        Some((Slosh::carried(self, &rod), [a, b, 0.0]))
-    }
-
-    fn moving_rates(&self) -> usize {
-        2
-    }
-
-    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
-        Some(AloneSolve(std::sync::Arc::new(LoneSlosh::new(hub, *self))))
-    }
-
-    fn moving_mass(&self) -> f64 {
-        self.mass
-    }
-
-    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
-        x[..3].copy_from_slice(self.direction0.as_slice());
-        x[3..6].copy_from_slice(self.rate0.as_slice());
-    }
-
-    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
-        let [a, b] = Rod::along(&vector(x)).rates_of(&vector(&x[3..]));
-        [a, b, 0.0]
-    }
-
-    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
-        let pi = Rod::along(&vector(x)).momentum_of([p[0], p[1]]);
-        x[3..6].copy_from_slice(pi.as_slice());
-    }
+    mover_hooks!();
 
     #[inline(always)]
     fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {

@@ -31,8 +31,9 @@
 
 use nalgebra::Vector3;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 
+use super::moving::{checked, point, unit, Coordinate};
 use super::multibody::{Alone, AloneSolve, Carried, Hub, Sym3};
 
 /// A spring–mass damper (see the module doc).
@@ -41,51 +42,8 @@ pub struct SpringMass {
     mass: f64,
     anchor: Vector3<f64>,
     direction: Vector3<f64>,
-    stiffness: f64,
-    damping: f64,
-    /// The displacement and its rate at the start.
-    start: [f64; 2],
-}
-
-/// `value` if it is finite and at least `low` (or above it, `strict`).
-pub(crate) fn checked(name: &'static str, value: f64, strict: bool) -> Result<f64> {
-    let ok = value.is_finite() && if strict { value > 0.0 } else { value >= 0.0 };
-    match ok {
-        true => Ok(value),
-        false => Err(Error::invalid(
-            name,
-            match strict {
-                true => "must be positive and finite",
-                false => "must be non-negative and finite",
-            },
-            value,
-        )),
-    }
-}
-
-/// `v` as a unit vector.
-///
-/// # Errors
-/// A vector that is not finite or is zero.
-pub(crate) fn unit(name: &'static str, v: [f64; 3]) -> Result<Vector3<f64>> {
-    let v = Vector3::from(v);
-    let n = v.norm();
-    match v.iter().all(|c| c.is_finite()) && n > 0.0 && n.is_finite() {
-        true => Ok(v / n),
-        false => Err(Error::invalid(
-            name,
-            "must be a non-zero, finite direction",
-            v.as_slice(),
-        )),
-    }
-}
-
-/// `v` as a finite point.
-pub(crate) fn point(name: &'static str, v: [f64; 3]) -> Result<Vector3<f64>> {
-    match v.iter().all(|c| c.is_finite()) {
-        true => Ok(Vector3::from(v)),
-        false => Err(Error::invalid(name, "must be three finite numbers", v)),
-    }
+    /// The spring, the damper and the start.
+    coordinate: Coordinate,
 }
 
 impl SpringMass {
@@ -112,9 +70,7 @@ impl SpringMass {
             mass: checked("mass", mass, true)?,
             anchor: point("anchor", anchor)?,
             direction: unit("direction", direction)?,
-            stiffness: checked("stiffness", stiffness, false)?,
-            damping: checked("damping", damping, false)?,
-            start: [0.0; 2],
+            coordinate: Coordinate::try_new(stiffness, damping)?,
         })
     }
 
@@ -131,11 +87,11 @@ impl SpringMass {
     }
 
     pub fn stiffness(&self) -> f64 {
-        self.stiffness
+        self.coordinate.stiffness
     }
 
     pub fn damping(&self) -> f64 {
-        self.damping
+        self.coordinate.damping
     }
 
     /// What it carries at displacement `x`.
@@ -158,19 +114,17 @@ impl SpringMass {
         omega: &Vector3<f64>,
         velocity: &Vector3<f64>,
     ) -> f64 {
-        self.mass * velocity.dot(&omega.cross(&self.direction))
-            - self.stiffness * x
-            - self.damping * rate
+        self.mass * velocity.dot(&omega.cross(&self.direction)) - self.coordinate.force(x, rate)
     }
 
     /// `½ k x²`.
     pub fn potential(&self, x: f64) -> f64 {
-        0.5 * self.stiffness * x * x
+        self.coordinate.potential(x)
     }
 
     /// The power the damping takes, `c ẋ²`.
     pub fn dissipation(&self, rate: f64) -> f64 {
-        self.damping * rate * rate
+        self.coordinate.dissipation(rate)
     }
 }
 
@@ -240,21 +194,13 @@ impl LoneSpring {
         // summed as a tree, each product's earlier factor first: what waits for ω is short
         let swing = self.reduced * s * (omega.norm_squared() - wd * wd);
         let tilt = self.reduced * wa * wd;
-        (swing - tilt) - (self.part.stiffness * x + self.part.damping * rate)
+        (swing - tilt) - self.part.coordinate.force(x, rate)
     }
 }
 
-use super::kinds::{Conserved, Traits};
-use super::multibody::PART_RATES;
-use super::part::{Ctx, Dim, EnergyRole, Field, Fields, ModelInfo, Param, ParamKind, Part};
-use crate::float::{ldexp, RateScale};
-
-/// What a part whose mass moves keeps: the momenta and the energy balance.
-pub(crate) const MOVING_KEEPS: Conserved = Conserved::MOMENTA.union(Conserved::ENERGY_BALANCE);
-/// What it asks of a method.
-pub(crate) const MOVING_TRAITS: Traits = Traits::PART_STATE
-    .union(Traits::STORED_MOMENTUM)
-    .union(Traits::MOVING_MASS);
+use super::moving::{mover_hooks, moving_info, one_coordinate_hooks, OneCoordinate};
+use super::part::{Ctx, Dim, Field, Fields, ModelInfo, Param, ParamKind, Part};
+use crate::float::ldexp;
 
 impl Alone for LoneSpring {
     #[inline(always)]
@@ -266,8 +212,9 @@ impl Alone for LoneSpring {
         dx: &mut [f64],
     ) -> (Vector3<f64>, f64) {
         let (omega, v) = self.rates(h, x[0], x[1]);
+        let dp = self.momentum_rate(x[0], v, &omega);
         dx[0] = v * s;
-        dx[1] = self.momentum_rate(x[0], v, &omega) * s;
+        dx[1] = dp * s;
         (omega, self.part.dissipation(v))
     }
 
@@ -282,12 +229,11 @@ impl Alone for LoneSpring {
 }
 
 impl Part for SpringMass {
-    const INFO: ModelInfo = ModelInfo {
-        name: "spring_mass",
-        about: "a point mass on a spring and viscous damper along a line of the body (the \
+    const INFO: ModelInfo = moving_info(
+        "spring_mass",
+        "a point mass on a spring and viscous damper along a line of the body (the \
                 classic nutation damper)",
-        law: false,
-        params: &[
+        &[
             Param::new("mass", ParamKind::Scalar, "the moving mass m (positive)"),
             Param::new(
                 "anchor",
@@ -312,7 +258,7 @@ impl Part for SpringMass {
             Param::new("x0", ParamKind::Scalar, "the displacement at the start (0)").optional(),
             Param::new("rate0", ParamKind::Scalar, "its rate at the start (0)").optional(),
         ],
-        state: &[
+        &[
             Field {
                 name: "displacement",
                 width: 1,
@@ -328,60 +274,24 @@ impl Part for SpringMass {
                 about: "p = ∂T/∂ẋ",
             },
         ],
-        keeps: MOVING_KEEPS,
-        defines: Conserved::NONE,
-        energy: EnergyRole::Dissipates,
-        external: false,
-        unique: false,
-        traits: MOVING_TRAITS,
-    };
+    );
 
     fn from_fields(fields: &Fields) -> Result<Self> {
-        let mut s = Self::try_new(
+        let s = Self::try_new(
             fields.number("mass")?,
             fields.vector("anchor")?,
             fields.vector("direction")?,
             fields.number("stiffness")?,
             fields.number("damping")?,
         )?;
-        s.start = [
-            fields.optional_number("x0")?.unwrap_or(0.0),
-            fields.optional_number("rate0")?.unwrap_or(0.0),
-        ];
-        if !s.start.iter().all(|v| v.is_finite()) {
-            return Err(Error::invalid("x0", "and rate0 must be finite", s.start));
-        }
-        Ok(s)
+        Ok(Self {
+            coordinate: s.coordinate.starting(fields, "x0")?,
+            ..s
+        })
     }
 
-    #[inline(always)]
-    fn carried(&self, x: &[f64]) -> Option<(Carried, [f64; PART_RATES])> {
-        Some((SpringMass::carried(self, x[0]), [x[1], 0.0, 0.0]))
-    }
-
-    fn moving_rates(&self) -> usize {
-        1
-    }
-
-    fn alone(&self, hub: &Hub) -> Option<AloneSolve> {
-        Some(AloneSolve(std::sync::Arc::new(LoneSpring::new(hub, *self))))
-    }
-
-    fn moving_mass(&self) -> f64 {
-        self.mass
-    }
-
-    fn start(&self, _omega0: &Vector3<f64>, x: &mut [f64]) {
-        x[..2].copy_from_slice(&self.start);
-    }
-
-    fn start_rates(&self, x: &[f64]) -> [f64; PART_RATES] {
-        [x[1], 0.0, 0.0]
-    }
-
-    fn set_momenta(&self, x: &mut [f64], p: &[f64]) {
-        x[1] = p[0];
-    }
+    mover_hooks!();
+    one_coordinate_hooks!();
 
     #[inline(always)]
     fn rates(&self, c: &Ctx<'_>, x: &[f64], dx: &mut [f64]) {
@@ -391,22 +301,12 @@ impl Part for SpringMass {
         }
     }
 
-    fn energy(&self, _t: f64, x: &[f64]) -> f64 {
-        self.potential(x[0])
-    }
-
-    #[inline(always)]
-    fn dissipation(&self, c: &Ctx<'_>, _x: &[f64]) -> f64 {
-        c.moving
-            .map_or(0.0, |m| SpringMass::dissipation(self, m.rates[0]))
-    }
-
     fn stiffness(&self, _least: f64) -> f64 {
-        self.damping / self.mass
+        self.coordinate.damping / self.mass
     }
 
     fn frequency(&self, rate: f64) -> f64 {
-        (self.stiffness / self.mass).sqrt() + 2.0 * rate
+        (self.coordinate.stiffness / self.mass).sqrt() + 2.0 * rate
     }
 
     fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
@@ -420,20 +320,28 @@ impl Part for SpringMass {
     fn with_moments_scaled(&self, m: i32) -> Result<Self> {
         Ok(Self {
             mass: ldexp(self.mass, -m),
-            stiffness: ldexp(self.stiffness, -m),
-            damping: ldexp(self.damping, -m),
+            coordinate: self.coordinate.scaled(m),
             ..*self
         })
     }
+}
 
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        let rate = |v: f64| scale.rate_to_unit(v);
-        Ok(Self {
-            stiffness: rate(rate(self.stiffness)),
-            damping: rate(self.damping),
-            start: [self.start[0], rate(self.start[1])],
-            ..*self
-        })
+impl OneCoordinate for SpringMass {
+    fn coordinate(&self) -> &Coordinate {
+        &self.coordinate
+    }
+
+    fn moved_mass(&self) -> f64 {
+        self.mass
+    }
+
+    #[inline(always)]
+    fn carried_at(&self, x: f64) -> Carried {
+        SpringMass::carried(self, x)
+    }
+
+    fn lone_on(&self, hub: &Hub) -> AloneSolve {
+        AloneSolve::Spring(LoneSpring::new(hub, *self))
     }
 }
 
