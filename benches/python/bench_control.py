@@ -32,9 +32,14 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
+# before numpy starts its OpenBLAS thread, which spins a while after it starts and would be
+# counted in this process's CPU time (see bench_models.py's ONE_BLAS_THREAD)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-import dzhanibekov as dz
+import numpy as np  # noqa: E402
+
+import dzhanibekov as dz  # noqa: E402
 
 BODY = dz.Body((0.03, 0.04, 0.02))
 OMEGA0 = (0.05, -0.03, 0.04)
