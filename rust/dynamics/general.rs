@@ -1468,6 +1468,9 @@ mod tests {
         (f, plain)
     }
 
+    /// A body dipole and the plain formula of the field it sits in (world axes, at `t`).
+    type Dipole<'a> = ([f64; 3], &'a dyn Fn(f64) -> Vector3<f64>);
+
     fn residual(m: [f64; 3], f: DipoleField) -> AnyPart {
         crate::dynamics::control::ResidualDipole::try_new(m, f)
             .unwrap()
@@ -1475,12 +1478,7 @@ mod tests {
     }
 
     /// `H' = H × ω + 3n² r̂_b × (I r̂_b) + Σ m_k × B_k`, body axes, from the plain formulas.
-    fn plain_rate(
-        t: f64,
-        x: &[f64; 7],
-        n: f64,
-        dipoles: &[([f64; 3], &dyn Fn(f64) -> Vector3<f64>)],
-    ) -> Vector3<f64> {
+    fn plain_rate(t: f64, x: &[f64; 7], n: f64, dipoles: &[Dipole<'_>]) -> Vector3<f64> {
         let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
         let q = attitude(x);
         let to_body = crate::kinematics::rotation_matrix(&q).transpose();

@@ -36,7 +36,9 @@
 //! step). What makes it cheap, each at round-off from the plain formula:
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
-//!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
+//!   it depends on `t` alone, so it runs beside the state's chain of dependent operations,
+//!   and it is made once for each of a step's distinct stage times (the general model's
+//!   [`crate::ode::OdeSystem::at_time`]: RK4's `t`, `t + h/2`, `t + h`, three a step, not four);
 //! - **the radial direction in body axes** from the unnormalised matrix `M̃ = |q|² M(q)`
 //!   (quadratic in `q`, no division): `r̃ = M̃ᵀ r̂ = |q|² r̂_b`, and the torque
 //!   `3n² r̂_b × (I r̂_b) = (3n² / |q|⁴) r̃ × (I r̃)`, whose one division runs beside the

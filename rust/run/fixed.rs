@@ -287,8 +287,19 @@ where
 {
     let (mut next, mut seen) = (first, 0_u64);
     let mut pieces: u64 = 0;
-    let mut piece = |x: &mut [f64; N], t: f64, t1: f64| {
-        pieces += 1;
+    // (a function, not a closure: a closure is compiled apart from its caller, without the
+    // caller's AVX-512, see `advance_across_widest`)
+    #[inline(always)]
+    fn piece<const N: usize, S, M, O>(
+        (method, sys, obs): (&M, &S, &mut O),
+        x: &mut [f64; N],
+        t: f64,
+        t1: f64,
+    ) where
+        S: OdeSystem<N>,
+        M: Stepper<N, S>,
+        O: Observer<N>,
+    {
         if O::WANTS_STEPS {
             let before = method.to_state(sys, x);
             method.step(sys, t, t1 - t, x);
@@ -296,7 +307,7 @@ where
         } else {
             method.step(sys, t, t1 - t, x);
         }
-    };
+    }
     for k in 0..n {
         let mut t = ta + k as f64 * h;
         let t1 = if k + 1 == n { tb } else { t + h };
@@ -304,7 +315,8 @@ where
             let kink = next;
             next = kinks(after(kink));
             if kink > t {
-                piece(&mut x, t, kink);
+                piece((method, sys, &mut *obs), &mut x, t, kink);
+                pieces += 1;
             }
             if sys.is_sampled() {
                 let mut state = method.to_state(sys, &x);
@@ -319,7 +331,8 @@ where
             }
         }
         if t1 > t {
-            piece(&mut x, t, t1);
+            piece((method, sys, &mut *obs), &mut x, t, t1);
+            pieces += 1;
         }
         if (k + 1) % CHECK_EVERY == 0 {
             check(&x, t1, t_end, cancel)?;
