@@ -11,21 +11,35 @@ Each system runs twice with RK4, at dt = 0.01 and dt = 0.1 (100 and 10 steps a s
 0.04, 0.02) in a 500 km orbit; B-dot with its field (a 1 Hz magnetometer); quaternion
 feedback on three wheels; a Python law (rate damping on the wheels) whose own cost is timed
 alone, called as often with the same arguments. Times are the medians of `--repeat` runs
-(process time: the machine may be shared).
+in process time (the machine may be shared), wall time beside them.
+
+    python benches/python/bench_control.py --baseline /tmp/old   # beside another build
+
+With `--baseline DIR` (a directory holding another build's `dzhanibekov` package), each repeat
+runs both builds one after the other in fresh processes, so that both see the same load.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import math
+import os
 import statistics
+import subprocess
+import sys
 import time
 from collections.abc import Callable
 from typing import Any
 
-import numpy as np
+# before numpy starts its OpenBLAS thread, which spins a while after it starts and would be
+# counted in this process's CPU time (see bench_models.py's ONE_BLAS_THREAD)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-import dzhanibekov as dz
+import numpy as np  # noqa: E402
+
+import dzhanibekov as dz  # noqa: E402
 
 BODY = dz.Body((0.03, 0.04, 0.02))
 OMEGA0 = (0.05, -0.03, 0.04)
@@ -38,17 +52,19 @@ def law(t: float, q: np.ndarray, omega: np.ndarray, field: np.ndarray,
     return -0.01 * omega
 
 
-def cpu(f: Callable[[], Any], repeat: int) -> float:
+def cpu(f: Callable[[], Any], repeat: int) -> tuple[float, float]:
+    """Median (CPU, wall) seconds of `repeat` calls."""
     times = []
     for _ in range(repeat):
-        start = time.process_time()
+        start, wall = time.process_time(), time.perf_counter()
         f()
-        times.append(time.process_time() - start)
-    return statistics.median(times)
+        times.append((time.process_time() - start, time.perf_counter() - wall))
+    return statistics.median(c for c, _ in times), statistics.median(w for _, w in times)
 
 
-def per_step_and_sample(system: Any, steps: int, repeat: int) -> tuple[float, float]:
-    """Seconds per RK4 step and per sample, from runs at 100 and 10 steps a sample."""
+def per_step_and_sample(system: Any, steps: int, repeat: int) -> list[tuple[float, float]]:
+    """(seconds per RK4 step, per sample) in CPU and in wall time, from runs at 100 and 10
+    steps a sample."""
     rows = []
     t_end = steps * 0.01                   # the same time, as many samples (at 0, 1, … < t_end)
     for dt in (0.01, 0.1):
@@ -56,20 +72,19 @@ def per_step_and_sample(system: Any, steps: int, repeat: int) -> tuple[float, fl
                                           method="rk4", flips=False), repeat)
         rows.append((round(t_end / dt), math.ceil(t_end), seconds))
     (s1, k1, c1), (s2, k2, c2) = rows
-    # c = s · a + k · b, the same samples k1 = k2
-    a = (c1 - c2) / (s1 - s2)
-    return a, (c1 - s1 * a) / k1
+    out = []
+    for which in (0, 1):
+        # c = s · a + k · b, the same samples k1 = k2
+        a = (c1[which] - c2[which]) / (s1 - s2)
+        out.append((a, (c1[which] - s1 * a) / k1))
+    return out
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--steps", type=float, default=2e6)
-    parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
-    steps = int(args.steps)
-    free_t = cpu(lambda: dz.simulate(BODY, OMEGA0, t_end=steps * 0.01, frames=101, dt=0.01,
-                                     method="rk4", flips=False), args.repeat)
-    free = free_t / steps
+def measure(steps: int, repeat: int) -> dict[str, list[float]]:
+    """Each row's [ns/step CPU, wall; µs/sample CPU, wall], the free body's ns/step first."""
+    free = cpu(lambda: dz.simulate(BODY, OMEGA0, t_end=steps * 0.01, frames=101, dt=0.01,
+                                   method="rk4", flips=False), repeat)
+    out = {"free body": [free[0] / steps * 1e9, free[1] / steps * 1e9, 0.0, 0.0]}
     field = dz.MagneticField(N, 1.7)
     systems = {
         "B-dot, 1 Hz": dz.System(BODY, torques=[dz.BDot(field, gain=3e-5, period=1.0,
@@ -78,17 +93,63 @@ def main() -> None:
             dz.QuaternionFeedback(1e-3, 1e-2, period=1.0, torque_limit=1e-3)]),
         "Python law, 1 Hz": dz.System(BODY, parts=[dz.Controller(law, period=1.0)]),
     }
-    print(f"{steps:.0e} RK4 steps a run, CPU time; the free body: {free * 1e9:.1f} ns a step")
-    print(f"{'system':28s} {'ns/step':>8s} {'× free':>7s} {'µs/sample':>10s}")
     for name, system in systems.items():
-        step, sample = per_step_and_sample(system, steps, args.repeat)
-        print(f"{name:28s} {step * 1e9:8.1f} {step / free:7.2f} {sample * 1e6:10.2f}")
-        if name.startswith("Python"):
-            args_ = (1.0, np.array([1.0, 0, 0, 0]), np.zeros(3), np.zeros(3), np.zeros(3))
-            calls = max(10_000, steps // 100)
-            own = cpu(lambda: [law(*args_) for _ in range(calls)], args.repeat) / calls
-            print(f"{'  the law alone':28s} {'':8s} {'':7s} {own * 1e6:10.2f}")
-            print(f"{'  the loop beyond it':28s} {'':8s} {'':7s} {(sample - own) * 1e6:10.2f}")
+        (step, sample), (step_wall, sample_wall) = per_step_and_sample(system, steps, repeat)
+        out[name] = [step * 1e9, step_wall * 1e9, sample * 1e6, sample_wall * 1e6]
+    args_ = (1.0, np.array([1.0, 0, 0, 0]), np.zeros(3), np.zeros(3), np.zeros(3))
+    calls = max(10_000, steps // 100)
+    own = cpu(lambda: [law(*args_) for _ in range(calls)], repeat)
+    out["  the law alone"] = [0.0, 0.0, own[0] / calls * 1e6, own[1] / calls * 1e6]
+    return out
+
+
+def in_process(path: str | None, steps: int) -> dict[str, list[float]]:
+    """`measure` once in a fresh process importing the build at `path` (None: this one)."""
+    env = dict(os.environ)
+    if path is not None:
+        env["PYTHONPATH"] = path
+    code = f"import json, sys; sys.path.insert(0, {os.path.dirname(__file__)!r}); " \
+           f"import bench_control as b; print(json.dumps(b.measure({steps}, 1)))"
+    run = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                         text=True, check=True)
+    return dict(json.loads(run.stdout.strip().splitlines()[-1]))
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--steps", type=float, default=2e6)
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--baseline", help="a directory with another build's package")
+    args = parser.parse_args()
+    steps = int(args.steps)
+    load = os.getloadavg()
+    if args.baseline:
+        builds: dict[str, str | None] = {"baseline": args.baseline, "this": None}
+        runs: dict[str, list[dict[str, list[float]]]] = {b: [] for b in builds}
+        for _ in range(args.repeat):
+            for build, path in builds.items():
+                runs[build].append(in_process(path, steps))
+        figures = {b: {name: [statistics.median(r[name][k] for r in runs[b]) for k in range(4)]
+                       for name in runs[b][0]} for b in builds}
+    else:
+        figures = {"this": measure(steps, args.repeat)}
+    print(f"{steps:.0e} RK4 steps a run, medians of {args.repeat}; load average "
+          f"{load[0]:.1f} before, {os.getloadavg()[0]:.1f} after")
+    head = "".join(f" | {b:>8s} ns/step cpu (wall) × free  µs/sample cpu (wall)"
+                   for b in figures)
+    print(f"{'system':28s}{head}")
+    for name in figures["this"]:
+        line = f"{name:28s}"
+        for rows in figures.values():
+            step, step_wall, sample, sample_wall = rows[name]
+            free = rows["free body"][0]
+            ratio = f"{step / free:7.2f}" if step else f"{'':7s}"
+            line += (f" | {step:11.1f} ({step_wall:7.1f}) {ratio} "
+                     f"{sample:10.2f} ({sample_wall:7.2f})")
+        print(line)
+    for build, rows in figures.items():
+        beyond = rows["Python law, 1 Hz"][2] - rows["  the law alone"][2]
+        print(f"{build}: a Python law's sample beyond the law's own work: {beyond:.2f} µs")
 
 
 if __name__ == "__main__":

@@ -41,6 +41,14 @@ MOMENTS = (1.0, 2.0, 3.0)
 OMEGA0 = (0.01, 0.01, 1.0)
 DT = 1e-3
 TILTED = np.array([[1.0, 0.1, 0.0], [0.1, 3.0, -0.2], [0.0, -0.2, 2.0]])
+# The timed processes' numpy and scipy each start an OpenBLAS thread (one per extra core) as
+# they are imported (`import dzhanibekov` imports scipy), and it spins (busy-waits for work)
+# a while after it starts: on a quiet machine over the first rows timed after the import (the
+# free body, the deployments and the damper, ~0.1 s of runs), which read CPU time ≈ 2× wall
+# time. No run calls BLAS (no row starts a thread, imports scipy or numpy.linalg work); with
+# one BLAS thread there is no such thread at all (`perf record` of a run: samples in numpy's
+# OpenBLAS `blas_thread_server` just after the import, none later).
+ONE_BLAS_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1"}
 
 
 def systems(dz: Any, t_end: float) -> dict[str, Any]:
@@ -103,7 +111,7 @@ def measure(steps: int) -> dict[str, tuple[float, float]]:
 
 def in_process(path: str | None, steps: int) -> dict[str, tuple[float, float]]:
     """`measure` in a fresh process importing the build at `path` (None: this one)."""
-    env = dict(os.environ)
+    env = dict(os.environ, **ONE_BLAS_THREAD)
     if path is not None:
         env["PYTHONPATH"] = path
     code = f"import json, sys; sys.path.insert(0, {os.path.dirname(__file__)!r}); " \

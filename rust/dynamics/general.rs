@@ -37,17 +37,18 @@ use nalgebra::{Matrix3, Vector3};
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 use crate::kinematics::world_to_body;
-use crate::ode::OdeSystem;
+use crate::ode::{OdeSystem, StageTime};
 
+use super::control::DipoleField;
 use super::damper::DamperKernel;
-use super::gravity::OrbitKernel;
+use super::gravity::{sin_cos, OrbitKernel};
 use super::kinds::{Conserved, Kinds, Traits};
 use super::model::{
     attitude, mid_axis_of, quaternion_increment, set_attitude, MidAxis, Model, MomentumProjection,
 };
 use super::multibody::{self, Alone, AloneSolve, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
 use super::part::Moved;
-use super::part::{Ctx, Dim, EnergyRole, Frame};
+use super::part::{Ctx, Dim, EnergyRole, Frame, Timed};
 use super::registry::{kinds_of, AnyPart, Columns};
 use super::{Clocks, Deployment};
 
@@ -235,6 +236,53 @@ impl Hot {
     }
 }
 
+/// What the right-hand side makes of `t` alone, once for each distinct stage time (see
+/// [`StageTime`]; its `of_t` holds `[sin nt, cos nt, B_world]`): the gravity gradient's orbit
+/// phase, and the magnetic field in world axes when every magnetic part reads the same one
+/// (else each part makes its own at every stage). A system without either makes nothing.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+struct TimeOnly {
+    orbit_rate: Option<f64>,
+    field: Option<DipoleField>,
+}
+
+impl TimeOnly {
+    fn of(parts: &[AnyPart]) -> Self {
+        let orbit_rate = parts.iter().find_map(|p| match p {
+            AnyPart::GravityGradient(g) => Some(g.orbit_rate()),
+            _ => None,
+        });
+        let fields: Vec<DipoleField> = parts.iter().filter_map(AnyPart::stage_field).collect();
+        let field = fields
+            .first()
+            .copied()
+            .filter(|f| fields.iter().all(|g| g == f));
+        Self { orbit_rate, field }
+    }
+
+    #[inline(always)]
+    fn at(&self, t: f64) -> StageTime {
+        let mut at = StageTime::bare(t);
+        if let Some(n) = self.orbit_rate {
+            (at.of_t[0], at.of_t[1]) = sin_cos(n * t);
+        }
+        if let Some(f) = &self.field {
+            at.of_t[2..].copy_from_slice(f.world(t).as_slice());
+        }
+        at
+    }
+
+    /// What the parts read of `at` (made by [`TimeOnly::at`]).
+    #[inline(always)]
+    fn timed(&self, at: &StageTime) -> Timed {
+        let v = &at.of_t;
+        Timed {
+            orbit: self.orbit_rate.map(|_| (v[0], v[1])),
+            field: self.field.map(|_| Vector3::new(v[2], v[3], v[4])),
+        }
+    }
+}
+
 /// A right-hand side written out for a common system (see [`OrbitKernel`], [`DamperKernel`]):
 /// a body of constant principal moments with the gravity gradient alone (and constant
 /// wheels), or with one damper alone. Every other system takes the parts in turn.
@@ -297,6 +345,8 @@ pub struct GeneralModel<const N: usize, const HOT: bool = true, M: Movers = NoMo
     /// The right-hand side's view of the same (see [`Hot`]).
     hot: Hot,
     kernel: Kernel,
+    /// What the right-hand side makes of `t` alone, once per stage time.
+    time_only: TimeOnly,
     /// Whether there is any external torque.
     torqued: bool,
     /// The parts' state: how many numbers, and the dimension of each.
@@ -504,6 +554,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         let changing = matches!(inertia, InertiaLaw::Schedule(_));
         let kinds = kinds_of(changing, &parts);
         let works = kinds.models().any(|m| m.energy == EnergyRole::DoesWork);
+        let time_only = TimeOnly::of(&parts);
         let mut model = Self {
             inertia,
             parts,
@@ -518,6 +569,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
             sampled,
             hot,
             kernel,
+            time_only,
             torqued,
             width,
             dims,
@@ -658,7 +710,8 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
 
 /// # Evaluation
 impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
-    /// What the parts see at `(t, x)` with body rates `omega`.
+    /// What the parts see at `(t, x)` with body rates `omega` (each part making what it
+    /// reads of `t` itself).
     #[inline(always)]
     fn ctx(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Ctx<'_> {
         Ctx {
@@ -667,6 +720,20 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
             omega,
             inertia: &self.inertia,
             moving: None,
+            timed: Timed::default(),
+        }
+    }
+
+    /// [`GeneralModel::ctx`] at the stage time `at` (made by [`OdeSystem::at_time`]): the
+    /// parts read what the model made of `at.t`.
+    #[inline(always)]
+    fn ctx_at(&self, at: &StageTime, x: &[f64; N], omega: Vector3<f64>) -> Ctx<'_> {
+        Ctx {
+            timed: match HOT {
+                true => self.time_only.timed(at),
+                false => Timed::default(),
+            },
+            ..self.ctx(at.t, x, omega)
         }
     }
 
@@ -716,15 +783,19 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         (dx, power)
     }
 
-    /// The external torque in body axes at `(t, x)`, the body turning at `omega`.
+    /// The external torque in body axes at `(at.t, x)`, the body turning at `omega`.
     #[inline(always)]
-    fn torque_at(&self, t: f64, x: &[f64; N], omega: Vector3<f64>) -> Vector3<f64> {
+    fn torque_at(&self, at: &StageTime, x: &[f64; N], omega: Vector3<f64>) -> Vector3<f64> {
+        let t = at.t;
         let mut tau = self.body_torque.unwrap_or_default();
         if let Some(v) = self.world_torque {
             tau += world_to_body(&attitude(x), &v);
         }
         if HOT && self.hot.torques {
-            tau = self.hot.columns.plus_torque(&self.ctx(t, x, omega), x, tau);
+            tau = self
+                .hot
+                .columns
+                .plus_torque(&self.ctx_at(at, x, omega), x, tau);
         }
         if HOT && !self.hot.rest.is_empty() {
             tau += self.rest_torques(t, *x, omega);
@@ -735,7 +806,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// The external torque in body axes at `(t, x)` (the splittings' kicks).
     #[inline(always)]
     pub(crate) fn torque(&self, t: f64, x: &[f64; N]) -> Vector3<f64> {
-        self.torque_at(t, x, self.omega_body(t, x))
+        self.torque_at(&self.at_time(t), x, self.omega_body(t, x))
     }
 
     /// Whether the system has parts with state, or parts storing momentum.
@@ -823,6 +894,7 @@ impl Moving {
             omega,
             inertia,
             moving: None,
+            timed: Timed::default(),
         };
         (omega, self.rates(&c, x, &j, s, dx))
     }
@@ -896,15 +968,15 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// rather than each hold a copy, and on a copy of the state, so that the caller's stays
     /// in registers (see [`Hot`]).
     #[inline(never)]
-    fn increment_moving(&self, moving: &Moving, t: f64, x: [f64; N], s: f64) -> [f64; N] {
-        let x = &x;
+    fn increment_moving(&self, moving: &Moving, at: StageTime, x: [f64; N], s: f64) -> [f64; N] {
+        let (x, t) = (&x, at.t);
         let mut dx = [0.0; N];
         let l = self.body_momentum(t, x);
         let (omega, power) = moving.solve(&self.inertia, t, attitude(x), x, &l, s, &mut dx);
         let h = Vector3::new(x[0], x[1], x[2]);
         let mut dh = h.cross(&omega);
         if self.torqued {
-            dh += self.torque_at(t, x, omega);
+            dh += self.torque_at(&at, x, omega);
         }
         dx[..3].copy_from_slice((dh * s).as_slice());
         if let Some(k) = self.balance {
@@ -923,11 +995,11 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         &self,
         moving: &Moving,
         alone: &AloneSolve,
-        t: f64,
+        at: &StageTime,
         x: [f64; N],
         s: f64,
     ) -> [f64; N] {
-        let x = &x;
+        let (x, t) = (&x, at.t);
         let h = Vector3::new(x[0], x[1], x[2]);
         let p = &moving.parts[0];
         let mut dx = [0.0; N];
@@ -938,11 +1010,11 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
             &mut dx[p.at..p.at + p.width],
         );
         if moving.has_fixed() {
-            power += moving.fixed_rates(&self.ctx(t, x, omega), x, s, &mut dx);
+            power += moving.fixed_rates(&self.ctx_at(at, x, omega), x, s, &mut dx);
         }
         let mut dh = h.cross(&omega);
         if self.torqued {
-            dh += self.torque_at(t, x, omega);
+            dh += self.torque_at(at, x, omega);
         }
         dx[..3].copy_from_slice((dh * s).as_slice());
         if let Some(k) = self.balance {
@@ -974,16 +1046,31 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
 impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N, HOT, M> {
     #[inline(always)]
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N] {
+        self.increment_at(&self.at_time(t), x, s)
+    }
+
+    /// The orbit's phase and the magnetic field in world axes at `t` (see [`TimeOnly`]).
+    #[inline(always)]
+    fn at_time(&self, t: f64) -> StageTime {
+        match HOT {
+            true => self.time_only.at(t),
+            false => StageTime::bare(t),
+        }
+    }
+
+    #[inline(always)]
+    fn increment_at(&self, at: &StageTime, x: &[f64; N], s: f64) -> [f64; N] {
+        let t = at.t;
         if let (true, Some(moving)) = (HOT, self.moving.get()) {
             return match &moving.alone {
-                Some(alone) => self.increment_alone(moving, alone, t, *x, s),
-                None => self.increment_moving(moving, t, *x, s),
+                Some(alone) => self.increment_alone(moving, alone, at, *x, s),
+                None => self.increment_moving(moving, *at, *x, s),
             };
         }
         let q = [x[N - 4], x[N - 3], x[N - 2], x[N - 1]];
         match self.kernel {
             Kernel::Orbit(k) if HOT => {
-                let (dh, dq) = k.increment(t, [x[0], x[1], x[2]], q, s);
+                let (dh, dq) = k.increment_at((at.of_t[0], at.of_t[1]), [x[0], x[1], x[2]], q, s);
                 let mut dx = [0.0; N];
                 dx[..3].copy_from_slice(&dh);
                 dx[N - 4..].copy_from_slice(&dq);
@@ -1004,7 +1091,7 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
         let omega = self.omega_body(t, x);
         let mut dh = h.cross(&omega);
         if self.torqued {
-            dh += self.torque_at(t, x, omega);
+            dh += self.torque_at(at, x, omega);
         }
         let dh = dh * s;
         let mut dx = [0.0; N];
@@ -1013,7 +1100,7 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
             let mut power = self
                 .hot
                 .columns
-                .rates(&self.ctx(t, x, omega), x, s, &mut dx);
+                .rates(&self.ctx_at(at, x, omega), x, s, &mut dx);
             if !self.hot.rest.is_empty() {
                 let (rates, more) = self.rest_rates(t, *x, omega, s);
                 for k in 3..N - 4 {
@@ -1034,7 +1121,10 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
         !self.clocks.is_empty()
     }
 
-    /// Each part sampled at `t` updates the state (see [`super::Part::sample`]).
+    /// Each part sampled at `t` updates the state (see [`super::Part::sample`]). Out of line:
+    /// every build of the drivers (AVX-512 or not) calls this one, so the laws' C library
+    /// calls give the same bits in each.
+    #[inline(never)]
     fn sample(&self, t: f64, x: &mut [f64; N]) {
         for k in self.clocks.at(t) {
             // each part sees the state as the parts before it left it
@@ -1078,7 +1168,7 @@ impl<const N: usize, const HOT: bool, M: Movers> Model<N> for GeneralModel<N, HO
         let h = self.momentum_body(t, x).cross(&omega);
         match self.torqued {
             false => h,
-            true => h + self.torque_at(t, x, omega),
+            true => h + self.torque_at(&self.at_time(t), x, omega),
         }
     }
 
@@ -1486,6 +1576,131 @@ mod tests {
                 joint.energy(0.7, &x),
                 max_relative = 1e-14
             );
+        }
+    }
+
+    /// A dipole field of equatorial strength `moment / mu · n²` inclined by `i`, and the plain
+    /// formula of it in world axes (see [`crate::dynamics::control::field`]): `B = B_eq (d̂ −
+    /// 3 (d̂ · r̂) r̂)`, `d̂ = (0, sin i, cos i)`, `r̂ = (cos nt, sin nt, 0)`.
+    fn field(n: f64, i: f64) -> (DipoleField, impl Fn(f64) -> Vector3<f64>) {
+        let (moment, mu) = (7.7, 4.1);
+        let f = DipoleField::try_new(n, i, moment, mu).unwrap();
+        let plain = move |t: f64| {
+            let d = Vector3::new(0.0, i.sin(), i.cos());
+            let r = Vector3::new((n * t).cos(), (n * t).sin(), 0.0);
+            (d - r * (3.0 * d.dot(&r))) * (moment / mu * n * n)
+        };
+        (f, plain)
+    }
+
+    /// A body dipole and the plain formula of the field it sits in (world axes, at `t`).
+    type Dipole<'a> = ([f64; 3], &'a dyn Fn(f64) -> Vector3<f64>);
+
+    fn residual(m: [f64; 3], f: DipoleField) -> AnyPart {
+        crate::dynamics::control::ResidualDipole::try_new(m, f)
+            .unwrap()
+            .into()
+    }
+
+    /// `H' = H × ω + 3n² r̂_b × (I r̂_b) + Σ m_k × B_k`, body axes, from the plain formulas.
+    fn plain_rate(t: f64, x: &[f64; 7], n: f64, dipoles: &[Dipole<'_>]) -> Vector3<f64> {
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        let q = attitude(x);
+        let to_body = crate::kinematics::rotation_matrix(&q).transpose();
+        let h = Vector3::new(x[0], x[1], x[2]);
+        let omega = i.try_inverse().unwrap() * h;
+        let r = to_body * Vector3::new((n * t).cos(), (n * t).sin(), 0.0);
+        let mut rate = h.cross(&omega) + r.cross(&(i * r)) * (3.0 * n * n);
+        for (m, b) in dipoles {
+            rate += Vector3::from(*m).cross(&(to_body * b(t)));
+        }
+        rate
+    }
+
+    #[test]
+    fn what_a_stage_time_holds_is_the_plain_formulas() {
+        let (n, (f, plain)) = (0.37, field(0.37, 1.1));
+        let m = [0.2, -0.5, 0.3];
+        let model = GeneralModel::<7>::try_new(constant(), vec![gravity(n), residual(m, f)]);
+        let model = model.unwrap();
+        // the one field made once per stage time, beside the orbit's phase
+        assert_eq!(model.time_only.field, Some(f));
+        let q = [0.6, -0.2, 0.7, 0.3];
+        for t in [0.0, 0.7, 13.1, -4.2, 250.0] {
+            let at = model.at_time(t);
+            let v = at.of_t;
+            assert!((v[0] - (n * t).sin()).abs() < 1e-14, "{t}");
+            assert!((v[1] - (n * t).cos()).abs() < 1e-14, "{t}");
+            let b = plain(t);
+            assert!(
+                (Vector3::new(v[2], v[3], v[4]) - b).amax() < 1e-14 * b.amax(),
+                "{t}"
+            );
+            // the right-hand side through the stage time, at any size of q
+            let x = [
+                0.3,
+                -0.7,
+                1.1,
+                q[0] * 1.3,
+                q[1] * 1.3,
+                q[2] * 1.3,
+                q[3] * 1.3,
+            ];
+            let rate = plain_rate(t, &x, n, &[(m, &plain)]);
+            let dx = model.increment_at(&at, &x, 0.5);
+            assert!(
+                (Vector3::new(dx[0], dx[1], dx[2]) * 2.0 - rate).amax() < 1e-14,
+                "{t}"
+            );
+        }
+    }
+
+    #[test]
+    fn parts_of_different_fields_each_make_their_own() {
+        let (n, (f, plain), (g, other)) = (0.37, field(0.37, 1.1), field(0.37, 0.4));
+        let (m, k) = ([0.2, -0.5, 0.3], [-0.1, 0.05, 0.4]);
+        let parts = vec![residual(m, f), gravity(n), residual(k, g)];
+        let model = GeneralModel::<7>::try_new(constant(), parts).unwrap();
+        assert_eq!(model.time_only.field, None);
+        let x = [0.3, -0.7, 1.1, 0.6, -0.2, 0.7, 0.3];
+        for t in [0.0, 0.7, 13.1] {
+            let rate = plain_rate(t, &x, n, &[(m, &plain), (k, &other)]);
+            let dx = model.rhs(t, &x);
+            assert!(
+                (Vector3::new(dx[0], dx[1], dx[2]) - rate).amax() < 1e-14,
+                "{t}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_rk4_step_through_the_stage_times_is_the_plain_rk4_step() {
+        use crate::integrators::Rk4;
+        use crate::ode::Stepper;
+        let (n, (f, plain)) = (0.37, field(0.37, 1.1));
+        let m = [0.2, -0.5, 0.3];
+        let model = GeneralModel::<7>::try_new(constant(), vec![gravity(n), residual(m, f)]);
+        let model = model.unwrap();
+        // the plain right-hand side: H' above, q' = ½ q ⊗ (0, ω)
+        let i = Matrix3::new(2.0, -0.3, 0.1, -0.3, 3.0, 0.2, 0.1, 0.2, 4.0);
+        let f = |t: f64, x: &[f64; 7]| -> [f64; 7] {
+            let dh = plain_rate(t, x, n, &[(m, &plain)]);
+            let omega = i.try_inverse().unwrap() * Vector3::new(x[0], x[1], x[2]);
+            let dq = attitude(x) * nalgebra::Quaternion::from_imag(omega) * 0.5;
+            [dh.x, dh.y, dh.z, dq.w, dq.i, dq.j, dq.k]
+        };
+        let (t, h) = (3.3, 0.05);
+        let mut x = [0.3, -0.7, 1.1, 0.6, -0.2, 0.7, 0.3];
+        let along = |x: &[f64; 7], k: &[f64; 7], c: f64| std::array::from_fn(|j| x[j] + c * k[j]);
+        let k1 = f(t, &x);
+        let k2 = f(t + h / 2.0, &along(&x, &k1, h / 2.0));
+        let k3 = f(t + h / 2.0, &along(&x, &k2, h / 2.0));
+        let k4 = f(t + h, &along(&x, &k3, h));
+        let plain: [f64; 7] =
+            std::array::from_fn(|j| x[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]));
+        Rk4.step(&model, t, h, &mut x);
+        for (a, b) in x.iter().zip(plain) {
+            assert!((a - b).abs() < 1e-14, "{x:?} vs {plain:?}");
         }
     }
 }

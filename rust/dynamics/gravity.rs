@@ -36,7 +36,9 @@
 //! step). What makes it cheap, each at round-off from the plain formula:
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
-//!   it depends on `t` alone, so it runs beside the state's chain of dependent operations;
+//!   it depends on `t` alone, so it runs beside the state's chain of dependent operations,
+//!   and it is made once for each of a step's distinct stage times (the general model's
+//!   [`crate::ode::OdeSystem::at_time`]: RK4's `t`, `t + h/2`, `t + h`, three a step, not four);
 //! - **the radial direction in body axes** from the unnormalised matrix `M̃ = |q|² M(q)`
 //!   (quadratic in `q`, no division): `r̃ = M̃ᵀ r̂ = |q|² r̂_b`, and the torque
 //!   `3n² r̂_b × (I r̂_b) = (3n² / |q|⁴) r̃ × (I r̃)`, whose one division runs beside the
@@ -139,7 +141,18 @@ pub fn gravity_gradient_torque(
     q: &Quaternion<f64>,
     inertia: impl FnOnce(&Vector3<f64>) -> Vector3<f64>,
 ) -> Vector3<f64> {
-    let (s, c) = sin_cos(n * t);
+    gravity_gradient_torque_at(n, sin_cos(n * t), q, inertia)
+}
+
+/// [`gravity_gradient_torque`] at the orbit phase `(sin nt, cos nt)` made once for the stage
+/// time (see [`crate::ode::StageTime`]).
+#[inline(always)]
+pub fn gravity_gradient_torque_at(
+    n: f64,
+    (s, c): (f64, f64),
+    q: &Quaternion<f64>,
+    inertia: impl FnOnce(&Vector3<f64>) -> Vector3<f64>,
+) -> Vector3<f64> {
     let (w, x, y, z) = (q.w, q.i, q.j, q.k);
     let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
     let norm2 = (ww + xx) + (yy + zz);
@@ -199,7 +212,25 @@ impl OrbitKernel {
     /// (world-from-body, any non-zero size).
     #[inline(always)]
     pub fn increment(&self, t: f64, h: [f64; 3], q: [f64; 4], s: f64) -> ([f64; 3], [f64; 4]) {
-        let (sn, cn) = sin_cos(self.orbit_rate * t);
+        self.increment_at(self.phase(t), h, q, s)
+    }
+
+    /// The orbit's phase `(sin nt, cos nt)` at `t`: what [`OrbitKernel::increment_at`] takes,
+    /// made once per stage time.
+    #[inline(always)]
+    pub fn phase(&self, t: f64) -> (f64, f64) {
+        sin_cos(self.orbit_rate * t)
+    }
+
+    /// [`OrbitKernel::increment`] at the phase `(sin nt, cos nt)` of [`OrbitKernel::phase`].
+    #[inline(always)]
+    pub fn increment_at(
+        &self,
+        (sn, cn): (f64, f64),
+        h: [f64; 3],
+        q: [f64; 4],
+        s: f64,
+    ) -> ([f64; 3], [f64; 4]) {
         let h = Vector3::from(h);
         let u = (h - self.stored).component_mul(&(self.reciprocals * (0.5 * s)));
         let turn = (h + h).cross(&u);
@@ -292,9 +323,12 @@ impl Part for GravityGradient {
         Some(("orbit_rate", self.orbit_rate, self.orbit_rate))
     }
 
+    /// At the orbit's phase the model made for the stage's time ([`Ctx::timed`]), or made here.
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
-        gravity_gradient_torque(self.orbit_rate, c.t, &c.q, |v| c.inertia_times(v))
+        let n = self.orbit_rate;
+        let phase = c.timed.orbit.unwrap_or_else(|| sin_cos(n * c.t));
+        gravity_gradient_torque_at(n, phase, &c.q, |v| c.inertia_times(v))
     }
 
     /// The Jacobi integral `J = T − n ẑ_b · H + (3/2) n² r̂_bᵀ I r̂_b` (see the module doc).

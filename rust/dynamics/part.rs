@@ -369,6 +369,20 @@ pub struct Ctx<'a> {
     pub inertia: &'a InertiaLaw,
     /// For a part whose mass moves in the body: what the joint solve found for it.
     pub moving: Option<Moved<'a>>,
+    /// What the model made of `t` alone, once for every stage at `t` (see [`Timed`]).
+    pub timed: Timed,
+}
+
+/// What a general model makes of a stage time alone, once for every stage at that time (see
+/// [`crate::ode::StageTime`]), for the parts that read it at every stage: each `None` where
+/// the model did not make it (the part then evaluates it itself, to the same numbers).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timed {
+    /// `(sin nt, cos nt)` of the gravity gradient's orbit phase.
+    pub orbit: Option<(f64, f64)>,
+    /// The field every magnetic part of the system reads ([`Part::stage_field`]), in world
+    /// axes at `t`.
+    pub field: Option<Vector3<f64>>,
 }
 
 /// What the joint solve of a body carrying moving mass gives one such part (see
@@ -543,6 +557,12 @@ pub trait Part: Clone + Debug + PartialEq + Send + Sync + Sized {
     /// A bound on the body rates from the part's [`Part::integral`] `integral`, for a body of
     /// least and largest moments `least` and `largest` with stored momenta of at most `stored`.
     fn rate_bound(&self, _least: f64, _largest: f64, _integral: f64, _stored: f64) -> Option<f64> {
+        None
+    }
+
+    /// The magnetic field the part's torque reads at every stage, if it does: a model whose
+    /// magnetic parts all read one field makes it once per stage time (in [`Ctx::timed`]).
+    fn stage_field(&self) -> Option<crate::dynamics::control::DipoleField> {
         None
     }
 

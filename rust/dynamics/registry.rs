@@ -249,6 +249,10 @@ macro_rules! parts {
                 }
             }
 
+            pub fn stage_field(&self) -> Option<crate::dynamics::control::DipoleField> {
+                match self { $(AnyPart::$ty(p) => Part::stage_field(p),)* }
+            }
+
             pub fn sampling(&self) -> Option<Sampling> {
                 match self { $(AnyPart::$ty(p) => Part::sampling(p),)* }
             }

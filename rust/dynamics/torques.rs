@@ -155,6 +155,7 @@ mod tests {
             omega: Vector3::zeros(),
             inertia: law,
             moving: None,
+            timed: Default::default(),
         }
     }
 

@@ -6,6 +6,8 @@ use crate::ode::{add, OdeSystem, Stepper};
 /// subdiagonal. The stages are taken as scaled increments `k₁ = (h/2) f(x)`, `k₂ = (h/2) f(x + k₁)`,
 /// `k₃ = h f(x + k₂)`, `k₄ = (h/6) f(x + k₃)`, and `x + (k₁ + 2k₂ + k₃)/3` is formed while `k₄`
 /// is computed: the same method, with a shorter chain of dependent floating-point operations.
+/// What the system makes of `t` alone ([`OdeSystem::at_time`]) is made once for each of the
+/// step's three times `t`, `t + h/2`, `t + h`.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Rk4;
 
@@ -16,13 +18,15 @@ impl<const N: usize, S: OdeSystem<N>> Stepper<N, S> for Rk4 {
     #[inline(always)]
     fn step(&self, sys: &S, t: f64, h: f64, x: &mut [f64; N]) {
         let half = 0.5 * h;
-        let k1 = sys.increment(t, x, half);
-        let k2 = sys.increment(t + half, &add(x, &k1), half);
-        let k3 = sys.increment(t + half, &add(x, &k2), h);
+        // what the system makes of t alone, once for each of the step's three times
+        let (start, middle, end) = (sys.at_time(t), sys.at_time(t + half), sys.at_time(t + h));
+        let k1 = sys.increment_at(&start, x, half);
+        let k2 = sys.increment_at(&middle, &add(x, &k1), half);
+        let k3 = sys.increment_at(&middle, &add(x, &k2), h);
         let y4 = add(x, &k3);
         let partial: [f64; N] =
             std::array::from_fn(|j| x[j] + (k1[j] + 2.0 * k2[j] + k3[j]) * (1.0 / 3.0));
-        let k4 = sys.increment(t + h, &y4, h / 6.0);
+        let k4 = sys.increment_at(&end, &y4, h / 6.0);
         *x = add(&partial, &k4);
     }
 }

@@ -7,12 +7,45 @@ pub(crate) mod embedded;
 
 pub use embedded::{DenseOutput, EmbeddedPair, EmbeddedStep};
 
+/// A stage time and what a system's right-hand side makes of it alone (an orbit's phase, a
+/// field in world axes): made once for each distinct time of a step ([`OdeSystem::at_time`]),
+/// read by every stage at that time ([`OdeSystem::increment_at`]). RK4's second and third
+/// stages share `t + h/2`: three are made a step, not four. What `of_t` holds is the
+/// system's own (see [`crate::dynamics::GeneralModel`]); a system that makes nothing of `t`
+/// leaves it zero and the compiler drops it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StageTime {
+    pub t: f64,
+    pub of_t: [f64; 5],
+}
+
+impl StageTime {
+    /// `t`, with nothing made of it.
+    #[inline(always)]
+    pub fn bare(t: f64) -> Self {
+        Self { t, of_t: [0.0; 5] }
+    }
+}
+
 /// A first-order ODE system `x' = f(t, x)` of dimension `N`.
 pub trait OdeSystem<const N: usize> {
     /// `s · f(t, x)`: the right-hand side times a step fraction. Steppers ask for scaled
     /// increments so that a system can fold `s` into its coefficients, which takes a
     /// multiplication off the critical path of every stage.
     fn increment(&self, t: f64, x: &[f64; N], s: f64) -> [f64; N];
+
+    /// What the right-hand side makes of `t` alone (see [`StageTime`]); nothing by default.
+    #[inline(always)]
+    fn at_time(&self, t: f64) -> StageTime {
+        StageTime::bare(t)
+    }
+
+    /// [`OdeSystem::increment`] at `at.t`, `at` made by [`OdeSystem::at_time`]: the same
+    /// numbers, bit for bit, as `increment(at.t, x, s)`.
+    #[inline(always)]
+    fn increment_at(&self, at: &StageTime, x: &[f64; N], s: f64) -> [f64; N] {
+        self.increment(at.t, x, s)
+    }
 
     /// `f(t, x)`.
     fn rhs(&self, t: f64, x: &[f64; N]) -> [f64; N] {

@@ -88,7 +88,7 @@ where
         let first = kinks(ta);
         if first < tb {
             let extra;
-            (x, extra) = advance_across(
+            (x, extra) = advance_across_widest(
                 method,
                 sys,
                 obs,
@@ -207,6 +207,58 @@ where
     advance(method, sys, obs, x, ta, h, range, end)
 }
 
+/// [`advance_across`], compiled for AVX-512 and run where the CPU has it, as
+/// [`advance_widest`]: a run sampled in every frame (a controller) goes here, not there, and
+/// its larger states (14 numbers with a controller's) spill less with 32 registers.
+#[allow(clippy::too_many_arguments)]
+fn advance_across_widest<const N: usize, S, M, O, K>(
+    method: &M,
+    sys: &S,
+    obs: &mut O,
+    x: [f64; N],
+    ta: f64,
+    h: f64,
+    end: (u64, f64),
+    kinks: (f64, &K),
+    stop: (f64, &AtomicBool),
+) -> Result<([f64; N], u64)>
+where
+    S: OdeSystem<N>,
+    M: Stepper<N, S>,
+    O: Observer<N>,
+    K: Fn(f64) -> f64,
+{
+    #[cfg(target_arch = "x86_64")]
+    {
+        #[target_feature(enable = "avx512f")]
+        #[allow(clippy::too_many_arguments)]
+        fn avx512<const N: usize, S, M, O, K>(
+            method: &M,
+            sys: &S,
+            obs: &mut O,
+            x: [f64; N],
+            ta: f64,
+            h: f64,
+            end: (u64, f64),
+            kinks: (f64, &K),
+            stop: (f64, &AtomicBool),
+        ) -> Result<([f64; N], u64)>
+        where
+            S: OdeSystem<N>,
+            M: Stepper<N, S>,
+            O: Observer<N>,
+            K: Fn(f64) -> f64,
+        {
+            advance_across(method, sys, obs, x, ta, h, end, kinks, stop)
+        }
+        if Isa::detect() == Isa::Avx512 {
+            // SAFETY: the CPU has AVX-512F (checked just now).
+            return unsafe { avx512(method, sys, obs, x, ta, h, end, kinks, stop) };
+        }
+    }
+    advance_across(method, sys, obs, x, ta, h, end, kinks, stop)
+}
+
 /// The `n` substeps of `h` from `ta` to `tb`, each straddling one of the kinks (the first at
 /// or after `ta` is `first`, each next one `kinks(t)`, see [`integrate_across`]) split on it:
 /// the first piece ends on the kink, the second starts one float64 after it (a substep
@@ -215,6 +267,7 @@ where
 /// [`CHECK_EVERY`] substeps, as between kinks (a controller sampled at every step puts kinks
 /// in every frame), and every [`CHECK_EVERY`] kinks (a clock far faster than the step puts
 /// many in one substep).
+#[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn advance_across<const N: usize, S, M, O>(
     method: &M,
@@ -234,8 +287,19 @@ where
 {
     let (mut next, mut seen) = (first, 0_u64);
     let mut pieces: u64 = 0;
-    let mut piece = |x: &mut [f64; N], t: f64, t1: f64| {
-        pieces += 1;
+    // (a function, not a closure: a closure is compiled apart from its caller, without the
+    // caller's AVX-512, see `advance_across_widest`)
+    #[inline(always)]
+    fn piece<const N: usize, S, M, O>(
+        (method, sys, obs): (&M, &S, &mut O),
+        x: &mut [f64; N],
+        t: f64,
+        t1: f64,
+    ) where
+        S: OdeSystem<N>,
+        M: Stepper<N, S>,
+        O: Observer<N>,
+    {
         if O::WANTS_STEPS {
             let before = method.to_state(sys, x);
             method.step(sys, t, t1 - t, x);
@@ -243,7 +307,7 @@ where
         } else {
             method.step(sys, t, t1 - t, x);
         }
-    };
+    }
     for k in 0..n {
         let mut t = ta + k as f64 * h;
         let t1 = if k + 1 == n { tb } else { t + h };
@@ -251,7 +315,8 @@ where
             let kink = next;
             next = kinks(after(kink));
             if kink > t {
-                piece(&mut x, t, kink);
+                piece((method, sys, &mut *obs), &mut x, t, kink);
+                pieces += 1;
             }
             if sys.is_sampled() {
                 let mut state = method.to_state(sys, &x);
@@ -266,7 +331,8 @@ where
             }
         }
         if t1 > t {
-            piece(&mut x, t, t1);
+            piece((method, sys, &mut *obs), &mut x, t, t1);
+            pieces += 1;
         }
         if (k + 1) % CHECK_EVERY == 0 {
             check(&x, t1, t_end, cancel)?;

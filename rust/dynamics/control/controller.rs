@@ -168,12 +168,16 @@ impl Part for Controller {
         self.wheels.stored(x, 0)
     }
 
-    #[inline]
+    #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, x: &[f64]) -> Vector3<f64> {
         match &self.field {
-            Some((_, run)) => slot(x, DIPOLE_AT).cross(&run.body(c.t, &c.q)),
+            Some((_, run)) => slot(x, DIPOLE_AT).cross(&run.body_at(c)),
             None => Vector3::zeros(),
         }
+    }
+
+    fn stage_field(&self) -> Option<DipoleField> {
+        self.field.map(|(_, run)| run)
     }
 
     #[inline]

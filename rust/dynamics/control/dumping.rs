@@ -100,9 +100,13 @@ impl Part for MomentumDumping {
         })
     }
 
-    #[inline]
+    #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, x: &[f64]) -> Vector3<f64> {
-        slot(x, DIPOLE_AT).cross(&self.run_field.body(c.t, &c.q))
+        slot(x, DIPOLE_AT).cross(&self.run_field.body_at(c))
+    }
+
+    fn stage_field(&self) -> Option<DipoleField> {
+        Some(self.run_field)
     }
 
     fn sampling(&self) -> Option<Sampling> {

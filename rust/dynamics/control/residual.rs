@@ -66,9 +66,13 @@ impl Part for ResidualDipole {
         Self::try_new(fields.vector("dipole")?, field_from(fields)?)
     }
 
-    #[inline]
+    #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
-        self.dipole.cross(&self.field.body(c.t, &c.q))
+        self.dipole.cross(&self.field.body_at(c))
+    }
+
+    fn stage_field(&self) -> Option<DipoleField> {
+        Some(self.field)
     }
 
     fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
