@@ -10,26 +10,13 @@ import pytest
 
 import dzhanibekov as dz
 from dzhanibekov.parts import example
+from every_model import BOX, DEPLOYMENT, START, system_of
 
 pytest.importorskip("xarray")
 pytest.importorskip("h5netcdf")
 
-BOX = dz.Body.box(1.0, 2.0, 3.0, mass=2.0)
-DEPLOYMENT = dz.Deployment([0.0, 0.5], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
-START = (0.3, 0.2, 1.0), (1.0, 0.0, 0.0, 0.0)
 STORABLE = [n for n, m in dz.MODELS.items()
             if m.law or all(kind != "function" for _, kind, _, _, _ in m.params)]
-
-
-def system_of(name: str) -> dz.System | dz.Body | dz.Deployment:
-    """What a user runs for model `name`: a bare body or deployment for the inertia laws, a
-    boxed body with the model's example part otherwise."""
-    if name == "free":
-        return BOX
-    if name == "deployment":
-        return DEPLOYMENT
-    part = example(name)
-    return dz.System(BOX, **{"torques" if part.external else "parts": [part]})
 
 
 def _outline(body):
