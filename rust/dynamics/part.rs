@@ -397,6 +397,16 @@ pub struct Moved<'a> {
 }
 
 impl Ctx<'_> {
+    /// `field` at this stage, in body axes: from the world field the model made once for the
+    /// stage's time ([`Timed::field`], when `field` is the one it made), else made here.
+    #[inline(always)]
+    pub fn field_in_body(&self, field: &crate::dynamics::control::DipoleField) -> Vector3<f64> {
+        match self.timed.field {
+            Some(world) => crate::kinematics::world_to_body(&self.q, &world),
+            None => field.body(self.t, &self.q),
+        }
+    }
+
     /// `I(t) v`.
     #[inline(always)]
     pub fn inertia_times(&self, v: &Vector3<f64>) -> Vector3<f64> {

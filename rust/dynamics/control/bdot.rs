@@ -165,7 +165,7 @@ impl Part for BDot {
 
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, x: &[f64]) -> Vector3<f64> {
-        slot(x, DIPOLE_AT).cross(&self.run_field.body_at(c))
+        slot(x, DIPOLE_AT).cross(&c.field_in_body(&self.run_field))
     }
 
     fn stage_field(&self) -> Option<DipoleField> {

@@ -171,7 +171,7 @@ impl Part for Controller {
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, x: &[f64]) -> Vector3<f64> {
         match &self.field {
-            Some((_, run)) => slot(x, DIPOLE_AT).cross(&run.body_at(c)),
+            Some((_, run)) => slot(x, DIPOLE_AT).cross(&c.field_in_body(run)),
             None => Vector3::zeros(),
         }
     }

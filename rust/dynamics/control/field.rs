@@ -36,7 +36,6 @@
 use nalgebra::{Quaternion, Vector3};
 
 use crate::dynamics::gravity::sin_cos;
-use crate::dynamics::part::Ctx;
 use crate::error::{Error, Result};
 use crate::float::RateScale;
 use crate::kinematics::world_to_body;
@@ -204,16 +203,6 @@ impl DipoleField {
     #[inline(always)]
     pub fn body(&self, t: f64, q: &Quaternion<f64>) -> Vector3<f64> {
         world_to_body(q, &self.world(t))
-    }
-
-    /// [`DipoleField::body`] at a stage `c`: from the world field the model made once for the
-    /// stage's time ([`crate::dynamics::part::Timed::field`], when this is the field it made), else made here.
-    #[inline(always)]
-    pub fn body_at(&self, c: &Ctx<'_>) -> Vector3<f64> {
-        match c.timed.field {
-            Some(world) => world_to_body(&c.q, &world),
-            None => self.body(c.t, &c.q),
-        }
     }
 }
 

@@ -68,7 +68,7 @@ impl Part for ResidualDipole {
 
     #[inline(always)]
     fn torque(&self, c: &Ctx<'_>, _x: &[f64]) -> Vector3<f64> {
-        self.dipole.cross(&self.field.body_at(c))
+        self.dipole.cross(&c.field_in_body(&self.field))
     }
 
     fn stage_field(&self) -> Option<DipoleField> {

@@ -16,13 +16,7 @@ from dzhanibekov.plotting import movie
 from dzhanibekov.plotting import figures as plotting
 from dzhanibekov.cli import main
 from dzhanibekov.render import PAPER_RENDER
-
-
-def assert_picture(path):
-    """A real image: more than a handful of colours (not one blank colour)."""
-    with Image.open(path) as image:
-        pixels = np.asarray(image.convert("RGB")).reshape(-1, 3)
-    assert len(np.unique(pixels, axis=0)) > 16, f"{path} is (nearly) blank"
+from pictures import assert_picture
 
 
 def test_paper_renders_every_figure_and_the_animation(tmp_path, capsys):

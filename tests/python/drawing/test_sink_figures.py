@@ -11,7 +11,7 @@ import pytest
 import dzhanibekov as dz
 from dzhanibekov.plotting import capture
 
-from test_sink_observe import BODY, PARTS, run
+from sink_runs import BODY, PARTS, run
 
 
 @pytest.mark.parametrize("kind", sorted(PARTS))
@@ -98,7 +98,7 @@ def test_the_flip_count_is_the_free_bodys():
 def test_the_cli_renders_the_scenes_sink_figures(tmp_path):
     from dzhanibekov.cli import main
 
-    from test_cli import assert_picture
+    from pictures import assert_picture
 
     out = tmp_path / "out"
     assert main(["run", "slosh-flip", "--out", str(out), "--no-progress"]) == 0

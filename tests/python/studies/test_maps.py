@@ -8,7 +8,7 @@ from matplotlib.collections import QuadMesh
 import dzhanibekov as dz
 from dzhanibekov.plotting import maps
 from dzhanibekov.cli import main
-from test_cli import assert_picture
+from pictures import assert_picture
 
 PAPER = np.array(dz.PAPER_INERTIA)
 
