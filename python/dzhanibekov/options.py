@@ -1,6 +1,7 @@
 """A run's options, typed once: :class:`RunOptions`, taken by :func:`~dzhanibekov.simulate`,
-:func:`~dzhanibekov.summarize` and :func:`~dzhanibekov.sweep` as ``options=``, beside their
-keywords (``t_end=``, ``method=``, …, typed by :class:`RunKeywords`), which override it.
+:func:`~dzhanibekov.summarize`, :func:`~dzhanibekov.sweep`, :func:`~dzhanibekov.monte_carlo`
+and the maps (``map_sweep``) as ``options=``, beside their keywords (``t_end=``,
+``method=``, …, typed by :class:`RunKeywords`), which override it.
 
 >>> import dzhanibekov as dz
 >>> long = dz.RunOptions(t_end=500.0, frames=11, method="dop853", rtol=1e-10)
@@ -48,7 +49,8 @@ class RunOptions:
     """How a run goes: its span and frames, its method and step or tolerances, its limits.
 
     One value for every entry point of runs (:func:`~dzhanibekov.simulate`,
-    :func:`~dzhanibekov.summarize`, :func:`~dzhanibekov.sweep`): build it once, pass it as
+    :func:`~dzhanibekov.summarize`, :func:`~dzhanibekov.sweep`,
+    :func:`~dzhanibekov.monte_carlo`, the maps): build it once, pass it as
     ``options=``, and override a field with its keyword. The fields are those entry points'
     keywords, with their defaults and meanings (see :func:`~dzhanibekov.simulate`); the core
     checks them when a run starts.
