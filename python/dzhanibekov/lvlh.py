@@ -22,20 +22,11 @@ from typing import Any
 import numpy as np
 
 from ._args import as_array, as_float
+from .mass import quaternion_product
 from .orbit import GravityGradient
 from .results import Batch, Trajectory
 
 __all__ = ["lvlh_frame", "lvlh_attitude", "lvlh_start", "lvlh_angles", "nadir_angles"]
-
-
-def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton products of scalar-first quaternions, broadcast over leading axes."""
-    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
-    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
-    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
 
 # world-from-LVLH at t = 0: columns o1 = +y, o2 = −z, o3 = −x
@@ -76,7 +67,7 @@ def lvlh_frame(t: Any, orbit_rate: Any) -> np.ndarray:
     half = 0.5 * n * times
     turn = np.stack([np.cos(half), np.zeros_like(half), np.zeros_like(half), np.sin(half)],
                     axis=-1)
-    return _product(turn, _Q_LVLH0)
+    return quaternion_product(turn, _Q_LVLH0)
 
 
 def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
@@ -120,7 +111,7 @@ def lvlh_attitude(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
     q = np.asarray(traj.q, dtype=np.float64)
     frame = lvlh_frame(traj.t, orbit_rate)
     conj = frame * np.array([1.0, -1.0, -1.0, -1.0])
-    return _product(conj, q)
+    return quaternion_product(conj, q)
 
 
 def lvlh_angles(traj: Any, orbit_rate: Any | None = None) -> np.ndarray:
@@ -231,8 +222,8 @@ def lvlh_start(orbit_rate: Any, q_rel: Any = (1.0, 0.0, 0.0, 0.0), omega_rel: An
     w = as_array("omega_rel", omega_rel, "(3,)", last=3, ndim=(1,))
     angle = as_float("pitch", pitch)
     turn = np.array([math.cos(angle / 2), 0.0, math.sin(angle / 2), 0.0])
-    q = _product(q / norm, turn)
-    q0 = _product(_Q_LVLH0, q)
+    q = quaternion_product(q / norm, turn)
+    q0 = quaternion_product(_Q_LVLH0, q)
     # the orbit normal, world +z, is −o2: in body axes −M(q)ᵀ e2 (M's second row)
     u0, u1, u2, u3 = q
     o2 = np.array([2 * (u1 * u2 + u0 * u3), u0 * u0 - u1 * u1 + u2 * u2 - u3 * u3,

@@ -10,21 +10,13 @@ import numpy as np
 
 from ._args import as_float
 from ._core import model_info
+from .mass import quaternion_product
 from ._tables import model_of_state
 from .lvlh import lvlh_frame
 from .control import QuaternionFeedback
 from .results import Trajectory
 
 __all__ = ["pointing_angle", "detumbled_at", "part_state", "saturation"]
-
-
-def _product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    a0, a1, a2, a3 = np.moveaxis(a, -1, 0)
-    b0, b1, b2, b3 = np.moveaxis(b, -1, 0)
-    return np.stack([a0 * b0 - a1 * b1 - a2 * b2 - a3 * b3,
-                     a0 * b1 + a1 * b0 + a2 * b3 - a3 * b2,
-                     a0 * b2 - a1 * b3 + a2 * b0 + a3 * b1,
-                     a0 * b3 + a1 * b2 - a2 * b1 + a3 * b0], axis=-1)
 
 
 def _pointing_part(traj: Trajectory) -> QuaternionFeedback:
@@ -62,9 +54,9 @@ def pointing_angle(traj: Trajectory) -> np.ndarray:
     target = target / np.linalg.norm(target)
     if part.frame == "lvlh":
         assert part.orbit_rate is not None
-        target = _product(lvlh_frame(traj.t, part.orbit_rate), target)
+        target = quaternion_product(lvlh_frame(traj.t, part.orbit_rate), target)
     conj = target * np.array([1.0, -1.0, -1.0, -1.0])
-    dq = _product(conj, traj.q)
+    dq = quaternion_product(conj, traj.q)
     angle: np.ndarray = 2 * np.arctan2(np.linalg.norm(dq[..., 1:], axis=-1), np.abs(dq[..., 0]))
     return angle
 
