@@ -51,15 +51,29 @@ _NOT_ASKED = "-"
 """The flip count of a run that did not locate its flips."""
 
 
-def _invariants(drift: Any) -> tuple[str, str]:
+def _from_rest(run: Any) -> frozenset[str]:
+    """The measures whose initial value is zero (a body started at rest): the drift of those
+    is absolute, not relative (see :class:`Drift`). Only a run with frames tells."""
+    if not hasattr(run, "energy"):
+        return frozenset()
+    zero = {"energy": run.energy[0] == 0.0,
+            "momentum": not np.any(run.invariants()["momentum_body"][0])}
+    zero["momentum_world"] = zero["momentum"]
+    return frozenset(name for name, is_zero in zero.items() if is_zero)
+
+
+def _invariants(drift: Any, from_rest: frozenset[str] = frozenset()) -> tuple[str, str]:
     """What a run's model keeps, with its drift (the integration's error: ``dE/E 2.1e-10``),
     and the rest, with how much the model's own law changed it (a deployment's work, a
-    damper's loss, a torque's: ``ΔE/E 5.0e-01``)."""
+    damper's loss, a torque's: ``ΔE/E 5.0e-01``). A measure that starts at zero is printed
+    absolute (``ΔE 4.1e-03``): relative to zero it would mean nothing."""
     kept, changed = [], []
     for name, short in _MEASURES:
         value = getattr(drift, name)
         if value is None:  # no Jacobi integral
             continue
+        if name in from_rest:
+            short = short.split("/")[0]
         if name in drift.kept:
             kept.append(f"d{short} {value:.1e}")
         else:
@@ -83,7 +97,7 @@ def _table(results: Sequence[SceneResult], seconds: float) -> str:
         first = [] if times is None else [float(t) for t in np.asarray(times[:4])]
         more = times is not None and len(times) > 4
         flips = ", ".join(f"{t:.3f}" for t in first) + (", …" if more else "")
-        kept, changed = _invariants(r.drift)
+        kept, changed = _invariants(r.drift, _from_rest(run))
         rows.append((r.scene.name, str(run.n_steps), count, flips, kept, changed or "none"))
     least = (16, 9, 5, 28, 0, 0)
     widths = [max(least[k], *(len(row[k]) for row in rows)) for k in range(len(head))]
@@ -95,7 +109,8 @@ def _table(results: Sequence[SceneResult], seconds: float) -> str:
     lines += textwrap.wrap("d…: the largest drift over the frames of what the model keeps "
                            "(the integration's error); Δ…: the largest change of what it does "
                            "not keep, by its own law (a deployment's work, a damper's loss, a "
-                           "torque); relative (L_world to |L|, |q| to 1)", 79)
+                           "torque); relative (L_world to |L|, |q| to 1), absolute (no /) for a "
+                           "measure that starts at zero", 79)
     if any(row[2] == _NOT_ASKED for row in rows[1:]):
         lines.append(f"flips {_NOT_ASKED}: not located (the scene's [ask] flips = false)")
     lines.append(f"rendered in {seconds:.1f} s")

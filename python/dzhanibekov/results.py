@@ -53,7 +53,8 @@ class Drift:
     """
 
     energy: float
-    """Relative: ``max |E(t) - E(0)| / E(0)``."""
+    """Relative: ``max |E(t) - E(0)| / E(0)``; absolute where ``E(0) = 0`` (a body started
+    at rest), as is each measure below whose initial value is zero."""
     momentum: float
     """Relative change of ``|L|``."""
     momentum_world: float
@@ -327,7 +328,8 @@ class BatchDrift:
     iterating gives the measures, as `Drift` does."""
 
     energy: np.ndarray
-    """Relative: ``max |E(t) - E(0)| / E(0)``."""
+    """Relative: ``max |E(t) - E(0)| / E(0)``; absolute where ``E(0) = 0`` (a body started
+    at rest), as is each measure below whose initial value is zero."""
     momentum: np.ndarray
     """Relative change of ``|L|``."""
     momentum_world: np.ndarray

@@ -306,6 +306,24 @@ def test_the_table_names_what_each_model_keeps_and_what_it_changes():
     assert any("flips -: not located" in line for line in legend)
 
 
+def test_a_body_started_at_rest_has_its_change_printed_absolute():
+    """A wheel slew starts at rest (E(0) = 0, L = 0): the table printed `ΔE/E 4.1e-03`, a
+    change relative to zero. The drift of a measure that starts at zero is absolute (the
+    core's rule), and the table now says so by leaving out the `/`."""
+    from dzhanibekov.cli import _table
+    from dzhanibekov.plotting.figures import compute
+
+    slew = compute(dz.SCENES["slew"])
+    energy = slew.trajectory.energy
+    assert energy[0] == 0.0 and not np.any(slew.trajectory.invariants()["momentum_body"][0])
+    head, row, *legend = _table([slew], 1.0).splitlines()
+    changed = row[head.index("changed by the model"):]
+    # the printed change is the largest energy over the frames, in joules, not a ratio
+    assert f"ΔE {np.max(np.abs(energy)):.1e}" in changed and "E/E" not in row
+    assert "d|L| " in row and "|L|/|L|" not in row
+    assert any("absolute" in line for line in legend)
+
+
 def test_a_failure_after_the_run_leaves_nothing_written(tmp_path, monkeypatch, capsys):
     """Issue 25: the table came after the output was moved into `--out`, so "out of memory;
     nothing written" (or "interrupted; nothing written") was false: the JSON was there."""
