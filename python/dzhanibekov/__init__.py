@@ -28,6 +28,7 @@ from .parts import Hinge, Slosh, SpringMassDamper
 from .control import (BDot, Controller, Gyro, MagneticField, Magnetometer, MomentumDumping,
                       QuaternionFeedback, ResidualDipole, StarTracker, circular_orbit_rate,
                       detumble_gain)
+from .igrf import earth_rotation_angle, igrf_field
 from .pointing import detumbled_at, part_state, pointing_angle, saturation
 from .torques import CallableTorque, TabulatedTorque
 from .orbit import ConstantTorque, GravityGradient, Wheel, pitch_libration_rate, dual_spin_threshold
@@ -77,6 +78,8 @@ __all__ = [
     "QuaternionFeedback",
     "Controller",
     "circular_orbit_rate",
+    "earth_rotation_angle",
+    "igrf_field",
     "detumble_gain",
     "pointing_angle",
     "detumbled_at",

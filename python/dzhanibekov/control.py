@@ -46,7 +46,8 @@ EARTH_MU: float = _core.EARTH_MU
 EARTH_RADIUS = 6378137.0
 """The Earth's equatorial radius, m (WGS 84)."""
 
-_FIELD = ("orbit_rate", "inclination", "moment", "mu", "tilt", "earth_rate", "longitude")
+_SCALARS = ("orbit_rate", "inclination", "moment", "mu", "tilt", "earth_rate", "longitude")
+_FIELD = (*_SCALARS, "field_times", "field_values")
 
 
 def circular_orbit_rate(altitude: float, mu: float = EARTH_MU,
@@ -114,6 +115,11 @@ class MagneticField:
         The Earth's rate about its spin axis (7.2921159e-5 rad/s); 0 (at rest) by default.
     longitude : float
         The dipole's longitude from the orbit's ascending node at ``t = 0``, radians.
+    field_times, field_values : array_like, shapes (K,) and (K, 3), optional
+        A field tabulated along the orbit in world axes, in place of the dipole's: linear
+        between the knots (strictly increasing times, at least two), the ends' values
+        outside them; its knots are kinks every step ends on. :func:`~dzhanibekov.igrf_field`
+        makes one from the IGRF (the ``igrf`` extra).
     """
 
     orbit_rate: float
@@ -123,10 +129,12 @@ class MagneticField:
     tilt: float = 0.0
     earth_rate: float = 0.0
     longitude: float = 0.0
+    field_times: tuple[float, ...] | None = None
+    field_values: tuple[tuple[float, float, float], ...] | None = None
 
     def __post_init__(self) -> None:
         # the core checks these again when a part is built (a file's, a scene's)
-        for name in _FIELD:
+        for name in _SCALARS:
             value = getattr(self, name)
             if value is not None or name not in ("moment", "mu"):   # None: the Earth's
                 object.__setattr__(self, name, as_float(
@@ -135,6 +143,26 @@ class MagneticField:
             if not 0.0 <= getattr(self, name) <= math.pi:
                 raise ValueError(f"`{name}` must be an angle in [0, π] (radians), got "
                                  f"{getattr(self, name)!r}")
+        if (self.field_times is None) != (self.field_values is None):
+            raise ValueError("`field_times` and `field_values` go together: give both or "
+                             "neither")
+        if self.field_times is not None:
+            times = as_array("field_times", self.field_times, "(K,)",
+                             last=int(np.size(self.field_times)), ndim=(1,))
+            if len(times) < 2 or not np.all(np.diff(times) > 0):
+                raise ValueError("`field_times` must hold at least two strictly increasing "
+                                 f"times, got {len(times)} knots")
+            values = as_array("field_values", self.field_values, "(K, 3)", last=3, ndim=(2,))
+            if len(values) != len(times):
+                raise ValueError(f"`field_values` must hold one vector per knot of "
+                                 f"`field_times` ({len(times)}), got {len(values)}")
+            object.__setattr__(self, "field_times", tuple(times.tolist()))
+            object.__setattr__(self, "field_values", tuple(map(tuple, values.tolist())))
+
+    @property
+    def tabulated(self) -> bool:
+        """Whether the field is tabulated (:func:`~dzhanibekov.igrf_field`), not the dipole."""
+        return self.field_times is not None
 
     def fields(self) -> dict[str, Any]:
         """The parameters by name, as parts store them."""

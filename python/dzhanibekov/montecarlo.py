@@ -58,6 +58,7 @@ from .errors import DzhanibekovError
 from .lvlh import lvlh_angles, nadir_angles
 from .methods import DEFAULT_MAX_STEPS, DEFAULT_METHOD, METHODS, check_method
 from .options import NAMES, RunKeywords, RunOptions, merged
+from .parts import params_of
 from .orbit import GravityGradient
 from .results import Trajectory
 from .rotations import quaternions_of
@@ -738,11 +739,37 @@ def _draw_rows(spec: _Spec, samples: np.ndarray) -> tuple[_Rows, _Failure | None
         inputs["damper_sigma0"] = np.array(
             [w if d.damper.sigma0 is None else d.damper.sigma0  # type: ignore[union-attr]
              for d, w in zip(drawn, omega_rows)], dtype=np.float64).reshape(m, 3)
+    if spec.kind == "system":
+        inputs.update(_part_inputs([d.system for d in drawn if d.system is not None]))
     rows = _Rows(spec.kind, done, moments, [d.body for d in drawn],
                  [d.deployment for d in drawn if d.deployment is not None],
                  [d.damper for d in drawn if d.damper is not None],
                  [d.system for d in drawn if d.system is not None], omega_rows, q_rows, inputs)
     return rows, failure
+
+
+def _part_inputs(systems: list[System]) -> dict[str, np.ndarray]:
+    """Every number parameter of every part of each system, by ``model_j.name`` (``j``
+    counting the parts of that model in ``parts + torques`` order: ``hinge_0.damping``); NaN
+    for an optional one left out. A chunk's systems have the same parts (checked as drawn):
+    what a :class:`~dzhanibekov.PartDispersion`, or any callable, drew is recorded."""
+    if not systems:
+        return {}
+    places: list[tuple[str, int, str]] = []
+    seen: dict[str, int] = {}
+    for k, part in enumerate((*systems[0].parts, *systems[0].torques)):
+        j = seen[part.model] = seen.get(part.model, -1) + 1
+        places += [(f"{part.model}_{j}.{p.name}", k, p.name)
+                   for p in params_of(part.model) if p.kind == "scalar"]
+    every = [(*s.parts, *s.torques) for s in systems]
+    return {name: np.array([math.nan if (v := getattr(parts[k], param)) is None else float(v)
+                            for parts in every], dtype=np.float64)
+            for name, k, param in places}
+
+
+def _is_part_input(name: str) -> bool:
+    """Whether an input is a part's parameter (``model_j.name``, see :func:`_part_inputs`)."""
+    return "." in name
 
 
 def _axes(m: int, given: list[np.ndarray | None]) -> np.ndarray:
@@ -956,7 +983,10 @@ class MonteCarlo:
         ``q0``, ``separatrix`` (the distance of :func:`separatrix_distance`; a deployment's as
         if deployed at once), and ``knot_times``, ``knot_tensors`` (deployments),
         ``damper_inertia``, ``damping``, ``damper_sigma0`` (dampers: the sphere's start
-        rates, the body's ``omega0`` when it co-rotates). Empty if the inputs were not kept.
+        rates, the body's ``omega0`` when it co-rotates), and for systems with parts each
+        number parameter of each part as the sample ran it, ``model_j.name`` (runs,):
+        ``hinge_0.damping`` the first hinge's damping (parts, then torques, in order; NaN for
+        an optional one left out). Empty if the inputs were not kept.
     weights : ndarray, shape (runs,)
         Each outcome's weight in the estimate ``Σ weights · outcomes``: ``1/n`` in a plain
         study, the stratum's share of the draws over its runs in a rare-event one.
@@ -1180,7 +1210,10 @@ class MonteCarlo:
         `limit`), by name: ``Ix, Iy, Iz`` (principal moments of bodies in their principal
         axes; ``I1, I2, I3`` as the bodies give them otherwise), ``Ixy, Ixz, Iyz`` (products of
         inertia), ``u0, v0, w0``, ``Q0, U0, V0, W0``, ``t0, t1, …`` (knot times), ``j, c``
-        and ``su0, sv0, sw0`` (damper: the sphere's inertia, coefficient and start), and ``separatrix`` (:func:`separatrix_distance`). Drawn again when the
+        and ``su0, sv0, sw0`` (damper: the sphere's inertia, coefficient and start),
+        ``separatrix`` (:func:`separatrix_distance`) and, in a study of systems with parts,
+        each number parameter of each part by ``model_j.name`` (``hinge_0.damping``: the
+        first hinge's damping, counting ``parts + torques`` in order). Drawn again when the
         study kept no inputs."""
         inputs = dict(self.inputs)
         count = self.runs if limit is None else min(self.runs, as_int("limit", limit,
@@ -1216,6 +1249,7 @@ class MonteCarlo:
             for j, name in enumerate(("su0", "sv0", "sw0")):
                 out[name] = inputs["damper_sigma0"][:, j]
         out["separatrix"] = inputs["separatrix"]
+        out.update({k: v for k, v in inputs.items() if _is_part_input(k)})
         return {k: v for k, v in out.items() if _varies(v)}
 
     def telling(self, count: int = 2, limit: int | None = 20_000) -> list[str]:
@@ -1272,7 +1306,8 @@ class MonteCarlo:
             data["stratum"] = (("sample",), self.stratum,
                                {"long_name": "0 nearest the separatrix (all run), 1 others"})
         for name, values in self.inputs.items():
-            data[name] = (("sample",) + dims[name], values, {"long_name": names[name]})
+            long_name = names.get(name) or "parameter {1} of part {0}".format(*name.split("."))
+            data[name] = (("sample",) + dims.get(name, ()), values, {"long_name": long_name})
         lower, upper = self.interval if self.is_boolean and self.runs else (math.nan, math.nan)
         attrs = {
             "ask": self.ask, "n": self.n, "runs": self.runs, "kind": self.kind,
@@ -1307,6 +1342,8 @@ class MonteCarlo:
         inputs = {name: np.ascontiguousarray(ds[name].values) for name in
                   ("inertia", "tensor", "axes", "omega0", "q0", "separatrix", "knot_times",
                    "knot_tensors", "damper_inertia", "damping", "damper_sigma0") if name in ds}
+        inputs.update({str(name): np.ascontiguousarray(ds[name].values) for name in ds.data_vars
+                       if _is_part_input(str(name))})
         stratum = np.asarray(ds["stratum"].values, dtype=np.int8) if "stratum" in ds else None
         strata = (int(a["draws_near"]), int(a["draws_far"])) if "draws_near" in a else None
         dt = float(a["dt"])
@@ -1707,8 +1744,10 @@ class _Runner:
         inputs: dict[str, np.ndarray] = {}
         drawn = [c for c in done if c.inputs]  # (a chunk whose task failed drew nothing)
         if spec.keep_inputs and drawn:
+            # every chunk's names (a chunk that drew no system has no part's parameters)
             for name in drawn[0].inputs:
-                inputs[name] = np.concatenate([c.inputs[name] for c in drawn])
+                if all(name in c.inputs for c in drawn):
+                    inputs[name] = np.concatenate([c.inputs[name] for c in drawn])
         ask = spec.ask if isinstance(spec.ask, str) else getattr(spec.ask, "__name__",
                                                                   type(spec.ask).__name__)
         return MonteCarlo(

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import io
 import math
+import re
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -649,6 +650,20 @@ class _StudyView:
     def __getitem__(self, name: str) -> Any:
         return _Values(self._values[name])
 
+    @property
+    def data_vars(self) -> list[str]:
+        return list(self._values)
+
+
+_PART_INPUT = re.compile(r"[a-z][a-z0-9_]*_[0-9]+\.[a-z][a-z0-9_]*")
+"""A study's input that is a part's parameter (``hinge_0.damping``)."""
+
+
+def _study_part_input(name: str) -> Var | None:
+    """The layout of a study's part parameter, by its name (see
+    :meth:`MonteCarlo.inputs <dzhanibekov.MonteCarlo>`), or None for another name."""
+    return Var(("sample",), "f") if _PART_INPUT.fullmatch(name) else None
+
 
 @dataclass(frozen=True)
 class _Values:
@@ -870,6 +885,7 @@ _STUDY = Layout(
     rules=(study_rules,),
     build=build_study,
     after=study_derived,
+    state=_study_part_input,
     sizes={**_FIXED, "axis2": 3},
 )
 

@@ -240,7 +240,7 @@ impl Hot {
 /// [`StageTime`]; its `of_t` holds `[sin nt, cos nt, B_world]`): the gravity gradient's orbit
 /// phase, and the magnetic field in world axes when every magnetic part reads the same one
 /// (else each part makes its own at every stage). A system without either makes nothing.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, PartialEq, Default)]
 struct TimeOnly {
     orbit_rate: Option<f64>,
     field: Option<DipoleField>,
@@ -255,7 +255,7 @@ impl TimeOnly {
         let fields: Vec<DipoleField> = parts.iter().filter_map(AnyPart::stage_field).collect();
         let field = fields
             .first()
-            .copied()
+            .cloned()
             .filter(|f| fields.iter().all(|g| g == f));
         Self { orbit_rate, field }
     }
@@ -278,7 +278,7 @@ impl TimeOnly {
         let v = &at.of_t;
         Timed {
             orbit: self.orbit_rate.map(|_| (v[0], v[1])),
-            field: self.field.map(|_| Vector3::new(v[2], v[3], v[4])),
+            field: self.field.as_ref().map(|_| Vector3::new(v[2], v[3], v[4])),
         }
     }
 }
@@ -1621,7 +1621,8 @@ mod tests {
     fn what_a_stage_time_holds_is_the_plain_formulas() {
         let (n, (f, plain)) = (0.37, field(0.37, 1.1));
         let m = [0.2, -0.5, 0.3];
-        let model = GeneralModel::<7>::try_new(constant(), vec![gravity(n), residual(m, f)]);
+        let model =
+            GeneralModel::<7>::try_new(constant(), vec![gravity(n), residual(m, f.clone())]);
         let model = model.unwrap();
         // the one field made once per stage time, beside the orbit's phase
         assert_eq!(model.time_only.field, Some(f));

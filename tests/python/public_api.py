@@ -9,6 +9,7 @@ on any name of `dz.__all__` that is neither in the table nor in `NOT_CALLED`.
 
 from __future__ import annotations
 
+import datetime
 import math
 import tempfile
 import warnings
@@ -1526,6 +1527,48 @@ ENTRIES: dict[str, Entry] = {
             all(getattr(f, k) == v for k, v in kw.items())
             and dz.ResidualDipole(f, (0.0, 0.0, 1e-3)).field == f),
         covers=(dz.MagneticField,),
+        min_success=0.9,
+    ),
+    "igrf_field": Entry(
+        call=dz.igrf_field,
+        valid=st.fixed_dictionaries(
+            {"orbit_rate": st.floats(1e-3, 1.2e-3), "inclination": st.floats(0.0, math.pi),
+             "epoch": st.sampled_from(["2020-06-01T00:00:00", "2025-03-20T12:00:00"]),
+             "duration": st.floats(1.0, 600.0)},
+            optional={"raan": st.floats(-7.0, 7.0), "latitude": st.floats(-7.0, 7.0),
+                      "earth_turns": st.booleans(), "step": st.floats(5.0, 60.0),
+                      "degree": st.integers(1, 13)}),
+        hostile={"orbit_rate": st.sampled_from([0.0, -1e-3, math.nan, "n", None]),
+                 "inclination": st.sampled_from([-0.1, 4.0, math.nan, "i", None]),
+                 "epoch": st.sampled_from(["yesterday", 2025, None]),
+                 "duration": st.sampled_from([0.0, -1.0, math.inf, "d", None]),
+                 "raan": st.sampled_from([math.nan, "r", None]),
+                 "latitude": st.sampled_from([math.inf, "u", None]),
+                 "earth_turns": st.sampled_from([1, "yes", None]),
+                 "step": st.sampled_from([0.0, -10.0, math.nan, 1e-9, "h"]),
+                 "degree": st.sampled_from([0, 14, 1.5, "13", None])},
+        # a table from 0 past `duration`, of a field of 10–70 µT (orbits at 150–990 km; the
+        # weakest field at the ground is 22 µT, the strongest 67 µT)
+        check=lambda kw, f, _: _assert(
+            f.tabulated and f.field_times[0] == 0.0
+            and f.field_times[-1] >= kw["duration"]
+            and all(1e-5 < math.dist(v, (0.0, 0.0, 0.0)) < 7e-5 for v in f.field_values)),
+        covers=(dz.igrf_field,),
+        examples=30,
+        min_success=0.9,
+    ),
+    "earth_rotation_angle": Entry(
+        call=dz.earth_rotation_angle,
+        valid=st.fixed_dictionaries({"epoch": st.datetimes(
+            min_value=datetime.datetime(1900, 1, 1), max_value=datetime.datetime(2100, 1, 1))}),
+        hostile={"epoch": st.sampled_from(["noon", 2000.0, None])},
+        # IERS 2010 eq. 5.15: the angle in [0, 2π), and the same a stellar day (86164.0989 s)
+        # later
+        check=lambda kw, a, _: _assert(0.0 <= a < 2 * math.pi and abs(math.remainder(
+            dz.earth_rotation_angle(kw["epoch"] + datetime.timedelta(seconds=86164.0989)) - a,
+            2 * math.pi)) < 1e-6),
+        covers=(dz.earth_rotation_angle,),
+        examples=30,
         min_success=0.9,
     ),
     "Magnetometer": Entry(

@@ -58,7 +58,7 @@ const FIELD_AT: usize = 3;
 const SATURATED_AT: usize = 6;
 
 /// B-dot detumbling by magnetorquers (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct BDot {
     gain: f64,
     clock: Clock,
@@ -157,7 +157,7 @@ impl Part for BDot {
             rates,
             magnetometer: magnetometer_from(fields)?,
             gyro: gyro_from(fields)?,
-            field,
+            field: field.clone(),
             run_field: field,
             view: View::from_fields(fields)?,
         })
@@ -169,7 +169,12 @@ impl Part for BDot {
     }
 
     fn stage_field(&self) -> Option<DipoleField> {
-        Some(self.run_field)
+        Some(self.run_field.clone())
+    }
+
+    /// The tabulated field's knots (none for the dipole).
+    fn kinks(&self) -> Vec<f64> {
+        self.run_field.kinks()
     }
 
     fn sampling(&self) -> Option<Sampling> {
@@ -204,14 +209,14 @@ impl Part for BDot {
     fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
         Self {
             view: self.view.in_axes(to_axes),
-            ..*self
+            ..self.clone()
         }
     }
 
     fn with_moments_scaled(&self, m: i32) -> Result<Self> {
         Ok(Self {
             view: self.view.with_moments_scaled(m),
-            ..*self
+            ..self.clone()
         })
     }
 
@@ -219,14 +224,14 @@ impl Part for BDot {
         Ok(Self {
             view: self.view.in_units(scale),
             run_field: self.field.in_units(scale)?,
-            ..*self
+            ..self.clone()
         })
     }
 
     fn seeded(&self, seed: u64, index: usize) -> Self {
         Self {
             view: self.view.seeded(seed, index),
-            ..*self
+            ..self.clone()
         }
     }
 }

@@ -63,6 +63,18 @@ macro_rules! with_field {
                  default 0)",
             )
             .optional(),
+            Param::new(
+                "field_times",
+                ParamKind::Times,
+                "knot times of a tabulated field that replaces the dipole's (with field_values)",
+            )
+            .optional(),
+            Param::new(
+                "field_values",
+                ParamKind::Vectors,
+                "the field in world axes at each of field_times (linear between, held outside)",
+            )
+            .optional(),
         ]
     };
     (optional; $($param:expr),* $(,)?) => {
@@ -113,7 +125,7 @@ pub fn vector_or(fields: &Fields, name: &'static str, default: [f64; 3]) -> Resu
 /// # Errors
 /// A parameter [`DipoleField`] refuses, naming it.
 pub fn field_from(fields: &Fields) -> Result<DipoleField> {
-    DipoleField::try_new(
+    let dipole = DipoleField::try_new(
         fields.number("orbit_rate")?,
         fields.number("inclination")?,
         number_or(fields, "moment", EARTH_MOMENT)?,
@@ -123,7 +135,24 @@ pub fn field_from(fields: &Fields) -> Result<DipoleField> {
         number_or(fields, "tilt", 0.0)?,
         number_or(fields, "earth_rate", 0.0)?,
         number_or(fields, "longitude", 0.0)?,
-    )
+    )?;
+    match (fields.get("field_times"), fields.get("field_values")) {
+        (None, None) => Ok(dipole),
+        (Some(_), Some(_)) => dipole.tabulated(
+            fields.numbers("field_times")?,
+            fields.vectors("field_values")?,
+        ),
+        (None, Some(_)) => Err(Error::invalid(
+            "field_times",
+            "must be given with field_values",
+            "none",
+        )),
+        (Some(_), None) => Err(Error::invalid(
+            "field_values",
+            "must be given with field_times",
+            "none",
+        )),
+    }
 }
 
 /// A sample clock in the user's time: samples at `phase + k · period`, `k = 0, 1, …`.

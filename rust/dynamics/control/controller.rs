@@ -144,7 +144,7 @@ impl Part for Controller {
             None => None,
             Some(_) => {
                 let f = field_from(fields)?;
-                Some((f, f))
+                Some((f.clone(), f))
             }
         };
         Ok(Self {
@@ -177,7 +177,14 @@ impl Part for Controller {
     }
 
     fn stage_field(&self) -> Option<DipoleField> {
-        self.field.map(|(_, run)| run)
+        self.field.as_ref().map(|(_, run)| run.clone())
+    }
+
+    /// The tabulated field's knots (none for the dipole).
+    fn kinks(&self) -> Vec<f64> {
+        self.field
+            .as_ref()
+            .map_or_else(Vec::new, |(_, run)| run.kinks())
     }
 
     #[inline]
@@ -264,7 +271,7 @@ impl Part for Controller {
 
     fn in_units(&self, scale: RateScale) -> Result<Self> {
         let field = match &self.field {
-            Some((user, _)) => Some((*user, user.in_units(scale)?)),
+            Some((user, _)) => Some((user.clone(), user.in_units(scale)?)),
             None => None,
         };
         Ok(Self {

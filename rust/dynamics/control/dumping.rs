@@ -25,7 +25,7 @@ const DIPOLE_AT: usize = 0;
 const SATURATED_AT: usize = 3;
 
 /// Momentum dumping by magnetorquers (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MomentumDumping {
     gain: f64,
     clock: Clock,
@@ -94,7 +94,7 @@ impl Part for MomentumDumping {
                 vector_or(fields, "max_dipole", [f64::INFINITY; 3])?,
             )?,
             magnetometer: magnetometer_from(fields)?,
-            field,
+            field: field.clone(),
             run_field: field,
             view: View::from_fields(fields)?,
         })
@@ -106,7 +106,12 @@ impl Part for MomentumDumping {
     }
 
     fn stage_field(&self) -> Option<DipoleField> {
-        Some(self.run_field)
+        Some(self.run_field.clone())
+    }
+
+    /// The tabulated field's knots (none for the dipole).
+    fn kinks(&self) -> Vec<f64> {
+        self.run_field.kinks()
     }
 
     fn sampling(&self) -> Option<Sampling> {
@@ -132,14 +137,14 @@ impl Part for MomentumDumping {
     fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
         Self {
             view: self.view.in_axes(to_axes),
-            ..*self
+            ..self.clone()
         }
     }
 
     fn with_moments_scaled(&self, m: i32) -> Result<Self> {
         Ok(Self {
             view: self.view.with_moments_scaled(m),
-            ..*self
+            ..self.clone()
         })
     }
 
@@ -147,14 +152,14 @@ impl Part for MomentumDumping {
         Ok(Self {
             view: self.view.in_units(scale),
             run_field: self.field.in_units(scale)?,
-            ..*self
+            ..self.clone()
         })
     }
 
     fn seeded(&self, seed: u64, index: usize) -> Self {
         Self {
             view: self.view.seeded(seed, index),
-            ..*self
+            ..self.clone()
         }
     }
 }

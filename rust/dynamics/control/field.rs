@@ -32,6 +32,16 @@
 //! (Avanzini & Giulietti's `ξ_m`): the field repeats every orbit. With a tilt, the field
 //! repeats only where the orbit's and the Earth's periods meet; the orbit itself is Keplerian
 //! (no nodal regression).
+//!
+//! **A tabulated field** ([`DipoleField::tabulated`]): the field in world axes given at knots
+//! (the Python layer samples a real field model, the IGRF, along the orbit), linear between
+//! them and held at the ends' values outside, replaces the dipole's `B(t)`; the rest (the
+//! orbit's rate, the run's units) is as for the dipole. Linear interpolation of a field that
+//! changes at a few times the orbit's rate errs by at most `h² max|B̈| / 8` for knots `h`
+//! apart (about `7e-5 |B|` at 10 s in low orbit); its knots are kinks every step ends on
+//! ([`DipoleField::kinks`]), as a tabulated torque's are.
+
+use std::sync::Arc;
 
 use nalgebra::{Quaternion, Vector3};
 
@@ -40,8 +50,35 @@ use crate::error::{Error, Result};
 use crate::float::RateScale;
 use crate::kinematics::world_to_body;
 
-/// A tilted dipole along a circular orbit (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The field at knots in world axes, linear between them, held outside (see the module doc):
+/// shared by the clones of a part (a batch's rows, a run's model).
+#[derive(Debug, Clone, PartialEq)]
+struct Knots {
+    times: Arc<[f64]>,
+    values: Arc<[Vector3<f64>]>,
+}
+
+impl Knots {
+    /// The value at `t`: from the left at a knot (a step that ends on it integrates the piece
+    /// before it), the ends' values outside.
+    #[inline(always)]
+    fn at(&self, t: f64) -> Vector3<f64> {
+        let (ts, vs) = (&self.times, &self.values);
+        let last = ts.len() - 1;
+        if t <= ts[0] {
+            return vs[0];
+        }
+        if t > ts[last] {
+            return vs[last];
+        }
+        let k = ts.partition_point(|&s| s < t).clamp(1, last);
+        let s = crate::float::fraction(t, ts[k - 1], ts[k]);
+        vs[k - 1] + (vs[k] - vs[k - 1]) * s
+    }
+}
+
+/// A tilted dipole along a circular orbit, or a field tabulated along it (see the module doc).
+#[derive(Debug, Clone, PartialEq)]
 pub struct DipoleField {
     /// The orbit's rate `n`.
     orbit_rate: f64,
@@ -55,6 +92,8 @@ pub struct DipoleField {
     /// The Earth's rate `ω_E` and the dipole's longitude `φ₀` at `t = 0`.
     earth_rate: f64,
     longitude: f64,
+    /// The tabulated field that replaces the dipole's, if given.
+    table: Option<Knots>,
 }
 
 /// # Construction
@@ -111,6 +150,7 @@ impl DipoleField {
             tilt: (1.0, 0.0),
             earth_rate: 0.0,
             longitude: 0.0,
+            table: None,
         })
     }
 
@@ -141,6 +181,61 @@ impl DipoleField {
         Ok(self)
     }
 
+    /// The same orbit with the field in world axes `values[k]` at `times[k]` (linear between
+    /// knots, the ends' values outside) in place of the dipole's.
+    ///
+    /// # Errors
+    /// Fewer than two knots, not as many values as times, times not finite and strictly
+    /// increasing, values not finite.
+    ///
+    /// # Example
+    /// ```
+    /// use dzhanibekov::dynamics::control::DipoleField;
+    /// let f = DipoleField::try_new(1e-3, 0.5, 7.708e15, 3.986004418e14)?
+    ///     .tabulated(vec![0.0, 10.0], vec![[0.0, 0.0, 2e-5], [0.0, 4e-5, 2e-5]])?;
+    /// assert_eq!(f.world(5.0).y, 2e-5);
+    /// assert_eq!(f.world(99.0).y, 4e-5);
+    /// assert_eq!(f.kinks(), vec![0.0, 10.0]);
+    /// # Ok::<(), dzhanibekov::Error>(())
+    /// ```
+    pub fn tabulated(mut self, times: Vec<f64>, values: Vec<[f64; 3]>) -> Result<Self> {
+        if times.len() < 2 {
+            return Err(Error::invalid(
+                "field_times",
+                "must hold at least two knots",
+                times.len(),
+            ));
+        }
+        if times.len() != values.len() {
+            return Err(Error::invalid(
+                "field_values",
+                "must hold one vector per knot of field_times",
+                values.len(),
+            ));
+        }
+        let increasing =
+            times.iter().all(|t| t.is_finite()) && times.windows(2).all(|w| w[0] < w[1]);
+        if !increasing {
+            return Err(Error::invalid(
+                "field_times",
+                "must be finite and strictly increasing",
+                times.len(),
+            ));
+        }
+        if !values.iter().flatten().all(|v| v.is_finite()) {
+            return Err(Error::invalid(
+                "field_values",
+                "must be finite",
+                values.len(),
+            ));
+        }
+        self.table = Some(Knots {
+            times: times.into(),
+            values: values.into_iter().map(Vector3::from).collect(),
+        });
+        Ok(self)
+    }
+
     /// The same field with times in the units of `scale` (the orbit's and the Earth's rates
     /// over `2^e`) and the field over `2^(2e)`: the field enters the equations as a torque per
     /// unit dipole, a moment times a rate squared (see [`crate::float`]).
@@ -156,10 +251,31 @@ impl DipoleField {
                 self.strength,
             ));
         }
+        let table = match &self.table {
+            None => None,
+            Some(k) => {
+                let times: Arc<[f64]> = k.times.iter().map(|&t| scale.time_to_unit(t)).collect();
+                let field = |v: &Vector3<f64>| v.map(|c| scale.rate_to_unit(scale.rate_to_unit(c)));
+                let values: Arc<[Vector3<f64>]> = k.values.iter().map(field).collect();
+                let ok = times.iter().all(|t| t.is_finite())
+                    && times.windows(2).all(|w| w[0] < w[1])
+                    && values.iter().all(|v| v.iter().all(|c| c.is_finite()));
+                if !ok {
+                    return Err(Error::invalid(
+                        "field_values",
+                        "must stay within float64 in the run's units (times scaled with the \
+                         rates, the field with their squares)",
+                        k.times.len(),
+                    ));
+                }
+                Some(Knots { times, values })
+            }
+        };
         Ok(Self {
             orbit_rate: scale.rate_to_unit(self.orbit_rate),
             earth_rate: scale.rate_to_unit(self.earth_rate),
             strength,
+            table,
             ..*self
         })
     }
@@ -177,6 +293,13 @@ impl DipoleField {
         self.orbit_rate
     }
 
+    /// The tabulated field's knots, where it has kinks (none for the dipole).
+    pub fn kinks(&self) -> Vec<f64> {
+        self.table
+            .as_ref()
+            .map_or_else(Vec::new, |k| k.times.to_vec())
+    }
+
     /// The unit vector toward the geomagnetic north pole at `t`, in world axes.
     #[inline(always)]
     pub fn north(&self, t: f64) -> Vector3<f64> {
@@ -192,6 +315,9 @@ impl DipoleField {
     /// The field at `t` in world axes.
     #[inline(always)]
     pub fn world(&self, t: f64) -> Vector3<f64> {
+        if let Some(k) = &self.table {
+            return k.at(t);
+        }
         let (s, c) = sin_cos(self.orbit_rate * t);
         let r = Vector3::new(c, s, 0.0);
         let d = self.north(t);
@@ -322,6 +448,50 @@ mod tests {
     }
 
     #[test]
+    fn a_tabulated_field_is_linear_between_its_knots_and_held_outside() {
+        let (b0, b1, b2) = ([1e-5, 0.0, 2e-5], [3e-5, -1e-5, 2e-5], [0.0, 0.0, 4e-5]);
+        let f = DipoleField::try_new(1e-3, 0.7, MOMENT, MU)
+            .unwrap()
+            .tabulated(vec![0.0, 10.0, 30.0], vec![b0, b1, b2])
+            .unwrap();
+        let v = |a: [f64; 3]| Vector3::from(a);
+        assert_eq!(f.world(0.0), v(b0));
+        // at a knot, the piece before it at its end (to a rounding of the difference)
+        assert_relative_eq!(f.world(10.0), v(b1), epsilon = 1e-20);
+        // a quarter of the way from the second knot to the third
+        assert_relative_eq!(f.world(15.0), v(b1) * 0.75 + v(b2) * 0.25, epsilon = 1e-20);
+        assert_eq!(f.world(-5.0), v(b0));
+        assert_eq!(f.world(99.0), v(b2));
+        assert_eq!(f.kinks(), vec![0.0, 10.0, 30.0]);
+        // the body's axes see it turned, as the dipole's
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let b = f.body(30.0, &Quaternion::new(h, h, 0.0, 0.0));
+        assert_relative_eq!(b, Vector3::new(0.0, 4e-5, 0.0), epsilon = 1e-20);
+        // and the dipole has no kinks
+        assert!(DipoleField::try_new(1e-3, 0.7, MOMENT, MU)
+            .unwrap()
+            .kinks()
+            .is_empty());
+    }
+
+    #[test]
+    fn a_tabulated_field_in_the_runs_units_scales_its_times_and_values() {
+        // rates over 2^e: times times 2^e, the field (a rate squared per dipole) over 2^(2e)
+        let scale = RateScale::of([0.0, 0.0, 1e30]);
+        let e = crate::float::exponent(1e30);
+        assert!(!scale.is_identity());
+        let f = DipoleField::try_new(1e-3, 0.7, MOMENT, MU)
+            .unwrap()
+            .tabulated(vec![0.0, 8.0], vec![[0.0, 0.0, 2e-5], [0.0, 4e-5, 2e-5]])
+            .unwrap();
+        let run = f.in_units(scale).unwrap();
+        let t = crate::float::ldexp(4.0, e);
+        let expected = Vector3::new(0.0, 2e-5, 2e-5).map(|c| crate::float::ldexp(c, -2 * e));
+        assert_eq!(run.world(t), expected);
+        assert_eq!(run.kinks(), vec![0.0, crate::float::ldexp(8.0, e)]);
+    }
+
+    #[test]
     fn bad_parameters_are_refused_by_name() {
         let name = |r: Result<DipoleField>| match r {
             Err(Error::InvalidArgument { name, .. }) => name,
@@ -345,8 +515,21 @@ mod tests {
             "moment"
         );
         let f = DipoleField::try_new(1e-3, 0.1, MOMENT, MU).unwrap();
-        assert_eq!(name(f.tilted(-0.1, 0.0, 0.0)), "tilt");
-        assert_eq!(name(f.tilted(0.1, f64::INFINITY, 0.0)), "earth_rate");
-        assert_eq!(name(f.tilted(0.1, 0.0, f64::NAN)), "longitude");
+        assert_eq!(name(f.clone().tilted(-0.1, 0.0, 0.0)), "tilt");
+        assert_eq!(
+            name(f.clone().tilted(0.1, f64::INFINITY, 0.0)),
+            "earth_rate"
+        );
+        assert_eq!(name(f.clone().tilted(0.1, 0.0, f64::NAN)), "longitude");
+        let z = [0.0, 0.0, 1e-5];
+        let table = |t: Vec<f64>, v: Vec<[f64; 3]>| f.clone().tabulated(t, v);
+        assert_eq!(name(table(vec![0.0], vec![z])), "field_times");
+        assert_eq!(name(table(vec![0.0, 1.0], vec![z])), "field_values");
+        assert_eq!(name(table(vec![1.0, 0.0], vec![z, z])), "field_times");
+        assert_eq!(name(table(vec![0.0, f64::NAN], vec![z, z])), "field_times");
+        assert_eq!(
+            name(table(vec![0.0, 1.0], vec![z, [f64::INFINITY, 0.0, 0.0]])),
+            "field_values"
+        );
     }
 }

@@ -14,7 +14,7 @@ use super::common::{field_from, with_field};
 use super::field::DipoleField;
 
 /// A residual dipole in the Earth's field (see the module doc).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ResidualDipole {
     /// The dipole in the run's body axes and units.
     dipole: Vector3<f64>,
@@ -59,7 +59,7 @@ impl Part for ResidualDipole {
         energy: EnergyRole::DoesWork,
         external: true,
         unique: false,
-        traits: Traits::EXTERNAL_TORQUE,
+        traits: Traits::EXTERNAL_TORQUE.union(Traits::KINKS),
     };
 
     fn from_fields(fields: &Fields) -> Result<Self> {
@@ -72,13 +72,18 @@ impl Part for ResidualDipole {
     }
 
     fn stage_field(&self) -> Option<DipoleField> {
-        Some(self.field)
+        Some(self.field.clone())
+    }
+
+    /// The tabulated field's knots (none for the dipole).
+    fn kinks(&self) -> Vec<f64> {
+        self.field.kinks()
     }
 
     fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
         Self {
             dipole: Vector3::from(to_axes(self.dipole.into())),
-            ..*self
+            ..self.clone()
         }
     }
 
@@ -87,14 +92,14 @@ impl Part for ResidualDipole {
     fn with_moments_scaled(&self, m: i32) -> Result<Self> {
         Ok(Self {
             dipole: self.dipole.map(|v| ldexp(v, -m)),
-            ..*self
+            ..self.clone()
         })
     }
 
     fn in_units(&self, scale: RateScale) -> Result<Self> {
         Ok(Self {
             field: self.field.in_units(scale)?,
-            ..*self
+            ..self.clone()
         })
     }
 }

@@ -19,7 +19,7 @@ from dzhanibekov.scenes.scene import Draw
 MU, EARTH_RADIUS = 3.986004418e14, 6378137.0   # WGS 84
 N_500KM = math.sqrt(MU / (EARTH_RADIUS + 500e3) ** 3)   # Kepler: a circular orbit's rate
 ORBIT = 2 * math.pi / N_500KM
-BOX, MASS = (0.1, 0.1, 0.3405), 4.0   # CDS Rev. 13's 3U envelope (m) and largest mass (kg)
+BOX, MASS = (0.1, 0.1, 0.3405), 4.0   # CDS Rev. 14.1's 3U envelope (m); 4 kg, within its 6 kg
 
 
 def cubesat_moments() -> np.ndarray:
