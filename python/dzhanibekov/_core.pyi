@@ -45,6 +45,7 @@ __all__ = [
     "method_info",
     "model_info",
     "observe",
+    "part_rates",
     "plan",
     "rotate",
     "simulate",
@@ -378,6 +379,13 @@ def observe(
     q: npt.NDArray[np.float64],
     parts: npt.NDArray[np.float64],
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64], npt.NDArray[np.float64]]: ...
+def part_rates(
+    system: System,
+    t: npt.NDArray[np.float64],
+    omega: npt.NDArray[np.float64],
+    q: npt.NDArray[np.float64],
+    parts: npt.NDArray[np.float64],
+) -> npt.NDArray[np.float64]: ...
 @overload
 def rotate(
     q: npt.NDArray[np.float64], points: npt.NDArray[np.float64], out: None = None

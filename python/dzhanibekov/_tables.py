@@ -111,6 +111,11 @@ def system_vars(systems: Any, lead: tuple[str, ...]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     if "deployment" in kinds:
         out |= knot_vars([s.body for s in items], lead)
+        masses = [s.body.mass for s in items]
+        if any(m is not None for m in masses):  # it carries parts whose mass moves
+            out["knot_mass"] = (lead, squeeze(np.array([np.nan if m is None else m
+                                                        for m in masses])),
+                                {"long_name": "the deploying body's mass (NaN: not given)"})
     else:
         tensor = np.stack([s.body.tensor for s in items])
         mass = np.array([np.nan if s.body.mass is None else s.body.mass for s in items])
@@ -225,6 +230,14 @@ def state_dims(variable: str, width: int) -> tuple[str, ...]:
     return () if width == 1 else ("axis",) if width == 3 else (f"{variable}_index",)
 
 
+def rate_variable(name: str) -> tuple[str, int, str]:
+    """The variable of the rates of the coordinates of the part shown as `name` (one whose
+    mass moves, see ``Trajectory.part_rates``), their width and what the coordinates are:
+    ``<name>_<field>_rate`` of its state's first field (``hinge_angle_rate``)."""
+    var, _, width, about = state_fields(name)[0]
+    return f"{var}_rate", width, about
+
+
 def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
     """A run's parts' state and what its system says of each frame: each part's state under
     the name the run shows it (the model's, or ``<model>_<k>`` for the ``k``-th of several
@@ -238,6 +251,11 @@ def _derived(prefix: tuple[str, ...], run: Any) -> dict[str, Any]:
             values = block[..., 0] if width == 1 else block
             out[var] = (prefix + ("time",) + state_dims(var, width), values,
                         {"long_name": f"the {name}'s {about}"})
+    for name, rate in run.part_rates.items():
+        var, width, about = rate_variable(name)
+        out[var] = (prefix + ("time",) + state_dims(var, width),
+                    rate[..., 0] if width == 1 else rate,
+                    {"long_name": f"the rate of the {name}'s {about}"})
     inv = run.invariants()
     out["energy"] = (prefix + ("time",), inv["energy"],
                      {"long_name": "total kinetic energy"})
@@ -408,6 +426,11 @@ def _frame(index: Any, run: Any, rows: int) -> Any:
             for k, column in enumerate(names):
                 columns[column] = flat[:, at + k]
             at += width
+    for part, rate in run.part_rates.items():
+        var, width, _ = rate_variable(part)
+        names = [var] if width == 1 else [f"{var}_{axis}" for axis in AXIS]
+        for k, column in enumerate(names):
+            columns[column] = rate.reshape(rows, width)[:, k]
     if rows:
         columns["energy"] = run.energy.reshape(rows)
         for k, axis in enumerate(AXIS):

@@ -7,7 +7,7 @@ from typing import Any
 import numpy as np
 
 from . import _core
-from ._args import as_array, check_size
+from ._args import as_array, as_float, check_size
 from .body import Body
 from .torques import knot_fraction
 
@@ -82,7 +82,8 @@ class Deployment:
     With no external torque, ``dL/dt = L × ω`` with ``ω = I(t)⁻¹ L`` in body axes: the angular
     momentum is fixed in space and the energy changes by the internal work,
     ``dE/dt = −½ ωᵀ İ ω``. The moving parts are assumed to carry no angular momentum of their
-    own relative to the body (symmetric deployments).
+    own relative to the body (symmetric deployments), and its mass centre stays where it is
+    in the body.
 
     Parameters
     ----------
@@ -92,6 +93,11 @@ class Deployment:
         The body at each knot: a :class:`Body`, its principal moments ``(Ix, Iy, Iz)``, or a
         symmetric positive definite 3 × 3 tensor in body axes (products of inertia with a
         minus sign off the diagonal).
+    mass : float, optional
+        The deploying body's mass, constant while it deploys: parts whose mass moves in it
+        (a :class:`SpringMassDamper`, a :class:`Hinge`, a :class:`Slosh`) need it, as they
+        need a :class:`Body`'s. The tensors are then the body's own about its mass centre,
+        without those parts; the system's mass centre moves in the body as they move.
 
     Raises
     ------
@@ -106,16 +112,26 @@ class Deployment:
     >>> d = Deployment([10.0, 20.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)])
     >>> d.inertia_at(15.0).diagonal().tolist()
     [1.0, 2.5, 2.5]
+
+    A tank on a body that deploys: the body's mass carries it.
+
+    >>> import dzhanibekov as dz
+    >>> body = Deployment([10.0, 20.0], [(1.0, 2.0, 3.0), (1.0, 3.0, 2.0)], mass=1.0)
+    >>> tank = dz.Slosh(0.05, (0.0, 0.0, 0.5), 0.3, 0.01, (1.0, 0.0, 0.0))
+    >>> dz.System(body, parts=[tank]).kinds
+    ('deployment', 'slosh')
     """
 
-    __slots__ = ("times", "tensors", "_core")
+    __slots__ = ("times", "tensors", "mass", "_core")
 
     times: np.ndarray
     """Knot times, shape (K,)."""
     tensors: np.ndarray
     """Knot tensors, shape (K, 3, 3)."""
+    mass: float | None
+    """The body's mass (None: not given)."""
 
-    def __init__(self, times: Any, inertia: Any) -> None:
+    def __init__(self, times: Any, inertia: Any, mass: float | None = None) -> None:
         try:
             n = len(times)
         except TypeError:
@@ -127,9 +143,10 @@ class Deployment:
         self._core = _core.Deployment(np.ascontiguousarray(t, dtype=np.float64), tensors)
         self.times = np.ascontiguousarray(self._core.times)
         self.tensors = np.ascontiguousarray(self._core.tensors)
+        self.mass = None if mass is None else as_float("mass", mass, positive=True)
 
     def __reduce__(self) -> tuple[Any, ...]:
-        return (Deployment, (self.times, self.tensors))
+        return (Deployment, (self.times, self.tensors, self.mass))
 
     def inertia_at(self, t: float) -> np.ndarray:
         """The tensor ``I(t)``, shape (3, 3) (a convenience for plots: runs evaluate the
@@ -145,14 +162,15 @@ class Deployment:
         return np.array(tensors[k - 1] + s * (tensors[k] - tensors[k - 1]))
 
     def __repr__(self) -> str:
-        return f"Deployment(times={self.times.tolist()}, knots={len(self.times)})"
+        mass = "" if self.mass is None else f", mass={self.mass!r}"
+        return f"Deployment(times={self.times.tolist()}, knots={len(self.times)}{mass})"
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Deployment):
             return NotImplemented  # a System without parts compares with its deployment
         return (np.array_equal(self.times, other.times)
-                and np.array_equal(self.tensors, other.tensors))
+                and np.array_equal(self.tensors, other.tensors) and self.mass == other.mass)
 
     def __hash__(self) -> int:
-        return hash((self.times.tobytes(), self.tensors.tobytes()))
+        return hash((self.times.tobytes(), self.tensors.tobytes(), self.mass))
 

@@ -286,7 +286,7 @@ class DeploymentDispersion:
             tensors = [law.tensor(rng) for law in self._laws]
         else:
             tensors = list(self.deployment.tensors)
-        return Deployment(drawn, tensors)
+        return Deployment(drawn, tensors, self.deployment.mass)
 
     def __repr__(self) -> str:
         return (f"DeploymentDispersion({self.deployment!r}, start={self.start!r}, "

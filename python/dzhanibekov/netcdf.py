@@ -358,10 +358,25 @@ def _state_var(lead: tuple[str, ...]) -> Callable[[str], Var | None]:
     def var(variable: str) -> Var | None:
         owner = _state_owner(variable)
         if owner is None:
-            return None
+            return _rate_var(lead, variable)
         return Var(lead + ("time",) + state_vars(owner)[variable], "f", (finite,),
                    optional=True)
     return var
+
+
+def _moves_mass(name: str) -> bool:
+    """Whether the part shown as `name` moves mass in the body (has coordinate rates)."""
+    return "moving mass" in _core.model_info(_tables.model_of_state(name) or "").traits
+
+
+def _rate_var(lead: tuple[str, ...], variable: str) -> Var | None:
+    """The layout of `variable` if it holds the coordinates' rates of a part whose mass
+    moves (``hinge_angle_rate``, see `_tables.rate_variable`), else None."""
+    base, _, tail = variable.rpartition("_")
+    owner = _state_owner(base) if tail == "rate" else None
+    if owner is None or not _moves_mass(owner) or _tables.rate_variable(owner)[0] != variable:
+        return None
+    return Var(lead + ("time",) + state_vars(owner)[base], "f", (finite,), optional=True)
 
 
 def _state_of(d: Loaded, name: str) -> np.ndarray:
@@ -398,6 +413,8 @@ def system_parts(d: Loaded) -> str | None:
     if not (all(body) and not any(knots)) and not (all(knots) and not any(body)):
         return ("the system's body must be given once: `body_tensor`, `body_mass` and "
                 "`body_center_of_mass`, or `knot_times` and `knot_tensors`")
+    if "knot_mass" in d.values and not all(knots):
+        return "`knot_mass` must come with `knot_times` and `knot_tensors` (a deployment's)"
     parts = tuple(d["parts"]) if "parts" in d.attrs else ()
     for name in parts:
         for var in state_vars(name):
@@ -473,7 +490,8 @@ def _systems(d: Loaded) -> list[System]:
 
     bodies: list[Any]
     if "knot_times" in d.values:
-        bodies = _deployments(rows("knot_times"), rows("knot_tensors"))
+        bodies = _deployments(rows("knot_times"), rows("knot_tensors"),
+                              rows("knot_mass") if "knot_mass" in d.values else None)
     else:
         tensor, mass = rows("body_tensor"), rows("body_mass")
         com = rows("body_center_of_mass")
@@ -490,9 +508,12 @@ def _systems(d: Loaded) -> list[System]:
     return [System(b, parts=p, torques=t) for b, (p, t) in zip(bodies, found)]
 
 
-def _deployments(times: np.ndarray, tensors: np.ndarray) -> list[Deployment]:
-    """Deployments from NaN-padded knots, one per row."""
-    return [Deployment(t[~np.isnan(t)], k[~np.isnan(t)]) for t, k in zip(times, tensors)]
+def _deployments(times: np.ndarray, tensors: np.ndarray,
+                 masses: np.ndarray | None = None) -> list[Deployment]:
+    """Deployments from NaN-padded knots, one per row (with its mass, NaN: not given)."""
+    mass = np.full(len(times), np.nan) if masses is None else masses
+    return [Deployment(t[~np.isnan(t)], k[~np.isnan(t)], None if np.isnan(m) else float(m))
+            for t, k, m in zip(times, tensors, mass)]
 
 
 def _moments(system: System) -> np.ndarray:
@@ -604,6 +625,11 @@ def _derived_agree(d: Loaded, result: Any, runs: bool) -> str | None:
         if not _agrees(d[name], getattr(result, name), runs):
             return (f"`{name}` is not what the file's own system and frames give (the energy "
                     "and angular momentum a run of that system has)")
+    for name, rate in result.part_rates.items():
+        var, width, _ = _tables.rate_variable(name)
+        if var in d and not _agrees(d[var], rate[..., 0] if width == 1 else rate, runs):
+            return (f"`{var}` is not what the file's own system and frames give (the rates "
+                    "a run of that system has)")
     return None
 
 
@@ -794,6 +820,7 @@ def _system_vars(lead: tuple[str, ...]) -> dict[str, Var]:
                           optional=_OPT),
         "body_center_of_mass": Var(lead + ("axis",), "f", (finite,), optional=_OPT),
         "knot_times": Var(lead + ("knot",), "f", (finite_or_nan,), optional=_OPT),
+        "knot_mass": Var(lead, "f", (finite_or_nan, positive_or_nan), optional=_OPT),
         "knot_tensors": Var(lead + ("knot", "axis", "axis_"), "f", (finite_or_nan,),
                             optional=_OPT),
         **_legacy_vars(lead),

@@ -98,6 +98,27 @@ def observe(system: System, t: np.ndarray, omega: np.ndarray, q: np.ndarray,
             "q_norm": np.linalg.norm(q, axis=-1)}
 
 
+def part_rates(system: System, t: np.ndarray, omega: np.ndarray, q: np.ndarray,
+               parts: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """The rates of the coordinates of each part whose mass moves (its state's first field:
+    a spring's displacement, a hinge's angle, a pendulum's direction) at every frame, by the
+    part's name: what the run's right-hand side gives them there, from the mass-matrix solve
+    :func:`observe` makes (computed in the core)."""
+    moving = [name for name in system.part_names
+              if "moving mass" in _core.model_info(_tables.model_of_state(name) or "").traits]
+    if not moving:
+        return {}
+    check_size(len(t) * 8 * 2 * sum(system.part_widths),
+               f"the parts' rates at {len(t)} frames",
+               "compute them over fewer frames (a slice of the run)")
+    state = np.concatenate([parts[name] for name in system.part_names], axis=1)
+    rates = split_parts(system, _core.part_rates(
+        system._core, np.ascontiguousarray(t, dtype=np.float64), np.ascontiguousarray(omega),
+        np.ascontiguousarray(q), np.ascontiguousarray(state, dtype=np.float64)))
+    return {name: np.ascontiguousarray(rates[name][:, :_tables.state_fields(name)[0][2]])
+            for name in moving}
+
+
 def split_parts(system: System, state: np.ndarray | None) -> dict[str, np.ndarray]:
     """The parts' state (..., k) split by part name."""
     if state is None or not system.part_names:
@@ -227,6 +248,27 @@ class Trajectory:
         """
         angles: np.ndarray = self.rotation.as_euler(seq, degrees=degrees)
         return angles
+
+    @cached_property
+    def part_rates(self) -> dict[str, np.ndarray]:
+        """The rates of the coordinates of each part whose mass moves, by the part's name, at
+        every frame: a spring-mass's ``ẋ`` and a hinge's ``β̇``, shape (frames, 1); a slosh
+        pendulum's ``ṅ``, shape (frames, 3) (its angular velocity relative to the body is
+        ``ν = n × ṅ``). :attr:`parts` holds their coordinates and conjugate momenta; these
+        are what the run's own equations give from them (the mass-matrix solve, computed
+        once, in the core). Empty without such parts.
+
+        Examples
+        --------
+        >>> import dzhanibekov as dz
+        >>> body = dz.Body.from_tensor([[3, 0, 0], [0, 1, 0], [0, 0, 2]], mass=1.0)
+        >>> spring = dz.SpringMassDamper(0.1, (0.0, 0.0, 0.5), (1.0, 0.0, 0.0), 2.0, 0.1)
+        >>> traj = dz.simulate(dz.System(body, parts=[spring]), (0.01, 0.01, 1.0),
+        ...                    t_end=1.0, frames=3)
+        >>> traj.part_rates["spring_mass"].shape
+        (3, 1)
+        """
+        return part_rates(self.system, self.t, self.omega, self.q, self.parts)
 
     @property
     def energy(self) -> np.ndarray:
@@ -570,6 +612,15 @@ class Batch:
                             {k: v[i] for k, v in self.parts.items()}) for i in range(len(self))]
             self._observed.update({k: np.stack([r[k] for r in runs]) for k in runs[0]})
         return self._observed
+
+    @cached_property
+    def part_rates(self) -> dict[str, np.ndarray]:
+        """Each run's :attr:`Trajectory.part_rates`, with a leading run axis."""
+        if not len(self):
+            return {}
+        runs = [part_rates(self.systems[i], self.t, self.omega[i], self.q[i],
+                           {k: v[i] for k, v in self.parts.items()}) for i in range(len(self))]
+        return {k: np.stack([r[k] for r in runs]) for k in runs[0]}
 
     @property
     def energy(self) -> np.ndarray:

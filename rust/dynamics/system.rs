@@ -13,9 +13,10 @@ use crate::error::{Error, Result};
 use crate::kinematics::rotation_matrix;
 
 use super::general::MAX_PARTS_STATE;
+use super::general::{ConstantInertia, InertiaLaw};
 use super::kinds::{Conserved, Kinds};
-use super::multibody::{Hub, MassMatrix, MAX_RATES};
-use super::part::{block, Dim, EnergyRole, Function, MapFunction};
+use super::multibody::{self, Carried, Hub, MassMatrix, MAX_RATES, PART_RATES};
+use super::part::{block, Ctx, Dim, EnergyRole, Function, MapFunction, Moved, Timed};
 use super::registry::{kinds_of, AnyPart};
 use super::Deployment;
 
@@ -296,6 +297,104 @@ impl System {
         omega: &Vector3<f64>,
         parts: &[f64],
     ) -> Option<(f64, Vector3<f64>)> {
+        let (hub, carried, p, row) = self.moving_carried(t, parts)?;
+        let m = MassMatrix::<MAX_RATES>::assemble(&hub, &carried);
+        let h = Self::moving_momentum(&m, omega, &p)?;
+        let (_, v) = m.solve(&h, &p);
+        let kinetic = 0.5 * (h.dot(omega) + (0..row).map(|r| p[r] * v[r]).sum::<f64>());
+        Some((kinetic, h))
+    }
+
+    /// `H` of hub rates `omega` and parts' momenta `p`: `ω` is linear in `H` at fixed `p`,
+    /// `ω = S⁻¹ H + ω_p`, so three solves give `S⁻¹`'s columns and one more `ω_p`.
+    fn moving_momentum(
+        m: &MassMatrix<MAX_RATES>,
+        omega: &Vector3<f64>,
+        p: &[f64; MAX_RATES],
+    ) -> Option<Vector3<f64>> {
+        let (omega_p, _) = m.solve(&Vector3::zeros(), p);
+        let columns = Matrix3::from_columns(
+            &[0, 1, 2].map(|i| m.solve(&Vector3::ith(i, 1.0), &[0.0; MAX_RATES]).0),
+        );
+        Some(columns.try_inverse()? * (omega - omega_p))
+    }
+
+    /// The rates of the state of each part whose mass moves at one frame (as a run's
+    /// right-hand side has them: a spring's `x'`, `p'`, a hinge's `β'`, `p'`, a pendulum's
+    /// `n'`, `π'`), written into their places of `out` (as long as the parts' state; the
+    /// other places are left as they are), from the hub's rates `omega`, the attitude `q` and
+    /// the law `law` ([`Self::inertia_law`]): the same solve as [`Self::observe`], and each
+    /// part's element moving as [`multibody::motion`] has it. False without such parts.
+    pub fn moving_rates(
+        &self,
+        law: &InertiaLaw,
+        t: f64,
+        omega: [f64; 3],
+        parts: &[f64],
+        q: [f64; 4],
+        out: &mut [f64],
+    ) -> bool {
+        let omega = Vector3::from(omega);
+        let Some((hub, carried, p, _)) = self.moving_carried(t, parts) else {
+            return false;
+        };
+        let m = MassMatrix::<MAX_RATES>::assemble(&hub, &carried);
+        let Some(h) = Self::moving_momentum(&m, &omega, &p) else {
+            return false;
+        };
+        let motion = multibody::motion::<MAX_RATES>(&hub, &carried, &h, &p);
+        let (mut at, mut row, mut k) = (0, 0, 0);
+        for part in &self.parts {
+            let width = part.width();
+            if part.carried(&parts[at..at + width]).is_some() {
+                let c = &carried[k];
+                let (velocity, spin) = motion.element(c, row);
+                let mut rates = [0.0; PART_RATES];
+                rates[..c.rates].copy_from_slice(&motion.rates[row..row + c.rates]);
+                let ctx = Ctx {
+                    t,
+                    q: Quaternion::new(q[0], q[1], q[2], q[3]),
+                    omega,
+                    inertia: law,
+                    moving: Some(Moved {
+                        rates,
+                        velocity,
+                        spin,
+                        carried: c,
+                    }),
+                    timed: Timed::default(),
+                };
+                part.rates(&ctx, &parts[at..at + width], &mut out[at..at + width]);
+                row += c.rates;
+                k += 1;
+            }
+            at += width;
+        }
+        true
+    }
+
+    /// The body's inertia law as a run's model reads it (what [`Self::moving_rates`] takes).
+    ///
+    /// # Errors
+    /// A constant tensor [`ConstantInertia::try_new`] refuses.
+    pub fn inertia_law(&self) -> Result<InertiaLaw> {
+        Ok(match &self.body {
+            SystemBody::Rigid(inertia) => {
+                InertiaLaw::Constant(ConstantInertia::try_new(*inertia.tensor())?)
+            }
+            SystemBody::Deployment(d) => InertiaLaw::Schedule(d.clone()),
+        })
+    }
+
+    /// The hub (the body's tensor at `t`, its mass) and what the parts whose mass moves carry
+    /// at state `parts`, with their momenta and how many rates they have; None without such
+    /// parts, a mass, or room in the joint solve.
+    #[allow(clippy::type_complexity)]
+    fn moving_carried(
+        &self,
+        t: f64,
+        parts: &[f64],
+    ) -> Option<(Hub, Vec<Carried>, [f64; MAX_RATES], usize)> {
         let mut carried = Vec::new();
         let mut p = [0.0; MAX_RATES];
         let (mut row, mut at) = (0, 0);
@@ -316,14 +415,6 @@ impl System {
         }
         let moved: f64 = carried.iter().map(|c| c.mass).sum();
         let hub = Hub::try_new(self.tensor_at(t), self.mass?, moved).ok()?;
-        let m = MassMatrix::<MAX_RATES>::assemble(&hub, &carried);
-        let (omega_p, _) = m.solve(&Vector3::zeros(), &p);
-        let columns = Matrix3::from_columns(
-            &[0, 1, 2].map(|i| m.solve(&Vector3::ith(i, 1.0), &[0.0; MAX_RATES]).0),
-        );
-        let h = columns.try_inverse()? * (omega - omega_p);
-        let (_, v) = m.solve(&h, &p);
-        let kinetic = 0.5 * (h.dot(omega) + (0..row).map(|r| p[r] * v[r]).sum::<f64>());
-        Some((kinetic, h))
+        Some((hub, carried, p, row))
     }
 }

@@ -597,6 +597,52 @@ fn observe<'py>(
     ))
 }
 
+/// The rates of the parts' state at each frame `(F, k)`, laid out as the state: a part whose
+/// mass moves has its rates as the run's right-hand side gives them (from the same solve as
+/// [`observe`]), every other part NaN; from the same arrays as [`observe`].
+#[pyfunction]
+fn part_rates<'py>(
+    py: Python<'py>,
+    system: &PySystem,
+    t: PyReadonlyArray1<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    q: PyReadonlyArray2<'py, f64>,
+    parts: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let (n, k) = (t.len(), system.inner.parts_width());
+    if omega.shape() != [n, 3] || q.shape() != [n, 4] || parts.shape() != [n, k] {
+        return Err(Error::invalid(
+            "omega, q, parts",
+            "must have shapes (F, 3), (F, 4) and (F, parts) for F times",
+            (
+                omega.shape().to_vec(),
+                q.shape().to_vec(),
+                parts.shape().to_vec(),
+            ),
+        )
+        .into());
+    }
+    let contiguous = |name: &str| Error::invalid("part_rates", "takes C-contiguous arrays", name);
+    let t = t.as_slice().map_err(|_| contiguous("t"))?;
+    let omega = omega.as_slice().map_err(|_| contiguous("omega"))?;
+    let q = q.as_slice().map_err(|_| contiguous("q"))?;
+    let parts = parts.as_slice().map_err(|_| contiguous("parts"))?;
+    let system = &system.inner;
+    let law = system.inertia_law()?;
+    let rates = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
+        let mut rates = try_with_capacity(n * k, "the parts' rates", "ask for fewer frames")?;
+        rates.resize(n * k, f64::NAN);
+        for i in 0..n {
+            let w = [omega[3 * i], omega[3 * i + 1], omega[3 * i + 2]];
+            let a = [q[4 * i], q[4 * i + 1], q[4 * i + 2], q[4 * i + 3]];
+            let x = &parts[k * i..k * (i + 1)];
+            system.moving_rates(&law, t[i], w, x, a, &mut rates[k * i..k * (i + 1)]);
+        }
+        Ok(rates)
+    })?;
+    Ok(shaped2(py, rates, (n, k))?.into_bound(py))
+}
+
 pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyStepPlan>()?;
     m.add_class::<PyBatchPlan>()?;
@@ -609,6 +655,7 @@ pub(super) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate_batch, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(observe, m)?)?;
+    m.add_function(wrap_pyfunction!(part_rates, m)?)?;
     // a sweep's `status` codes index this tuple
     m.add(
         "RUN_STATUSES",

@@ -177,7 +177,7 @@ TABLES: dict[str, tuple[str, ...]] = {
     "draw": ("box", "ellipsoid", "signal_point", "path", "body_axes", "momentum", "figures",
              "animation", "phases", "fps", "animation_size"),
     "ellipsoid": ("convention", "mesh"),
-    "deployment": ("times", "inertia"),
+    "deployment": ("times", "inertia", "mass"),
     "damper": ("inertia", "damping", "sigma"),
     "wheel": ("axis", "momentum"),
     "orbit": ("rate",),
@@ -292,7 +292,7 @@ def from_tables(data: Mapping[str, Any], name: str, source: str,
             kwargs[keyword] = tables[table][sub]
     if "deployment" in data:
         kwargs["deployment"] = _model(source, "deployment", Deployment, ("times", "inertia"),
-                                      tables["deployment"])
+                                      tables["deployment"], optional=("mass",))
     if "damper" in data:
         kwargs["damper"] = _model(source, "damper", Damper, ("inertia", "damping"),
                                   tables["damper"])
@@ -437,14 +437,18 @@ def _wheel_table(source: str, table: Mapping[str, Any]) -> Mapping[str, Any]:
 
 
 def _model(source: str, name: str, kind: type, keys: tuple[str, ...],
-           table: Mapping[str, Any], renamed: Mapping[str, str] | None = None) -> Any:
-    """The model (a `kind`) that the file's table `name` gives with its `keys`; an error
-    names the key (`renamed`: the constructor's argument names that are a key's)."""
+           table: Mapping[str, Any], renamed: Mapping[str, str] | None = None,
+           optional: tuple[str, ...] = ()) -> Any:
+    """The model (a `kind`) that the file's table `name` gives with its `keys` (and its
+    `optional` keys, as keywords, where given); an error names the key (`renamed`: the
+    constructor's argument names that are a key's)."""
     for key in keys:
         if key not in table:
             raise SceneError(source, f"{name}.{key}", "is missing")
+    keys += tuple(key for key in optional if key in table)
     try:
-        return kind(*(table[key] for key in keys))
+        return kind(*(table[key] for key in keys if key not in optional),
+                    **{key: table[key] for key in optional if key in table})
     except (TypeError, ValueError) as exc:
         message = str(exc)
         for argument, key in (renamed or {}).items():
@@ -541,7 +545,7 @@ def checked(values: Mapping[str, Any]) -> tuple[dict[str, Any], Body]:
                isinstance(t, GravityGradient) for t in listed),
            "wheel_off": v.get("wheel") is not None or any(isinstance(p, Wheel) for p in listed),
            "pointing": any(isinstance(p, QuaternionFeedback) for p in listed)}
-    sinks = {p.model for p in listed} & {"spring_mass", "hinge", "slosh"}
+    sinks = {p.model for p in listed} & set(_MOVERS)
     has |= {"energy_balance": bool(sinks), "part_motion": bool(sinks),
             "capture": "slosh" in sinks}
     for figure, table in (("lvlh", "[orbit]"), ("wheel_off", "[wheel]"),
@@ -667,10 +671,16 @@ def _models(src: str, v: Mapping[str, Any]) -> dict[str, Any]:
                                  "system holds at most one")
             seen.append(part.model)
     orbital = [name for name in ("wheel", "orbit", "torque") if v.get(name) is not None]
-    orbital += [f"{key}[0]" for key in LISTS if lists[key]]
+    # a deployment carries parts whose mass moves in it (its `mass` then given), no others
+    orbital += [f"{key}[{i}]" for key in LISTS for i, part in enumerate(lists[key])
+                if key == "torques" or part.model not in _MOVERS]
     if orbital and v["deployment"] is not None:
         raise SceneError(src, orbital[0], "cannot be combined with a [deployment] in a scene")
     return {"sigma0": sigma0, **lists}
+
+
+_MOVERS = ("spring_mass", "hinge", "slosh")
+"""The models of parts whose mass moves in the body (the energy sinks)."""
 
 
 def _table(source: str, key: str, value: Any, kind: type) -> Mapping[str, Any]:

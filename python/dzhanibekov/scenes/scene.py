@@ -190,8 +190,9 @@ class Scene(metaclass=_Parsed):
     about: str = ""
     deployment: Deployment | None = None
     """A prescribed change of inertia (``[deployment]`` with ``times`` and ``inertia``, a
-    list of principal moments or 3 × 3 tensors); `inertia` is then the body at ``t = 0``
-    (the drawn box keeps its size)."""
+    list of principal moments or 3 × 3 tensors, and its ``mass`` to carry parts whose mass
+    moves, ``[[parts]]`` of kind ``spring_mass``, ``hinge`` or ``slosh``); `inertia` is then
+    the body at ``t = 0`` (the drawn box keeps its size)."""
     damper: Damper | None = None
     """A spherical viscous damper (``[damper]`` with ``inertia`` and ``damping``)."""
     sigma0: tuple[float, float, float] | None = None
@@ -349,6 +350,8 @@ class Scene(metaclass=_Parsed):
         if self.deployment is not None:
             out["deployment"] = {"times": self.deployment.times.tolist(),
                                  "inertia": self.deployment.tensors.tolist()}
+            if self.deployment.mass is not None:
+                out["deployment"]["mass"] = self.deployment.mass
         if self.damper is not None:
             out["damper"] = {"inertia": self.damper.inertia, "damping": self.damper.damping}
             if self.sigma0 is not None:

@@ -41,10 +41,17 @@ def test_xarray_shows_the_runs_numbers_and_each_parts_state(run):
     np.testing.assert_array_equal(ds["omega"].values, traj.omega)
     np.testing.assert_array_equal(ds["q"].values, traj.q)
     for state, block in traj.parts.items():
+        # its state, and the rates of its coordinates (`<state>_<field>_rate`) if it moves
         shown = [v for v in ds.data_vars if v == state or v.startswith(f"{state}_")]
+        rates = [v for v in shown if v.endswith("_rate")]
+        shown = [v for v in shown if v not in rates]
         assert shown, (name, state, list(ds.data_vars))
         values = np.concatenate([ds[v].values.reshape(len(traj.t), -1) for v in shown], axis=1)
         np.testing.assert_array_equal(np.sort(values, axis=1), np.sort(block, axis=1))
+        assert len(rates) == (state in traj.part_rates), (name, state, rates)
+        for v in rates:
+            np.testing.assert_array_equal(ds[v].values.reshape(len(traj.t), -1),
+                                          traj.part_rates[state])
 
 
 def test_the_figures_draw_the_runs_own_rates(run):

@@ -73,7 +73,8 @@ def test_each_part_s_state_goes_to_xarray_and_a_frame_under_its_name(name, count
         assert column[1] == pytest.approx(1.1 * column[0]) and column[0] != column[1]
     frame = traj.to_dataframe()
     width = sum(s.shape[1] for s in traj.parts.values())
-    assert frame.shape == (len(traj.t), 7 + width + 4)
+    rates = sum(r.shape[1] for r in traj.part_rates.values())  # a moving part's coordinates'
+    assert frame.shape == (len(traj.t), 7 + width + rates + 4)
 
 
 @pytest.mark.parametrize("count", [1, 2])

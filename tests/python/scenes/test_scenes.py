@@ -18,7 +18,8 @@ def test_the_scene_files_ship_inside_the_package():
                      "stable-largest.toml", "stable-smallest.toml", "wing-nut.toml",
                      "deployment.toml", "explorer-1.toml", "gravity-gradient.toml",
                      "dual-spin.toml", "spin-up.toml",
-                     "detumble.toml", "slew.toml", "caught.toml", "slosh-flip.toml"}
+                     "detumble.toml", "slew.toml", "caught.toml", "slosh-flip.toml",
+                     "explorer-1-whips.toml", "deployment-slosh.toml"}
     assert set(dz.SCENES) == {n.removesuffix(".toml") for n in names}
 
 
@@ -204,7 +205,7 @@ def test_a_file_that_is_not_toml_or_not_there(tmp_path):
     path.write_text("title = 'unterminated\n")
     with pytest.raises(dz.SceneError, match=rf"^{path}: is not valid TOML: "):
         dz.load_scene(path)
-    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: caught, deployment, detumble, dual-spin, example, explorer-1, fig3a"):
+    with pytest.raises(dz.SceneError, match=r"cannot be read .* shipped scenes: caught, deployment-slosh, deployment, detumble, dual-spin, example, explorer-1-whips, explorer-1, fig3a"):
         dz.load_scene(tmp_path / "missing.toml")
     assert isinstance(dz.SceneError("f", "k", "m"), ValueError)
 
