@@ -106,6 +106,51 @@ fn rk4_rows_equal_single_runs_on_every_instruction_set_and_thread_count() {
 }
 
 #[test]
+fn rows_whose_intermediate_rate_starts_at_zero_flip_as_single_runs() {
+    // The lanes show a step to the detectors only when a vectorised test of the intermediate
+    // rate says it may change them: rates that start at zero (of either sign), that stay at
+    // zero (spins about a principal axis), and that start at zero mid-tumble beside the
+    // separatrix (a² = 3c² for moments 1, 2, 3) must see the steps their single runs see.
+    let rows: [([f64; 3], [f64; 3]); 8] = [
+        ([1.0, 2.0, 3.0], [1.0, 0.0, 0.58]),
+        ([1.0, 2.0, 3.0], [1.0, -0.0, 0.576]),
+        ([1.0, 2.0, 3.0], [-1.0, 0.0, 0.577]),
+        ([1.0, 2.0, 3.0], [0.0, 0.0, 1.0]),
+        ([1.0, 2.0, 3.0], [0.0, 0.5, 0.0]),
+        (PAPER, [0.2, 0.01, 0.0]),
+        (PAPER, [-0.2, 0.01, -0.0]),
+        (PAPER, [0.01, 0.0, 1.0]),
+    ];
+    let mut starts: Vec<Start> = rows
+        .iter()
+        .map(|&(body, omega)| Start::try_new(body, omega, [1.0, 0.0, 0.0, 0.0]).unwrap())
+        .collect();
+    starts.extend(mixed_starts(LANES));
+    let grid = FrameGrid::try_new(40.0, 21, 5e-3, u64::MAX).unwrap();
+    for isa in Isa::available() {
+        let options = Options {
+            threads: Some(1),
+            isa: Some(isa),
+        };
+        let batch = simulate_batch(
+            &starts,
+            &grid,
+            Method::Rk4,
+            KEEP_ALL,
+            &options,
+            &no_cancel(),
+        )
+        .unwrap();
+        assert_rows_are_single_runs(&batch, &starts, &grid, Method::Rk4, KEEP_ALL);
+        let near_zero_flips = batch.flip_offsets[3];
+        assert!(
+            near_zero_flips > 3,
+            "the tumbling rows should flip, saw {near_zero_flips}"
+        );
+    }
+}
+
+#[test]
 fn rows_keep_what_was_asked() {
     let starts = mixed_starts(20);
     let grid = FrameGrid::try_new(30.0, 7, 1e-2, u64::MAX).unwrap();

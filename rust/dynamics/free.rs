@@ -241,12 +241,18 @@ impl FreeProjection {
 /// row performs the same floating-point operations in the same order as a single run.
 #[inline(always)]
 pub fn scaled_increment(euler: [f64; 3], x: &State, s: f64) -> State {
+    increment_scaled([s * euler[0], s * euler[1], s * euler[2]], 0.5 * s, x)
+}
+
+/// [`scaled_increment`] with its factors formed: `scaled = s · euler`, `half = s / 2` (the
+/// batch's lanes form them once for many steps; the arithmetic is the same).
+#[inline(always)]
+pub fn increment_scaled(scaled: [f64; 3], half: f64, x: &State) -> State {
     let [u, v, w, q0, q1, q2, q3] = *x;
-    let half = 0.5 * s;
     [
-        (s * euler[0]) * (v * w),
-        (s * euler[1]) * (u * w),
-        (s * euler[2]) * (u * v),
+        scaled[0] * (v * w),
+        scaled[1] * (u * w),
+        scaled[2] * (u * v),
         -half * (q1 * u + q2 * v + q3 * w),
         half * (q0 * u + q2 * w - q3 * v),
         half * (q0 * v + q3 * u - q1 * w),
