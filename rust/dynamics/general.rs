@@ -389,6 +389,10 @@ pub struct Moving {
     /// The parts with state, and those that dissipate, whose mass does not move.
     fixed_states: Vec<Placed>,
     fixed_dissipators: Vec<Placed>,
+    /// Whether RK4 takes a whole step of the lone part at once ([`super::lone_step`]): it is
+    /// alone, first in the state, and beside it nothing but constant stored momenta and
+    /// constant torques.
+    stepped: bool,
 }
 
 /// What a general model holds of parts whose mass moves, chosen once when the run builds it:
@@ -406,6 +410,19 @@ pub trait Movers: Debug + Clone + PartialEq + Send + Sync + Sized {
     fn plain<const N: usize, const HOT: bool>(
         model: &GeneralModel<N, HOT, Self>,
     ) -> Option<&GeneralModel<N, HOT>>;
+    /// One RK4 step of the lone part at once, if the model takes it so (see
+    /// [`super::lone_step`]); `stored` and `torques` as [`GeneralModel`] holds them (the
+    /// torques when it has any). A method of this trait, so that a model without moving
+    /// parts compiles none of it.
+    #[doc(hidden)]
+    fn rk4_step<const N: usize>(
+        &self,
+        stored: Option<Vector3<f64>>,
+        torques: super::lone_step::Torques,
+        t: f64,
+        h: f64,
+        x: &mut [f64; N],
+    ) -> bool;
 }
 
 /// No part whose mass moves (see [`Movers`]).
@@ -429,6 +446,17 @@ impl Movers for NoMoving {
     ) -> Option<&GeneralModel<N, HOT>> {
         Some(model)
     }
+    #[inline(always)]
+    fn rk4_step<const N: usize>(
+        &self,
+        _stored: Option<Vector3<f64>>,
+        _torques: super::lone_step::Torques,
+        _t: f64,
+        _h: f64,
+        _x: &mut [f64; N],
+    ) -> bool {
+        false
+    }
 }
 
 impl Movers for Moving {
@@ -447,6 +475,32 @@ impl Movers for Moving {
         _model: &GeneralModel<N, HOT, Self>,
     ) -> Option<&GeneralModel<N, HOT>> {
         None
+    }
+    #[inline(always)]
+    fn rk4_step<const N: usize>(
+        &self,
+        stored: Option<Vector3<f64>>,
+        torques: super::lone_step::Torques,
+        t: f64,
+        h: f64,
+        x: &mut [f64; N],
+    ) -> bool {
+        use super::lone_step::{rk4, LoneStage};
+        let (true, Some(alone)) = (self.stepped, &self.alone) else {
+            return false;
+        };
+        let beside = (stored, torques);
+        match alone {
+            AloneSolve::Spring(l) if N >= 10 => {
+                rk4::<N, 10, _>(&LoneStage::new(l, beside), t, h, x)
+            }
+            AloneSolve::Hinge(l) if N >= 10 => {
+                rk4::<N, 10, _>(&LoneStage::new(&**l, beside), t, h, x)
+            }
+            AloneSolve::Slosh(l) if N >= 14 => rk4::<N, 14, _>(&LoneStage::new(l, beside), t, h, x),
+            _ => return false,
+        }
+        true
     }
 }
 
@@ -590,6 +644,12 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
     /// # Errors
     /// Such parts and no mass; more rates than the joint solve holds.
     pub fn with_hub_mass(mut self, mass: Option<f64>) -> Result<Self> {
+        // the one part with state, changing stored momentum (none: the mover's is 0) or not
+        // constant torque is the mover, and nothing samples
+        let beside = self.states.len() == 1
+            && self.stores.len() == 1
+            && self.torques.is_empty()
+            && self.sampled.is_empty();
         let inertia = &self.inertia;
         let Some(moving) = self.moving.get_mut().filter(|m| !m.parts.is_empty()) else {
             return Ok(self);
@@ -617,6 +677,7 @@ impl<const N: usize, const HOT: bool, M: Movers> GeneralModel<N, HOT, M> {
         // (they change `H'` and the body's own momentum, not the solve)
         let alone = (constant && movers.len() == 1).then(|| movers[0].part.alone(&hub));
         moving.alone = alone.flatten();
+        moving.stepped = moving.alone.is_some() && beside && !moving.has_fixed();
         moving.hub = Some(hub);
         Ok(self)
     }
@@ -1056,6 +1117,13 @@ impl<const N: usize, const HOT: bool, M: Movers> OdeSystem<N> for GeneralModel<N
             true => self.time_only.at(t),
             false => StageTime::bare(t),
         }
+    }
+
+    /// A lone moving part's whole step at once (see [`super::lone_step`]).
+    #[inline(always)]
+    fn rk4_step(&self, t: f64, h: f64, x: &mut [f64; N]) -> bool {
+        let torques = (self.torqued).then_some((self.body_torque, self.world_torque));
+        HOT && self.moving.rk4_step(self.stored, torques, t, h, x)
     }
 
     #[inline(always)]

@@ -315,8 +315,15 @@ impl LoneHinge {
             .add_scaled(cos * cos - sin * sin, c2)
             .add_scaled(2.0 * sin * cos, s2);
         let b = self.q1 * cos - self.q2 * sin + self.part.axis * self.block;
-        let omega = stiff.solve(&(h - b * (p * self.inv_block)));
-        (omega, (p - b.dot(&omega)) * self.inv_block, cos, sin)
+        // `b · ω` formed while the division runs (see [`Sym3::solve_parts`])
+        let (adjugate, inv) = stiff.solve_parts(&(h - b * (p * self.inv_block)));
+        let omega = adjugate * inv;
+        (
+            omega,
+            (p - b.dot(&adjugate) * inv) * self.inv_block,
+            cos,
+            sin,
+        )
     }
 
     /// `p'` at angle `beta` (its `cos`, `sin` from [`LoneHinge::rates`]), its rate `rate` and

@@ -17,6 +17,7 @@ mod general;
 pub mod gravity;
 mod hinge;
 mod kinds;
+mod lone_step;
 pub mod model;
 pub(crate) mod moving;
 pub mod multibody;

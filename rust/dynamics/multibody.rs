@@ -536,6 +536,15 @@ impl Sym3 {
     /// determinant: one division, no square root).
     #[inline(always)]
     pub fn solve(&self, r: &Vector3<f64>) -> Vector3<f64> {
+        let (adjugate, inv) = self.solve_parts(r);
+        adjugate * inv
+    }
+
+    /// [`Sym3::solve`] before its one division: `adj(self) r` and `1 / det(self)`, whose
+    /// product it is. A dot product of the solution, `w · x = (w · adj r) / det`, is then
+    /// formed while the division runs, not after it.
+    #[inline(always)]
+    pub fn solve_parts(&self, r: &Vector3<f64>) -> (Vector3<f64>, f64) {
         let (a, b, c) = (self.xx, self.yy, self.zz);
         let (d, e, f) = (self.xy, self.yz, self.xz);
         let c00 = b * c - e * e;
@@ -545,11 +554,12 @@ impl Sym3 {
         let c12 = d * f - a * e;
         let c22 = a * b - d * d;
         let inv = 1.0 / (a * c00 + d * c01 + f * c02);
-        Vector3::new(
-            (c00 * r.x + c01 * r.y + c02 * r.z) * inv,
-            (c01 * r.x + c11 * r.y + c12 * r.z) * inv,
-            (c02 * r.x + c12 * r.y + c22 * r.z) * inv,
-        )
+        let adjugate = Vector3::new(
+            c00 * r.x + c01 * r.y + c02 * r.z,
+            c01 * r.x + c11 * r.y + c12 * r.z,
+            c02 * r.x + c12 * r.y + c22 * r.z,
+        );
+        (adjugate, inv)
     }
 
     /// `self⁻¹` (positive definite).

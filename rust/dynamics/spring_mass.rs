@@ -181,8 +181,13 @@ impl LoneSpring {
             .rest
             .add_scaled(-s, &self.cross)
             .add_scaled(s * s, &self.free);
-        let omega = stiff.solve(&(h - self.lever * p));
-        (omega, p * self.inv_reduced - self.lever.dot(&omega))
+        // `w · ω` formed while the division runs: what waits for it is one product
+        let (adjugate, inv) = stiff.solve_parts(&(h - self.lever * p));
+        let omega = adjugate * inv;
+        (
+            omega,
+            p * self.inv_reduced - self.lever.dot(&adjugate) * inv,
+        )
     }
 
     /// `p'` at displacement `x`, its rate `rate` and the body rates `omega`.

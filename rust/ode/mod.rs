@@ -47,6 +47,16 @@ pub trait OdeSystem<const N: usize> {
         self.increment(at.t, x, s)
     }
 
+    /// One whole RK4 step from `(t, x)` by `h` in the system's own code, if it has one (the
+    /// same numbers, bit for bit, as [`crate::integrators::Rk4`]'s stages through
+    /// [`OdeSystem::increment_at`]): `false`, and `x` untouched, if not. A system whose
+    /// evaluation is out of line takes its four stages in one call so (a lone moving part,
+    /// see [`crate::dynamics::GeneralModel`]); none by default.
+    #[inline(always)]
+    fn rk4_step(&self, _t: f64, _h: f64, _x: &mut [f64; N]) -> bool {
+        false
+    }
+
     /// `f(t, x)`.
     fn rhs(&self, t: f64, x: &[f64; N]) -> [f64; N] {
         self.increment(t, x, 1.0)
