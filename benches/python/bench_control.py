@@ -131,10 +131,10 @@ def measure(steps: int, repeat: int) -> dict[str, list[float]]:
             warnings.simplefilter("ignore", dz.StepSizeWarning)
             whole = cpu(lambda: dz.simulate(system, OMEGA0, t_end=float(calls), frames=11,
                                             dt=1.0, method="rk4", flips=False), repeat)
-        step = out[f"Python law, {name}, 1 Hz"]
+        row = out[f"Python law, {name}, 1 Hz"]
         out[f"  {name} law, 1 step/sample"] = [
-            0.0, 0.0, whole[0] / calls * 1e6 - step[0] * 1e-3,
-            whole[1] / calls * 1e6 - step[1] * 1e-3, 0.0]
+            0.0, 0.0, whole[0] / calls * 1e6 - row[0] * 1e-3,
+            whole[1] / calls * 1e6 - row[1] * 1e-3, 0.0]
     return out
 
 
@@ -187,10 +187,10 @@ def main() -> None:
     for build, rows in figures.items():
         for name in ("empty", "damping"):
             own = rows[f"  the {name} law alone"][2]
-            fit = rows[f"Python law, {name}, 1 Hz"][2] - own
+            fitted = rows[f"Python law, {name}, 1 Hz"][2] - own
             direct = rows[f"  {name} law, 1 step/sample"][2] - own
             print(f"{build}: the {name} Python law's sample beyond the law's own work: "
-                  f"{direct:.2f} µs at one step a sample ({fit:.2f} µs from the fit)")
+                  f"{direct:.2f} µs at one step a sample ({fitted:.2f} µs from the fit)")
 
 
 if __name__ == "__main__":
