@@ -527,31 +527,6 @@ class QuaternionFeedback(_Loop):
                     _optional("gyro", gyro, Gyro))
 
 
-class _Law:
-    """The user's law as the core calls it: six numbers (torque, dipole) from whatever the
-    law returns (a torque, or a pair (torque, dipole))."""
-
-    __slots__ = ("func",)
-
-    def __init__(self, func: Any) -> None:
-        self.func = func
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, _Law) and other.func == self.func
-
-    def __hash__(self) -> int:
-        return hash(self.func)
-
-    def __call__(self, t: float, q: np.ndarray, omega: np.ndarray, field: np.ndarray,
-                 momentum: np.ndarray) -> np.ndarray:
-        out = self.func(t, q, omega, field, momentum)
-        if isinstance(out, tuple) and len(out) == 2:
-            return np.concatenate([np.asarray(out[0], dtype=np.float64).reshape(-1),
-                                   np.asarray(out[1], dtype=np.float64).reshape(-1)])
-        a = np.asarray(out, dtype=np.float64).reshape(-1)
-        return np.concatenate([a, np.zeros(3)]) if a.shape == (3,) else a
-
-
 def _example_law(t: float, q: np.ndarray, omega: np.ndarray, field: np.ndarray,
                  momentum: np.ndarray) -> np.ndarray:
     """A rate damper, ``τ = −0.1 ω`` (the controller's example)."""
@@ -624,10 +599,3 @@ class Controller(_Loop):
                     _optional("star_tracker", star_tracker, StarTracker),
                     _optional("gyro", gyro, Gyro),
                     _optional("magnetometer", magnetometer, Magnetometer))
-
-    def _store(self, kind: str, values: Mapping[str, Any]) -> None:
-        # the core calls the law through a wrapper that accepts a torque or a pair
-        law = values["law"]
-        wrapped = law if isinstance(law, _Law) else _Law(law)
-        super()._store(kind, {**values, "law": wrapped})
-        object.__setattr__(self, "law", wrapped.func)

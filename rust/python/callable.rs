@@ -18,7 +18,7 @@ use numpy::{PyArray1, PyArrayDescrMethods, PyArrayMethods, PyUntypedArray, PyUnt
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{PyByteArray, PyBytes, PyString, PyType};
+use pyo3::types::{PyByteArray, PyBytes, PyFloat, PyList, PyString, PyTuple, PyType};
 
 use crate::dynamics::{Arg, Function, System};
 
@@ -158,6 +158,10 @@ fn label(name: &'static str) -> &'static str {
 }
 
 /// `func(args…)` into `out`: `returns` finite real numbers, or an error naming the function.
+/// Six numbers are two vectors (a controller's law: a torque and a dipole), which the function
+/// may give as a pair, or as the torque alone (the dipole then zero). Nothing is formatted
+/// unless the call fails: the time in a message costs a float's formatting, which a
+/// controller called once a sample paid at every call.
 fn call(
     func: &Py<PyAny>,
     name: &'static str,
@@ -166,41 +170,73 @@ fn call(
     args: &[Arg<'_>],
     out: &mut [f64],
 ) -> PyResult<()> {
-    let at = match args.first() {
+    let at = || match args.first() {
         Some(Arg::Number(t)) => format!(" at t = {t}"),
         _ => String::new(),
     };
-    let args: Vec<Bound<'_, PyAny>> = args
-        .iter()
-        .map(|a| match a {
-            Arg::Number(v) => pyo3::types::PyFloat::new(py, *v).into_any(),
+    let given = PyTuple::new(
+        py,
+        args.iter().map(|a| match a {
+            Arg::Number(v) => PyFloat::new(py, *v).into_any(),
             Arg::Vector(v) => PyArray1::from_slice(py, v).into_any(),
-        })
-        .collect();
-    let args = pyo3::types::PyTuple::new(py, args)?;
-    let result = func.bind(py).call1(args)?;
+        }),
+    )?;
+    let result = func.bind(py).call1(given)?;
     let label = label(name);
-    let count = match returns {
-        1 => "one real number".to_string(),
-        2 => "two real numbers".to_string(),
-        3 => "three real numbers".to_string(),
-        n => format!("{n} real numbers"),
+    let read = match returns {
+        PAIR => torque_and_dipole(py, &result, out),
+        _ => reals(py, &result, out),
     };
-    let what = match name {
-        "func" => " (body axes, shape (3,))".to_string(),
-        _ => format!(" (shape ({returns},))"),
-    };
-    reals(py, &result, out).map_err(|got| {
+    read.map_err(|got| {
+        let what = match (name, returns) {
+            ("func", _) => "three real numbers (body axes, shape (3,))".to_string(),
+            (_, PAIR) => "a torque (three real numbers) or a pair (torque, dipole) of three \
+                          each"
+                .to_string(),
+            (_, 1) => "one real number (shape (1,))".to_string(),
+            (_, 2) => "two real numbers (shape (2,))".to_string(),
+            (_, 3) => "three real numbers (shape (3,))".to_string(),
+            (_, n) => format!("{n} real numbers (shape ({n},))"),
+        };
         PyValueError::new_err(format!(
-            "the `{label}` function must return {count}{what}, got {got}{at}"
+            "the `{label}` function must return {what}, got {got}{}",
+            at()
         ))
     })?;
     if !out.iter().all(|v| v.is_finite()) {
         return Err(PyValueError::new_err(format!(
-            "the `{label}` function must return finite numbers, got {out:?}{at}"
+            "the `{label}` function must return finite numbers, got {out:?}{}",
+            at()
         )));
     }
     Ok(())
+}
+
+/// The numbers of a function giving two vectors (see [`call`]).
+const PAIR: usize = 6;
+
+/// A torque and a dipole from `result` into `out` (see [`call`]): a pair of three numbers
+/// each, the torque alone (the dipole zero), or six numbers.
+fn torque_and_dipole(
+    py: Python<'_>,
+    result: &Bound<'_, PyAny>,
+    out: &mut [f64],
+) -> Result<(), String> {
+    let (torque, dipole) = out.split_at_mut(3);
+    if let Ok(pair) = result.cast::<PyTuple>() {
+        if pair.len() == 2 {
+            let item = |k| pair.get_item(k).map_err(|_| "a pair".to_string());
+            reals(py, &item(0)?, torque).map_err(|got| format!("a torque {got}"))?;
+            return reals(py, &item(1)?, dipole).map_err(|got| format!("a dipole {got}"));
+        }
+    }
+    match reals(py, result, torque) {
+        Ok(()) => {
+            dipole.fill(0.0);
+            Ok(())
+        }
+        Err(got) => reals(py, result, out).map_err(|_| got),
+    }
 }
 
 /// The `out.len()` real numbers `result` holds, into `out` — a sequence of them, or an array
@@ -230,6 +266,12 @@ fn reals(py: Python<'_>, result: &Bound<'_, PyAny>, out: &mut [f64]) -> Result<(
             out.iter_mut().zip(v.iter()).for_each(|(o, v)| *o = *v);
             return Ok(());
         }
+    }
+    // a tuple or a list of n floats (`return (0.0, 0.0, tau)`): read as they are (NumPy's
+    // asarray took about a µs a call); ints, bools and the rest go the long way below
+    if let Some(items) = floats(result, n) {
+        out.copy_from_slice(&items[..n]);
+        return Ok(());
     }
     if result.is_instance_of::<PyBytes>() || result.is_instance_of::<PyByteArray>() {
         return Err(format!("{} (a sequence of byte codes)", name()));
@@ -268,6 +310,28 @@ fn reals(py: Python<'_>, result: &Bound<'_, PyAny>, out: &mut [f64]) -> Result<(
     let v = r.as_array();
     out.iter_mut().zip(v.iter()).for_each(|(o, v)| *o = *v);
     Ok(())
+}
+
+/// The `n` (at most 6) numbers of a tuple or a list of `n` Python floats (or float
+/// subclasses, NumPy's float64 among them), or `None`.
+fn floats(result: &Bound<'_, PyAny>, n: usize) -> Option<[f64; 6]> {
+    let read = |items: &mut dyn ExactSizeIterator<Item = Bound<'_, PyAny>>| {
+        if items.len() != n || n > 6 {
+            return None;
+        }
+        let mut out = [0.0; 6];
+        for (o, item) in out.iter_mut().zip(items) {
+            *o = item.cast::<PyFloat>().ok()?.value();
+        }
+        Some(out)
+    };
+    if let Ok(t) = result.cast::<PyTuple>() {
+        return read(&mut t.iter());
+    }
+    if let Ok(l) = result.cast::<PyList>() {
+        return read(&mut l.iter());
+    }
+    None
 }
 
 /// A `TypeError` for a parameter `name` whose `func` cannot be called.

@@ -17,8 +17,8 @@ use super::super::part::{
 };
 use super::common::{
     clip_dipole, field_from, gyro_from, limits, magnetometer_from, saturated, set_slot, slot,
-    vector_or, with_field, Clock, View, DIPOLE, GYRO_ANGLE_RANDOM_WALK, GYRO_BIAS,
-    MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
+    vector_or, view_hooks, with_field, Clock, View, Viewed, DIPOLE, GYRO_ANGLE_RANDOM_WALK,
+    GYRO_BIAS, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
 };
 use super::field::DipoleField;
 use super::laws::{bdot, rate_detumble};
@@ -206,32 +206,16 @@ impl Part for BDot {
         own[SATURATED_AT] = f64::from(saturated);
     }
 
-    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
-        Self {
-            view: self.view.in_axes(to_axes),
-            ..self.clone()
-        }
+    view_hooks!();
+}
+
+impl Viewed for BDot {
+    fn view_mut(&mut self) -> &mut View {
+        &mut self.view
     }
 
-    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        Ok(Self {
-            view: self.view.with_moments_scaled(m),
-            ..self.clone()
-        })
-    }
-
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        Ok(Self {
-            view: self.view.in_units(scale),
-            run_field: self.field.in_units(scale)?,
-            ..self.clone()
-        })
-    }
-
-    fn seeded(&self, seed: u64, index: usize) -> Self {
-        Self {
-            view: self.view.seeded(seed, index),
-            ..self.clone()
-        }
+    fn units_too(&mut self, scale: RateScale) -> Result<()> {
+        self.run_field = self.field.in_units(scale)?;
+        Ok(())
     }
 }

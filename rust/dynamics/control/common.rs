@@ -453,6 +453,62 @@ impl View {
     }
 }
 
+/// A part that sees the run through a [`View`]: the four hooks of [`super::super::Part`]
+/// that change the run's axes, units and seed pass through to the view ([`view_hooks`]), and
+/// a part says here what else they change.
+pub trait Viewed: Clone {
+    /// The part's view.
+    fn view_mut(&mut self) -> &mut View;
+
+    /// What else turns with the body axes (the wheels' axes); nothing by default.
+    fn axes_too(&mut self, _to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) {}
+
+    /// What else goes into the units of `scale` (the field the torque reads); nothing by
+    /// default.
+    ///
+    /// # Errors
+    /// A parameter that float64 no longer holds.
+    fn units_too(&mut self, _scale: RateScale) -> Result<()> {
+        Ok(())
+    }
+}
+
+/// The hooks of [`super::super::Part`] of a [`Viewed`] part: written inside its `impl Part`.
+macro_rules! view_hooks {
+    () => {
+        fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
+            let mut part = self.clone();
+            let view = part.view_mut();
+            *view = view.in_axes(to_axes);
+            $crate::dynamics::control::common::Viewed::axes_too(&mut part, to_axes);
+            part
+        }
+
+        fn with_moments_scaled(&self, m: i32) -> $crate::error::Result<Self> {
+            let mut part = self.clone();
+            let view = part.view_mut();
+            *view = view.with_moments_scaled(m);
+            Ok(part)
+        }
+
+        fn in_units(&self, scale: $crate::float::RateScale) -> $crate::error::Result<Self> {
+            let mut part = self.clone();
+            let view = part.view_mut();
+            *view = view.in_units(scale);
+            $crate::dynamics::control::common::Viewed::units_too(&mut part, scale)?;
+            Ok(part)
+        }
+
+        fn seeded(&self, seed: u64, index: usize) -> Self {
+            let mut part = self.clone();
+            let view = part.view_mut();
+            *view = view.seeded(seed, index);
+            part
+        }
+    };
+}
+pub(crate) use view_hooks;
+
 /// A magnetic dipole (its torque in a field is a torque): a moment, no rate.
 pub const DIPOLE: Dim = Dim { rate: 0, moment: 1 };
 

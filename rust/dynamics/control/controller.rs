@@ -25,8 +25,9 @@ use super::super::part::{
 };
 use super::common::{
     clip_dipole, field_from, gyro_from, limits, magnetometer_from, saturated, set_slot, slot,
-    star_tracker_from, vector_or, with_field, Clock, View, DIPOLE, GYRO_ANGLE_RANDOM_WALK,
-    GYRO_BIAS, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED, STAR_TRACKER_NOISE,
+    star_tracker_from, vector_or, view_hooks, with_field, Clock, View, Viewed, DIPOLE,
+    GYRO_ANGLE_RANDOM_WALK, GYRO_BIAS, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
+    STAR_TRACKER_NOISE,
 };
 use super::field::DipoleField;
 use super::reaction::{self, ReactionWheels};
@@ -254,39 +255,7 @@ impl Part for Controller {
         }
     }
 
-    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
-        Self {
-            wheels: self.wheels.in_axes(to_axes),
-            view: self.view.in_axes(to_axes),
-            ..self.clone()
-        }
-    }
-
-    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        Ok(Self {
-            view: self.view.with_moments_scaled(m),
-            ..self.clone()
-        })
-    }
-
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        let field = match &self.field {
-            Some((user, _)) => Some((user.clone(), user.in_units(scale)?)),
-            None => None,
-        };
-        Ok(Self {
-            view: self.view.in_units(scale),
-            field,
-            ..self.clone()
-        })
-    }
-
-    fn seeded(&self, seed: u64, index: usize) -> Self {
-        Self {
-            view: self.view.seeded(seed, index),
-            ..self.clone()
-        }
-    }
+    view_hooks!();
 
     fn heap_bytes(&self) -> usize {
         self.wheels.heap_bytes()
@@ -301,5 +270,23 @@ impl Part for Controller {
             function: f(&self.function),
             ..self.clone()
         }
+    }
+}
+
+impl Viewed for Controller {
+    fn view_mut(&mut self) -> &mut View {
+        &mut self.view
+    }
+
+    fn axes_too(&mut self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) {
+        self.wheels = self.wheels.in_axes(to_axes);
+    }
+
+    fn units_too(&mut self, scale: RateScale) -> Result<()> {
+        if let Some((user, _)) = self.field.take() {
+            let run = user.in_units(scale)?;
+            self.field = Some((user, run));
+        }
+        Ok(())
     }
 }

@@ -15,7 +15,8 @@ use super::super::part::{
 };
 use super::common::{
     clip_dipole, field_from, limits, magnetometer_from, saturated, set_slot, slot, vector_or,
-    with_field, Clock, View, DIPOLE, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE, PERIOD, PHASE, SEED,
+    view_hooks, with_field, Clock, View, Viewed, DIPOLE, MAGNETOMETER_BIAS, MAGNETOMETER_NOISE,
+    PERIOD, PHASE, SEED,
 };
 use super::field::DipoleField;
 use super::laws::momentum_dump;
@@ -134,32 +135,16 @@ impl Part for MomentumDumping {
         own[SATURATED_AT] = f64::from(saturated);
     }
 
-    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
-        Self {
-            view: self.view.in_axes(to_axes),
-            ..self.clone()
-        }
+    view_hooks!();
+}
+
+impl Viewed for MomentumDumping {
+    fn view_mut(&mut self) -> &mut View {
+        &mut self.view
     }
 
-    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        Ok(Self {
-            view: self.view.with_moments_scaled(m),
-            ..self.clone()
-        })
-    }
-
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        Ok(Self {
-            view: self.view.in_units(scale),
-            run_field: self.field.in_units(scale)?,
-            ..self.clone()
-        })
-    }
-
-    fn seeded(&self, seed: u64, index: usize) -> Self {
-        Self {
-            view: self.view.seeded(seed, index),
-            ..self.clone()
-        }
+    fn units_too(&mut self, scale: RateScale) -> Result<()> {
+        self.run_field = self.field.in_units(scale)?;
+        Ok(())
     }
 }

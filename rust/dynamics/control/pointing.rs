@@ -11,15 +11,14 @@
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 use crate::error::{Error, Result};
-use crate::float::RateScale;
 
 use super::super::kinds::{Conserved, Traits};
 use super::super::part::{
     Ctx, Dim, EnergyRole, Fields, ModelInfo, Param, ParamKind, Part, Sampling,
 };
 use super::common::{
-    gyro_from, number_or, saturated, star_tracker_from, Clock, View, GYRO_ANGLE_RANDOM_WALK,
-    GYRO_BIAS, PERIOD, PHASE, SEED, STAR_TRACKER_NOISE,
+    gyro_from, number_or, saturated, star_tracker_from, view_hooks, Clock, View, Viewed,
+    GYRO_ANGLE_RANDOM_WALK, GYRO_BIAS, PERIOD, PHASE, SEED, STAR_TRACKER_NOISE,
 };
 use super::laws::{quaternion_feedback, Target};
 use super::reaction::{self, ReactionWheels};
@@ -229,37 +228,20 @@ impl Part for QuaternionFeedback {
         own[SATURATED_AT] = f64::from(bits);
     }
 
-    fn in_axes(&self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) -> Self {
-        Self {
-            wheels: self.wheels.in_axes(to_axes),
-            view: self.view.in_axes(to_axes),
-            ..self.clone()
-        }
-    }
-
-    fn with_moments_scaled(&self, m: i32) -> Result<Self> {
-        Ok(Self {
-            view: self.view.with_moments_scaled(m),
-            ..self.clone()
-        })
-    }
-
-    fn in_units(&self, scale: RateScale) -> Result<Self> {
-        Ok(Self {
-            view: self.view.in_units(scale),
-            ..self.clone()
-        })
-    }
-
-    fn seeded(&self, seed: u64, index: usize) -> Self {
-        Self {
-            view: self.view.seeded(seed, index),
-            ..self.clone()
-        }
-    }
+    view_hooks!();
 
     fn heap_bytes(&self) -> usize {
         self.wheels.heap_bytes()
+    }
+}
+
+impl Viewed for QuaternionFeedback {
+    fn view_mut(&mut self) -> &mut View {
+        &mut self.view
+    }
+
+    fn axes_too(&mut self, to_axes: &dyn Fn([f64; 3]) -> [f64; 3]) {
+        self.wheels = self.wheels.in_axes(to_axes);
     }
 }
 

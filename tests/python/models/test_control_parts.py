@@ -69,9 +69,15 @@ def test_a_law_that_fails_stops_the_run_with_its_error() -> None:
     def short(*args: object) -> list[float]:
         return [0.0, 1.0]
 
-    with pytest.raises(ValueError, match="law"):
-        dz.simulate(dz.System(body, parts=[dz.Controller(short, 0.5)]), (0, 0, 1.0),
-                    t_end=5.0, method="rk4", dt=0.1)
+    def lopsided(*args: object) -> tuple[np.ndarray, np.ndarray]:
+        return np.zeros(4), np.zeros(2)     # six numbers, but not a torque and a dipole
+
+    for bad, got in [(short, r"got list of shape \(2,\) at t = 0"),
+                     (lopsided, r"got a torque ndarray of shape \(4,\) at t = 0")]:
+        with pytest.raises(ValueError, match=r"the `law` function must return a torque \(three "
+                           r"real numbers\) or a pair \(torque, dipole\) of three each, " + got):
+            dz.simulate(dz.System(body, parts=[dz.Controller(bad, 0.5)]), (0, 0, 1.0),
+                        t_end=5.0, method="rk4", dt=0.1)
 
 
 def test_a_law_may_command_the_magnetorquers_too() -> None:
