@@ -168,10 +168,11 @@ impl DamperKernel {
         let (h, sigma) = (Vector3::from(h), Vector3::from(sigma));
         let l = h - sigma * self.sphere;
         let omega = l.component_mul(&self.reciprocals);
-        let omega_s = l.component_mul(&(self.reciprocals * s));
+        // ω s / 2 first, for the quaternion's rate; the cross products take it against 2σ and
+        // 2H (exact): the same numbers as σ × ω s and H × ω s, a product shorter to q'
+        let u = l.component_mul(&(self.reciprocals * (0.5 * s)));
         let slip = sigma - omega;
-        let dsigma = sigma.cross(&omega_s) - slip * (self.rate * s);
-        let u = omega_s * 0.5;
+        let dsigma = (sigma + sigma).cross(&u) - slip * (self.rate * s);
         let [w, x, y, z] = q;
         let dq = [
             -(x * u.x + y * u.y + z * u.z),
@@ -180,7 +181,7 @@ impl DamperKernel {
             w * u.z + x * u.y - y * u.x,
         ];
         let dw = slip.norm_squared() * (self.damping * s);
-        (h.cross(&omega_s).into(), dsigma.into(), dw, dq)
+        ((h + h).cross(&u).into(), dsigma.into(), dw, dq)
     }
 }
 

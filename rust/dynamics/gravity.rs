@@ -37,8 +37,9 @@
 //! - **the orbit's phase** `(sin nt, cos nt)` by [`sin_cos`], inline (no call into libm, whose
 //!   `sin` and `cos` each reduce the argument again and make the caller spill its registers):
 //!   it depends on `t` alone, so it runs beside the state's chain of dependent operations,
-//!   and it is made once for each of a step's distinct stage times (the general model's
-//!   [`crate::ode::OdeSystem::at_time`]: RK4's `t`, `t + h/2`, `t + h`, three a step, not four);
+//!   and an RK4 step makes it once, at its start `t`, and turns it by `n h/2` and `n h` for
+//!   its later stage times `t + h/2`, `t + h` ([`OrbitKernel::phases`], one more `sin_cos`
+//!   for the turn; other methods make it once per stage time, [`crate::ode::StageTime`]);
 //! - **the radial direction in body axes** from the unnormalised matrix `M̃ = |q|² M(q)`
 //!   (quadratic in `q`, no division): `r̃ = M̃ᵀ r̂ = |q|² r̂_b`, and the torque
 //!   `3n² r̂_b × (I r̂_b) = (3n² / |q|⁴) r̃ × (I r̃)`, whose one division runs beside the
@@ -220,6 +221,21 @@ impl OrbitKernel {
     #[inline(always)]
     pub fn phase(&self, t: f64) -> (f64, f64) {
         sin_cos(self.orbit_rate * t)
+    }
+
+    /// The orbit's phases at `t`, `t + d` and `t + 2d`: the later two turned from the first
+    /// by `n d` and `2 n d` (one [`sin_cos`] beside the first), at round-off from
+    /// [`OrbitKernel::phase`] of each time.
+    #[inline(always)]
+    pub fn phases(&self, t: f64, d: f64) -> [(f64, f64); 3] {
+        let (s0, c0) = self.phase(t);
+        let (sd, cd) = sin_cos(self.orbit_rate * d);
+        let (s2d, c2d) = (2.0 * (sd * cd), 1.0 - 2.0 * (sd * sd));
+        [
+            (s0, c0),
+            (s0 * cd + c0 * sd, c0 * cd - s0 * sd),
+            (s0 * c2d + c0 * s2d, c0 * c2d - s0 * s2d),
+        ]
     }
 
     /// [`OrbitKernel::increment`] at the phase `(sin nt, cos nt)` of [`OrbitKernel::phase`].
@@ -432,6 +448,32 @@ mod tests {
             let size_q = plain.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
             for (a, b) in fq.iter().zip(plain) {
                 assert!((a - b).abs() < 1e-14 * size_q, "{t}: {fq:?} vs {plain:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_turned_phases_are_the_exact_ones_to_the_rounding_of_the_angle() {
+        let n = 0.3;
+        let g = GravityGradient::try_new(n).unwrap();
+        let i = Vector3::new(2.0, 3.0, 4.5);
+        let kernel = OrbitKernel::new(&g, i, i.map(|v| 1.0 / v), Vector3::zeros());
+        for (k, t) in arguments(400, 2000.0).enumerate() {
+            let d = 1e-4 * (1.0 + k as f64);
+            let phases = kernel.phases(t, d);
+            assert_eq!(phases[0], sin_cos(n * t));
+            for (j, (s, c)) in phases.into_iter().enumerate() {
+                // the exact angle n (t + j d) as hi + lo (products split by a fused
+                // multiply-add, the sum by Knuth's two-sum), its phase to first order in lo
+                let jd = j as f64 * d;
+                let (p, q) = (n * t, n * jd);
+                let hi = p + q;
+                let z = hi - p;
+                let lo = (p - (hi - z)) + (q - z) + n.mul_add(t, -p) + n.mul_add(jd, -q);
+                let (es, ec) = (hi.sin() + hi.cos() * lo, hi.cos() - hi.sin() * lo);
+                // within the rounding of n t (which `sin_cos(n * t)` carries as well)
+                let tol = 1e-15 + f64::EPSILON * (n * t).abs();
+                assert!((s - es).abs() < tol && (c - ec).abs() < tol, "{t} {d}: {j}");
             }
         }
     }

@@ -1,4 +1,4 @@
-use crate::ode::{add, OdeSystem, Stepper};
+use crate::ode::{add, OdeSystem, Stepper, Visit};
 
 /// The classic fourth-order Runge–Kutta method (Kutta 1901), the paper's method.
 ///
@@ -6,8 +6,9 @@ use crate::ode::{add, OdeSystem, Stepper};
 /// subdiagonal. The stages are taken as scaled increments `k₁ = (h/2) f(x)`, `k₂ = (h/2) f(x + k₁)`,
 /// `k₃ = h f(x + k₂)`, `k₄ = (h/6) f(x + k₃)`, and `x + (k₁ + 2k₂ + k₃)/3` is formed while `k₄`
 /// is computed: the same method, with a shorter chain of dependent floating-point operations.
-/// What the system makes of `t` alone ([`OdeSystem::at_time`]) is made once for each of the
-/// step's three times `t`, `t + h/2`, `t + h`.
+/// What the system makes of `t` alone is made once for each of the step's three times `t`,
+/// `t + h/2`, `t + h` ([`OdeSystem::stage_times`]), and the step runs on the system in the form
+/// it picks ([`OdeSystem::specialised`]: a kernel written out for a common case).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct Rk4;
 
@@ -15,14 +16,33 @@ impl<const N: usize, S: OdeSystem<N>> Stepper<N, S> for Rk4 {
     const ORDER: u32 = 4;
     const RHS_PER_STEP: u64 = 4;
 
+    /// One step: the system's own whole step if it has one ([`OdeSystem::rk4_step`]), else
+    /// the stages on the system in the form it picks ([`OdeSystem::specialised`]).
     #[inline(always)]
     fn step(&self, sys: &S, t: f64, h: f64, x: &mut [f64; N]) {
         if sys.rk4_step(t, h, x) {
             return;
         }
+        sys.specialised(Rk4Step { t, h, x });
+    }
+}
+
+/// One RK4 step from `t` over `h` on `x`, as a visit ([`crate::ode::Visit`]).
+struct Rk4Step<'x, const N: usize> {
+    t: f64,
+    h: f64,
+    x: &'x mut [f64; N],
+}
+
+impl<const N: usize> Visit<N> for Rk4Step<'_, N> {
+    type Out = ();
+
+    #[inline(always)]
+    fn visit<S: OdeSystem<N>>(self, sys: &S) {
+        let Self { t, h, x } = self;
         let half = 0.5 * h;
         // what the system makes of t alone, once for each of the step's three times
-        let (start, middle, end) = (sys.at_time(t), sys.at_time(t + half), sys.at_time(t + h));
+        let [start, middle, end] = sys.stage_times(t, h);
         let k1 = sys.increment_at(&start, x, half);
         let k2 = sys.increment_at(&middle, &add(x, &k1), half);
         let k3 = sys.increment_at(&middle, &add(x, &k2), h);

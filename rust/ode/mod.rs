@@ -57,6 +57,27 @@ pub trait OdeSystem<const N: usize> {
         false
     }
 
+    /// What [`OdeSystem::at_time`] makes of RK4's three stage times `t`, `t + h/2`, `t + h`
+    /// (`h/2` as `0.5 h`). A system may make the later two from the first (an orbit's phase
+    /// turned by `n h/2`), at round-off from what `at_time` makes of them.
+    #[inline(always)]
+    fn stage_times(&self, t: f64, h: f64) -> [StageTime; 3] {
+        let half = 0.5 * h;
+        [self.at_time(t), self.at_time(t + half), self.at_time(t + h)]
+    }
+
+    /// `v` run on the system itself, or on a simpler system with the same right-hand side
+    /// that it picked for its run (a kernel written out for a common case, see
+    /// [`crate::dynamics::GeneralModel`]): a stepper that visits once a step tests what the
+    /// system is once a step, not at each of its stages, and runs the kernel's code alone.
+    #[inline(always)]
+    fn specialised<V: Visit<N>>(&self, v: V) -> V::Out
+    where
+        Self: Sized,
+    {
+        v.visit(self)
+    }
+
     /// `f(t, x)`.
     fn rhs(&self, t: f64, x: &[f64; N]) -> [f64; N] {
         self.increment(t, x, 1.0)
@@ -70,6 +91,12 @@ pub trait OdeSystem<const N: usize> {
     /// The system's discrete update at its kink `t` (a controller's held command): the
     /// drivers call it once a step has ended on a kink, before the next starts.
     fn sample(&self, _t: f64, _x: &mut [f64; N]) {}
+}
+
+/// What a stepper runs on a system in the form the system picks ([`OdeSystem::specialised`]).
+pub trait Visit<const N: usize> {
+    type Out;
+    fn visit<S: OdeSystem<N>>(self, sys: &S) -> Self::Out;
 }
 
 /// The first of the increasing `times` at or after `t`; infinity if none: a list of kinks
