@@ -118,6 +118,13 @@ def rows_of(system: Any, omega0: Any, q0: Any, *, function: str,
                              f"tensor or three bodies' principal moments? {TENSOR_HINT}")
         moments = as_array("system", system, shape_of.format(3), last=3, ndim=ndim)
         lead = moments.shape[:-1]
+        rows = moments.reshape(-1, 3)
+        with np.errstate(invalid="ignore"):
+            bad = ~((rows > 0) & np.isfinite(rows)).all(axis=1)
+        if bad.any():  # named here: the core's row error would name its `inertia`
+            i = int(bad.argmax())
+            raise ValueError(f"`system` must hold three positive, finite principal moments "
+                             f"(Ix, Iy, Iz) in each row, got {rows[i].tolist()}{_at(i, lead)}")
     try:
         shape = np.broadcast_shapes(lead, omega.shape[:-1], q.shape[:-1])
     except ValueError:
