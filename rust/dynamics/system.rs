@@ -194,6 +194,14 @@ impl System {
         (self.parts.iter())
             .fold(0_usize, |n, p| n.saturating_add(p.model_bytes()))
             .saturating_add(knots.saturating_mul(DEPLOYMENT_KNOT))
+            .saturating_add(Self::model_itself())
+    }
+
+    /// The run's model itself, boxed (in the user's units and again in the run's): two of the
+    /// largest a run builds. A model grows with what its parts carry (a tabulated field made
+    /// the lean one 256 bytes larger), so this is counted, not folded into a knot's bytes.
+    fn model_itself() -> usize {
+        2 * block::<super::general::GeneralModel<24, true, super::general::Moving>>(1)
     }
 
     /// The numbers of state of every part, in order.
