@@ -545,18 +545,19 @@ type Observed<'py> = (
     Bound<'py, PyArray2<f64>>,
 );
 
-/// The energy and angular momenta of `system` at each frame (see [`Observed`]), without
-/// the GIL for many frames.
-#[pyfunction]
-fn observe<'py>(
-    py: Python<'py>,
-    system: &PySystem,
-    t: PyReadonlyArray1<'py, f64>,
-    omega: PyReadonlyArray2<'py, f64>,
-    q: PyReadonlyArray2<'py, f64>,
-    parts: PyReadonlyArray2<'py, f64>,
-) -> PyResult<Observed<'py>> {
-    let (n, k) = (t.len(), system.inner.parts_width());
+/// The frames' arrays `observe` and `part_rates` read, checked: times (F,), rates (F, 3),
+/// attitudes (F, 4) and the parts' state (F, `k`), each C-contiguous.
+type Frames<'a> = (&'a [f64], &'a [f64], &'a [f64], &'a [f64]);
+
+fn frames_of<'a>(
+    function: &'static str,
+    k: usize,
+    t: &'a PyReadonlyArray1<'_, f64>,
+    omega: &'a PyReadonlyArray2<'_, f64>,
+    q: &'a PyReadonlyArray2<'_, f64>,
+    parts: &'a PyReadonlyArray2<'_, f64>,
+) -> PyResult<Frames<'a>> {
+    let n = t.len();
     if omega.shape() != [n, 3] || q.shape() != [n, 4] || parts.shape() != [n, k] {
         return Err(Error::invalid(
             "omega, q, parts",
@@ -569,11 +570,28 @@ fn observe<'py>(
         )
         .into());
     }
-    let contiguous = |name: &str| Error::invalid("observe", "takes C-contiguous arrays", name);
-    let t = t.as_slice().map_err(|_| contiguous("t"))?;
-    let omega = omega.as_slice().map_err(|_| contiguous("omega"))?;
-    let q = q.as_slice().map_err(|_| contiguous("q"))?;
-    let parts = parts.as_slice().map_err(|_| contiguous("parts"))?;
+    let contiguous = |name: &str| Error::invalid(function, "takes C-contiguous arrays", name);
+    Ok((
+        t.as_slice().map_err(|_| contiguous("t"))?,
+        omega.as_slice().map_err(|_| contiguous("omega"))?,
+        q.as_slice().map_err(|_| contiguous("q"))?,
+        parts.as_slice().map_err(|_| contiguous("parts"))?,
+    ))
+}
+
+/// The energy and angular momenta of `system` at each frame (see [`Observed`]), without
+/// the GIL for many frames.
+#[pyfunction]
+fn observe<'py>(
+    py: Python<'py>,
+    system: &PySystem,
+    t: PyReadonlyArray1<'py, f64>,
+    omega: PyReadonlyArray2<'py, f64>,
+    q: PyReadonlyArray2<'py, f64>,
+    parts: PyReadonlyArray2<'py, f64>,
+) -> PyResult<Observed<'py>> {
+    let (n, k) = (t.len(), system.inner.parts_width());
+    let (t, omega, q, parts) = frames_of("observe", k, &t, &omega, &q, &parts)?;
     let system = &system.inner;
     let (energy, body, world) = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
         const HINT: &str = "compute them over fewer frames at a time";
@@ -610,23 +628,7 @@ fn part_rates<'py>(
     parts: PyReadonlyArray2<'py, f64>,
 ) -> PyResult<Bound<'py, PyArray2<f64>>> {
     let (n, k) = (t.len(), system.inner.parts_width());
-    if omega.shape() != [n, 3] || q.shape() != [n, 4] || parts.shape() != [n, k] {
-        return Err(Error::invalid(
-            "omega, q, parts",
-            "must have shapes (F, 3), (F, 4) and (F, parts) for F times",
-            (
-                omega.shape().to_vec(),
-                q.shape().to_vec(),
-                parts.shape().to_vec(),
-            ),
-        )
-        .into());
-    }
-    let contiguous = |name: &str| Error::invalid("part_rates", "takes C-contiguous arrays", name);
-    let t = t.as_slice().map_err(|_| contiguous("t"))?;
-    let omega = omega.as_slice().map_err(|_| contiguous("omega"))?;
-    let q = q.as_slice().map_err(|_| contiguous("q"))?;
-    let parts = parts.as_slice().map_err(|_| contiguous("parts"))?;
+    let (t, omega, q, parts) = frames_of("part_rates", k, &t, &omega, &q, &parts)?;
     let system = &system.inner;
     let law = system.inertia_law()?;
     let rates = detach(py, n > watchdog::LONG_INVARIANTS, |_| {
