@@ -1709,27 +1709,9 @@ mod tests {
     /// side, `ω` and the energy the joint solve gives.
     #[test]
     fn a_lone_mover_among_other_parts_takes_its_closed_form_and_agrees_with_the_joint_solve() {
-        use crate::dynamics::{Hinge, Slosh, SpringMass, WheelSchedule};
-        let movers: [AnyPart; 3] = [
-            SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15)
-                .unwrap()
-                .into(),
-            Hinge::try_new(
-                0.25,
-                [0.01, 0.03, 0.035],
-                [0.8, 0.5, -0.2],
-                [0.1, 1.0, 0.3],
-                [1.0, -0.1, 0.2],
-                0.6,
-                0.7,
-                0.05,
-            )
-            .unwrap()
-            .into(),
-            Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04)
-                .unwrap()
-                .into(),
-        ];
+        use crate::dynamics::multibody::fixtures::{panel, spring, tank};
+        use crate::dynamics::WheelSchedule;
+        let movers: [AnyPart; 3] = [spring().into(), panel().into(), tank().into()];
         let others: Vec<AnyPart> = vec![
             ConstantTorque::try_new([0.02, -0.01, 0.03], Frame::Body)
                 .unwrap()

@@ -123,33 +123,15 @@ mod tests {
     use nalgebra::Matrix3;
 
     use super::*;
+    use crate::dynamics::multibody::fixtures::{panel, spring, tank};
     use crate::dynamics::{
-        AnyPart, ConstantInertia, ConstantTorque, Damper, Frame, GeneralModel, Hinge, InertiaLaw,
-        Moving, Slosh, SpringMass, Wheel, WheelSchedule,
+        AnyPart, ConstantInertia, ConstantTorque, Damper, Frame, GeneralModel, InertiaLaw, Moving,
+        Wheel, WheelSchedule,
     };
     use crate::ode::add;
 
     fn movers() -> [AnyPart; 3] {
-        [
-            SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15)
-                .unwrap()
-                .into(),
-            Hinge::try_new(
-                0.25,
-                [0.01, 0.03, 0.035],
-                [0.8, 0.5, -0.2],
-                [0.1, 1.0, 0.3],
-                [1.0, -0.1, 0.2],
-                0.6,
-                0.7,
-                0.05,
-            )
-            .unwrap()
-            .into(),
-            Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04)
-                .unwrap()
-                .into(),
-        ]
+        [spring().into(), panel().into(), tank().into()]
     }
 
     fn model<const N: usize>(parts: Vec<AnyPart>) -> GeneralModel<N, true, Moving> {

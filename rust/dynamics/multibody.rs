@@ -831,6 +831,7 @@ pub(crate) mod tests {
 /// energy, and `∂T/∂θ` of each part is the derivative of that energy.
 #[cfg(test)]
 mod assembled {
+    use super::fixtures::{panel, spring, tank};
     use super::tests::direct_energy;
     use super::*;
     use crate::dynamics::{Hinge, Rod, Slosh, SpringMass};
@@ -1048,28 +1049,6 @@ mod assembled {
             }
             x
         }
-    }
-
-    fn spring() -> SpringMass {
-        SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15).unwrap()
-    }
-
-    fn panel() -> Hinge {
-        Hinge::try_new(
-            0.25,
-            [0.01, 0.03, 0.035],
-            [0.8, 0.5, -0.2],
-            [0.1, 1.0, 0.3],
-            [1.0, -0.1, 0.2],
-            0.6,
-            0.7,
-            0.05,
-        )
-        .unwrap()
-    }
-
-    fn tank() -> Slosh {
-        Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04).unwrap()
     }
 
     fn all() -> (Assembly, Vec<f64>) {
@@ -1312,5 +1291,34 @@ mod assembled {
         );
         // the rod's constraints, kept by the equations, drift by the method's error only
         assert!(norm < 1e-8 && normal < 1e-8, "{norm} {normal}");
+    }
+}
+
+/// One of each part whose mass moves, off every axis: the parts the tests of the multibody
+/// solve, the general model and the lone mover's step share.
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use crate::dynamics::{Hinge, Slosh, SpringMass};
+
+    pub(crate) fn spring() -> SpringMass {
+        SpringMass::try_new(0.3, [0.4, -0.3, 0.6], [0.2, 0.9, -0.4], 2.0, 0.15).unwrap()
+    }
+
+    pub(crate) fn panel() -> Hinge {
+        Hinge::try_new(
+            0.25,
+            [0.01, 0.03, 0.035],
+            [0.8, 0.5, -0.2],
+            [0.1, 1.0, 0.3],
+            [1.0, -0.1, 0.2],
+            0.6,
+            0.7,
+            0.05,
+        )
+        .unwrap()
+    }
+
+    pub(crate) fn tank() -> Slosh {
+        Slosh::try_new(0.35, [-0.5, 0.3, 0.7], 0.45, 0.04).unwrap()
     }
 }
